@@ -1,0 +1,255 @@
+"""Named materials with their sources, as linear elastic or piezoelectric (e-form) tensors.
+
+Voigt order xx, yy, zz, yz, xz, xy; engineering shear strains. Piezoelectric grades are poled along
+the local 3-axis (z); ``PiezoMaterial.rotated`` gives any other frame (poling down = 180 deg about x).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from modalfe.errors import SceneError
+
+EPS0 = 8.8541878128e-12  # vacuum permittivity [F/m], CODATA 2018
+
+
+@dataclass(frozen=True, eq=False)
+class ElasticMaterial:
+    """Linear elastic solid: ``C`` [Pa] (6, 6) Voigt stiffness, ``rho`` [kg/m^3]."""
+
+    name: str
+    C: np.ndarray
+    rho: float
+    source: str
+
+    def __post_init__(self) -> None:
+        _check_tensor(self.name, "C", self.C, (6, 6))
+        if not (np.isfinite(self.rho) and self.rho > 0):
+            raise SceneError(f"material '{self.name}': rho must be positive, got {self.rho}")
+
+    @property
+    def is_piezoelectric(self) -> bool:
+        return False
+
+    def rotated(self, R: np.ndarray) -> ElasticMaterial:
+        M = bond_matrix(R)
+        C = M @ self.C @ M.T
+        return ElasticMaterial(self.name, (C + C.T) / 2, self.rho, self.source)
+
+    def wave_speed_shear(self) -> float:
+        """Typical shear wave speed sqrt(median(C44, C55, C66) / rho) [m/s] (the median ignores
+        the negligible in-plane shear modulus of a honeycomb core)."""
+        return float(np.sqrt(np.median(np.diag(self.C)[3:]) / self.rho))
+
+
+@dataclass(frozen=True, eq=False)
+class PiezoMaterial(ElasticMaterial):
+    """Linear piezoelectric solid in e-form, poled along local +3.
+
+    C : c^E [Pa] (6, 6); e : [C/m^2] (3, 6); eps_S : [F/m] (3, 3); rho [kg/m^3].
+    """
+
+    e: np.ndarray = None
+    eps_S: np.ndarray = None
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        e = np.asarray(self.e, dtype=float)
+        if e.shape != (3, 6) or not np.all(np.isfinite(e)):
+            raise SceneError(f"material '{self.name}': e must be a finite (3, 6) array [C/m^2]")
+        _check_tensor(self.name, "eps_S", self.eps_S, (3, 3))
+
+    @property
+    def is_piezoelectric(self) -> bool:
+        return True
+
+    def rotated(self, R: np.ndarray) -> PiezoMaterial:
+        """The same material seen in a frame rotated by ``R`` (3, 3)."""
+        M = bond_matrix(R)
+        C, eps = M @ self.C @ M.T, R @ self.eps_S @ R.T
+        return PiezoMaterial(
+            self.name, (C + C.T) / 2, self.rho, self.source, e=R @ self.e @ M.T, eps_S=(eps + eps.T) / 2,
+        )
+
+    def poled(self, sign: int) -> PiezoMaterial:
+        """Poled along +z (``sign`` = +1) or -z (-1): a half turn about x for -z."""
+        return self if sign > 0 else self.rotated(np.diag([1.0, -1.0, -1.0]))
+
+
+def _check_tensor(name: str, field: str, A, shape) -> None:
+    A = np.asarray(A, dtype=float)
+    if A.shape != shape or not np.all(np.isfinite(A)):
+        raise SceneError(f"material '{name}': {field} must be a finite {shape} array")
+    if not np.allclose(A, A.T, rtol=1e-10, atol=1e-12 * np.abs(A).max()):
+        raise SceneError(f"material '{name}': {field} is not symmetric")
+    if np.linalg.eigvalsh(A).min() <= 0:
+        raise SceneError(f"material '{name}': {field} is not positive definite")
+
+
+def bond_matrix(R: np.ndarray) -> np.ndarray:
+    """Bond stress-transformation matrix (6, 6) of rotation ``R`` in Voigt order (Auld 1973)."""
+    R = np.asarray(R, dtype=float)
+    pairs = [(0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1)]
+    M = np.zeros((6, 6))
+    for I, (i, j) in enumerate(pairs):
+        for J, (k, l) in enumerate(pairs):
+            M[I, J] = R[i, k] * R[j, l] + (R[i, l] * R[j, k] if k != l else 0.0)
+    return M
+
+
+def isotropic(name: str, *, E: float, nu: float, rho: float, source: str) -> ElasticMaterial:
+    """Isotropic solid from Young's modulus ``E`` [Pa] and Poisson's ratio ``nu``."""
+    if not (E > 0):
+        raise SceneError(f"material '{name}': E must be positive, got {E}")
+    if not (-1.0 < nu < 0.5):
+        raise SceneError(f"material '{name}': nu must lie in (-1, 0.5), got {nu}")
+    lam = E * nu / ((1 + nu) * (1 - 2 * nu))
+    mu = E / (2 * (1 + nu))
+    C = np.zeros((6, 6))
+    C[:3, :3] = lam
+    C[np.arange(3), np.arange(3)] += 2 * mu
+    C[3, 3] = C[4, 4] = C[5, 5] = mu
+    return ElasticMaterial(name, C, rho, source)
+
+
+def orthotropic(
+    name: str, *, E: tuple, nu: tuple, G: tuple, rho: float, source: str
+) -> ElasticMaterial:
+    """Orthotropic solid: E = (E1, E2, E3) [Pa], nu = (nu12, nu13, nu23), G = (G23, G13, G12) [Pa]."""
+    E1, E2, E3 = E
+    nu12, nu13, nu23 = nu
+    S = np.zeros((6, 6))
+    S[:3, :3] = [
+        [1 / E1, -nu12 / E1, -nu13 / E1],
+        [-nu12 / E1, 1 / E2, -nu23 / E2],
+        [-nu13 / E1, -nu23 / E2, 1 / E3],
+    ]
+    S[3, 3], S[4, 4], S[5, 5] = (1 / g for g in G)
+    if np.linalg.eigvalsh(S).min() <= 0:
+        raise SceneError(f"material '{name}': orthotropic constants are not positive definite")
+    return ElasticMaterial(name, np.linalg.inv(S), rho, source)
+
+
+def transversely_isotropic_piezo(
+    name: str, *, c: dict, e: dict, eps_r: dict, rho: float, source: str
+) -> PiezoMaterial:
+    """6mm piezoceramic from c11, c12, c13, c33, c44 [Pa], e31, e33, e15 [C/m^2], eps11, eps33 (relative)."""
+    C = np.zeros((6, 6))
+    C[0, 0] = C[1, 1] = c["11"]
+    C[0, 1] = C[1, 0] = c["12"]
+    C[0, 2] = C[2, 0] = C[1, 2] = C[2, 1] = c["13"]
+    C[2, 2] = c["33"]
+    C[3, 3] = C[4, 4] = c["44"]
+    C[5, 5] = (c["11"] - c["12"]) / 2
+    E = np.zeros((3, 6))
+    E[2, 0] = E[2, 1] = e["31"]
+    E[2, 2] = e["33"]
+    E[0, 4] = E[1, 3] = e["15"]
+    eps = EPS0 * np.diag([eps_r["11"], eps_r["11"], eps_r["33"]])
+    return PiezoMaterial(name, C, rho, source, e=E, eps_S=eps)
+
+
+_BERLINCOURT = (
+    "Berlincourt, Curran & Jaffe, 'Piezoelectric and piezomagnetic materials', Physical "
+    "Acoustics vol. 1A (1964), as tabulated in Sherman & Butler, Transducers and Arrays for "
+    "Underwater Sound (2007), Appendix A.5"
+)
+
+
+def _library() -> dict[str, ElasticMaterial]:
+    return {
+        "CuBe": isotropic(
+            "CuBe", E=123e9, nu=0.30, rho=8250.0,
+            source="seed 001, materials table (copper-beryllium plate)",
+        ),
+        "PZT-seed001": isotropic(
+            "PZT-seed001", E=72.6e9, nu=0.31, rho=7700.0,
+            source="seed 001, materials table (isotropic stand-in, no coupling)",
+        ),
+        "brass-seed003": isotropic(
+            "brass-seed003", E=105e9, nu=0.34, rho=8500.0,
+            source="seed 003 (E, rho); nu 0.34 typical of brass, ASM Handbook vol. 2 (1990)",
+        ),
+        "piezo-seed003": isotropic(
+            "piezo-seed003", E=76.5e9, nu=0.31, rho=7500.0,
+            source="seed 003 (E, rho); nu 0.31 as the seed 001 PZT",
+        ),
+        "soda-lime-glass": isotropic(
+            "soda-lime-glass", E=70e9, nu=0.22, rho=2500.0,
+            source="EN 572-1:2012 (E 70 GPa, rho 2500); nu 0.22, Shelby, Introduction to Glass "
+            "Science and Technology (2005)",
+        ),
+        "Al-5052": isotropic(
+            "Al-5052", E=70.3e9, nu=0.33, rho=2680.0,
+            source="ASM Handbook vol. 2 (1990), aluminium 5052-H38 (honeycomb facing and foil alloy)",
+        ),
+        "Al-seed002": isotropic(
+            "Al-seed002", E=60e9, nu=0.33, rho=2680.0,
+            source="seed 002 eq. (5) facing modulus 60 GPa; nu, rho as Al-5052",
+        ),
+        "honeycomb-5052-1/4-.001": orthotropic(
+            "honeycomb-5052-1/4-.001",
+            E=(1.0e6, 1.0e6, 517e6), nu=(0.3, 1e-4, 1e-4), G=(152e6, 310e6, 0.4e6), rho=36.8,
+            source="Hexcel, HexWeb Honeycomb Attributes and Properties (1999): 5052 1/4-.001, "
+            "2.3 pcf; G_L 45 ksi (xz), G_W 22 ksi (yz), E_c 75 ksi; in-plane moduli ~0 (set 1 MPa)",
+        ),
+        "SBR": isotropic(
+            "SBR", E=2.0e6, nu=0.49, rho=1100.0,
+            source="seed 002 (E 2 MPa); nu 0.49 near-incompressible rubber, rho 1100 filled SBR "
+            "(Gent, Engineering with Rubber, 3rd ed. 2012)",
+        ),
+        "PZT-4": transversely_isotropic_piezo(
+            "PZT-4", c={"11": 13.9e10, "12": 7.78e10, "13": 7.43e10, "33": 11.5e10, "44": 2.56e10},
+            e={"31": -5.2, "33": 15.1, "15": 12.7}, eps_r={"11": 730.0, "33": 635.0},
+            rho=7500.0, source=_BERLINCOURT,
+        ),
+        "PZT-5A": transversely_isotropic_piezo(
+            "PZT-5A", c={"11": 12.1e10, "12": 7.54e10, "13": 7.52e10, "33": 11.1e10, "44": 2.11e10},
+            e={"31": -5.4, "33": 15.8, "15": 12.3}, eps_r={"11": 916.0, "33": 830.0},
+            rho=7750.0, source=_BERLINCOURT,
+        ),
+        "PZT-5H": transversely_isotropic_piezo(
+            "PZT-5H", c={"11": 12.6e10, "12": 7.95e10, "13": 8.41e10, "33": 11.7e10, "44": 2.30e10},
+            e={"31": -6.5, "33": 23.3, "15": 17.0}, eps_r={"11": 1700.0, "33": 1470.0},
+            rho=7500.0, source=_BERLINCOURT,
+        ),
+    }
+
+
+MATERIALS: dict[str, ElasticMaterial] = _library()
+
+
+def material(name_or_spec) -> ElasticMaterial:
+    """A named material, or one built from a TOML/dict spec.
+
+    Spec forms: ``{"E": .., "nu": .., "rho": ..}`` (isotropic), ``{"C": 6x6, "rho": ..}``
+    (anisotropic), plus ``"e"`` (3x6) and ``"eps_S"`` (3x3) for a piezoelectric solid.
+    """
+    if isinstance(name_or_spec, ElasticMaterial):
+        return name_or_spec
+    if isinstance(name_or_spec, str):
+        try:
+            return MATERIALS[name_or_spec]
+        except KeyError:
+            raise SceneError(
+                f"unknown material '{name_or_spec}'; known: {', '.join(sorted(MATERIALS))}"
+            ) from None
+    spec = dict(name_or_spec)
+    name = str(spec.pop("name", "user material"))
+    source = str(spec.pop("source", "user scene file"))
+    if "rho" not in spec:
+        raise SceneError(f"material '{name}': rho is required")
+    rho = float(spec.pop("rho"))
+    if "E" in spec:
+        unknown = set(spec) - {"E", "nu"}
+        if unknown:
+            raise SceneError(f"material '{name}': unexpected keys {sorted(unknown)}")
+        return isotropic(name, E=float(spec["E"]), nu=float(spec.get("nu", 0.3)), rho=rho, source=source)
+    if "C" not in spec:
+        raise SceneError(f"material '{name}': give either E and nu, or C (6x6)")
+    C = np.asarray(spec["C"], dtype=float)
+    if "e" in spec or "eps_S" in spec:
+        return PiezoMaterial(name, C, rho, source, e=np.asarray(spec.get("e")), eps_S=np.asarray(spec.get("eps_S")))
+    return ElasticMaterial(name, C, rho, source)

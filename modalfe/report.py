@@ -1,0 +1,137 @@
+"""The eigenfrequency report: each device's working modes beside the seeds' targets."""
+
+from __future__ import annotations
+
+import math
+import re
+import time
+from dataclasses import asdict, dataclass, field
+
+from modalfe.errors import SolverError
+
+_FAMILY = re.compile(r"^\((\d+|n),(\d+|n)\)$")
+
+
+@dataclass(frozen=True)
+class ReportRow:
+    """One working mode of one device against its targets.
+
+    frequency_hz [Hz]; wavelength_m [m] (plate modes, else None); error_estimate relative;
+    seconds: wall time of the device's solves; targets: name, value, unit, kind, source, deviation.
+    """
+
+    scene: str
+    mode: str
+    frequency_hz: float
+    targets: list[dict]
+    error_estimate: float | None
+    dofs: int
+    fidelity: str
+    seconds: float
+    wavelength_m: float | None = None
+    notes: list[str] = field(default_factory=list)
+
+    def to_json(self) -> dict:
+        return asdict(self)
+
+
+def select(modes, selector: str, near: float):
+    """The mode matching ``selector`` nearest ``near`` [Hz]: an exact label, or a plate family
+    where ``n`` stands for any count, e.g. ``(0,n)``."""
+    m = _FAMILY.match(selector)
+    if m and "n" in selector:
+        a, b = m.groups()
+
+        def fits(label: str) -> bool:
+            g = _FAMILY.match(label)
+            return bool(g) and all(want == "n" or want == got for want, got in zip((a, b), g.groups()))
+
+        found = [mode for mode in modes if fits(mode.label)]
+        if not found:
+            raise SolverError(f"no mode of the family {selector} among {[x.label for x in modes]}")
+        return min(found, key=lambda mode: abs(mode.frequency - near))
+    return modes.labelled(selector, near=near)
+
+
+def device_report(scene, *, error_estimate: bool = True) -> list[ReportRow]:
+    """Rows for each working mode of ``scene``; solves once per frequency window."""
+    from modalfe.solvers import solve_modes
+
+    rows = []
+    start = time.perf_counter()
+    band = scene.analysis.band
+    solved = {}
+    for wm in scene.working_modes:
+        key = "band" if band is not None else wm.near
+        if key not in solved:
+            solved[key] = (solve_modes(scene, error_estimate=error_estimate) if band is not None
+                           else solve_modes(scene, near=wm.near, count=max(scene.analysis.count, 10),
+                                            error_estimate=error_estimate))
+        modes = solved[key]
+        mode = select(modes, wm.selector, wm.near)
+        targets = []
+        for t in wm.targets:
+            value = mode.wavelength if t.unit == "m" else mode.frequency
+            deviation = (value - t.value) / t.value if math.isfinite(value) else None
+            targets.append({"name": t.name, "value": t.value, "unit": t.unit, "kind": t.kind,
+                            "source": t.source, "deviation": deviation})
+        rows.append(ReportRow(
+            scene=scene.name, mode=mode.label, frequency_hz=mode.frequency, targets=targets,
+            error_estimate=None if math.isnan(mode.error_estimate) else mode.error_estimate,
+            dofs=modes.dofs, fidelity=modes.fidelity, seconds=0.0,
+            wavelength_m=None if math.isnan(mode.wavelength) else mode.wavelength,
+            notes=device_notes(scene, modes, mode),
+        ))
+    seconds = time.perf_counter() - start
+    return [ReportRow(**{**asdict(r), "seconds": seconds}) for r in rows]
+
+
+def device_notes(scene, modes, mode) -> list[str]:
+    """Computed remarks that explain a row: other modes of interest, model limits."""
+    notes = []
+    if scene.analysis.band is not None:
+        rigid = [m for m in modes if m.label in ("sway-x", "sway-y", "heave", "roll", "pitch", "yaw")]
+        if rigid and mode.label in ("heave",):
+            notes.append("suspension modes: " + ", ".join(f"{m.label} {m.frequency:.1f} Hz" for m in rigid)
+                         + " (seed 002 FEM: 28, 45, 51, 77 Hz)")
+        plate = [m for m in modes if m not in rigid]
+        if plate and mode.label not in ("heave",):
+            notes.append("plate modes: " + ", ".join(f"{m.label} {m.frequency:.0f} Hz" for m in plate[:6])
+                         + " (seed 002 FEM: 896, 1032 Hz)")
+    return notes
+
+
+def run_report(names: list[str] | None = None, *, progress: bool = True, error_estimate: bool = True,
+               overrides: dict | None = None) -> list[ReportRow]:
+    """Report rows for the named built-in scenes (all four by default)."""
+    from modalfe.scene import load_scene
+    from modalfe.scenes import BUILTIN
+
+    names = names or list(BUILTIN)
+    rows = []
+    iterator = names
+    if progress:
+        from tqdm import tqdm
+
+        iterator = tqdm(names, desc="modalfe report", unit="device", leave=False)
+    for name in iterator:
+        scene = load_scene(name, **(overrides or {}))
+        rows.extend(device_report(scene, error_estimate=error_estimate))
+    return rows
+
+
+def format_rows(rows: list[ReportRow]) -> str:
+    """A plain-text table: one line per working mode, then its targets and notes."""
+    lines = [f"{'scene':<15} {'mode':<12} {'f [Hz]':>10} {'err est':>8} {'DOFs':>7} {'fidelity':>8} {'s':>6}"]
+    for r in rows:
+        err = f"{100 * r.error_estimate:.2f}%" if r.error_estimate is not None else "n/a"
+        lines.append(f"{r.scene:<15} {r.mode:<12} {r.frequency_hz:>10.1f} {err:>8} {r.dofs:>7} {r.fidelity:>8} {r.seconds:>6.1f}")
+        if r.wavelength_m is not None:
+            lines.append(f"{'':<15} wavelength along x {1e3 * r.wavelength_m:.2f} mm")
+        for t in r.targets:
+            dev = f"{100 * t['deviation']:+.1f}%" if t["deviation"] is not None else "n/a"
+            value = f"{t['value']:.6g} {t['unit']}"
+            lines.append(f"{'':<15} vs {t['name']:<20} {value:>14}  {dev:>7}  ({t['kind']}: {t['source']})")
+        for note in r.notes:
+            lines.append(f"{'':<15} note: {note}")
+    return "\n".join(lines)

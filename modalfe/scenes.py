@@ -1,0 +1,141 @@
+"""The four seed devices as built-in scenes, with their targets and the assumptions they rest on.
+
+Geometry defaults live in the builders' signatures (``geometries/``); this module adds what a
+scene needs beyond geometry. Every number carries its source.
+"""
+
+from __future__ import annotations
+
+from modalfe.scene import Analysis, MeshSettings, Scene, Target, WorkingMode
+
+
+def rubber_mount_stiffness(*, E: float, nu: float, area: float, height: float) -> tuple[float, float, float]:
+    """(kx, ky, kz) [N/m] of a square rubber block bonded at both ends.
+
+    kz = E A / h (seed 002, sec. 4.3); lateral: shear G A / h in series with fixed-guided bending
+    h^3 / (12 E I) (Timoshenko beam), I = side^4 / 12. The shape-factor stiffening of a bonded
+    block in compression (Gent 2012, ch. 3) is about 1 + 2 (0.28)^2 ~ 1.16 here and is left out,
+    as in the seed's lumped model.
+    """
+    G = E / (2 * (1 + nu))
+    side = area**0.5
+    inertia = side**4 / 12
+    lateral = 1 / (height / (G * area) + height**3 / (12 * E * inertia))
+    return (lateral, lateral, E * area / height)
+
+
+# seed 002: SBR E = 2 MPa, A = 8 cm^2, h = 2.5 cm; nu 0.49 (ASSUMPTIONS.md)
+MOUNT_STIFFNESS = rubber_mount_stiffness(E=2.0e6, nu=0.49, area=8e-4, height=0.025)
+
+
+def cube_plate() -> Scene:
+    """Cu-Be plate with ten PZT ceramics and four feet, working mode (0,6) (seeds 000, 001)."""
+    return Scene(
+        name="cube_plate",
+        device="cube_plate",
+        params={},
+        electrodes={"electrode_top": "drive", "electrode_bottom": "ground"},
+        analysis=Analysis(near=40.7e3, count=8),
+        mesh=MeshSettings(elements_per_wavelength=6.0, max_frequency=50e3),
+        working_modes=(
+            WorkingMode("(0,6)", 40.7e3, (
+                Target("f_measured", 40.7e3, "Hz", "measured", "seed 001, measured resonance"),
+                Target("f_reference_fe", 42.7e3, "Hz", "reference", "seed 001, Abaqus C3D8E, no bond layer"),
+            )),
+        ),
+        assumptions=(
+            "ceramics: 2 rows x 5 of 12 x 12 x 1 mm, x-pitch 12.4 mm, rows y = 12.5 / 25.5 mm (ASSUMPTIONS.md)",
+            "PZT grade not named by the seeds: PZT-4 (Berlincourt 1964)",
+            "feet: 3 x 3 x 4 mm Cu-Be square columns at x = 20.35 / 43.65 mm, y = 6 / 32 mm",
+            "no bond layer; free-free (feet not in contact)",
+        ),
+    )
+
+
+def glass_plate() -> Scene:
+    """1.9 mm glass plate with two piezo strips; modes near 66 and 225 kHz (seed 004)."""
+    return Scene(
+        name="glass_plate",
+        device="glass_plate",
+        params={},
+        electrodes={"electrode_outer": "drive", "electrode_inner": "ground"},
+        analysis=Analysis(near=66e3, count=8),
+        mesh=MeshSettings(elements_per_wavelength=6.0, max_frequency=250e3),
+        working_modes=(
+            WorkingMode("(0,n)", 66e3, (
+                Target("f_measured", 66e3, "Hz", "measured", "seed 004"),
+                Target("wavelength_measured", 15e-3, "m", "measured", "seed 004"),
+            )),
+            WorkingMode("(0,n)", 225e3, (
+                Target("f_measured", 225e3, "Hz", "measured", "seed 004"),
+                Target("wavelength_measured", 7.5e-3, "m", "measured", "seed 004"),
+            )),
+        ),
+        assumptions=(
+            "in-plane size 60 x 20 mm and piezo positions not in the seed's text (figure lost)",
+            "soda-lime glass (EN 572-1), piezos PZT-4",
+        ),
+    )
+
+
+def honeycomb_tile() -> Scene:
+    """Honeycomb sandwich tile on four SBR mounts with a 2.3 kg actuator at the centre (seed 002)."""
+    return Scene(
+        name="honeycomb_tile",
+        device="honeycomb_tile",
+        params={},
+        springs={f"mount_{i}": MOUNT_STIFFNESS for i in range(1, 5)},
+        # moving mass 2.7 kg (seed 002, M0) minus the 0.4 kg panel: actuator, bracket and rod
+        masses={"actuator": 2.3},
+        analysis=Analysis(band=(1.0, 1500.0)),
+        mesh=MeshSettings(elements_per_wavelength=6.0, max_frequency=1500.0, max_size=0.02),
+        working_modes=(
+            WorkingMode("heave", 45.0, (
+                Target("f_reference_fe", 45.0, "Hz", "reference", "seed 002, FEM heave mode"),
+                Target("f_lumped", 49.0, "Hz", "analytic", "seed 002, f0 = sqrt(4EA/(h M0)) / 2 pi"),
+            )),
+            WorkingMode("(1,1)", 896.0, (
+                Target("f_analytic_eq5", 845.0, "Hz", "analytic", "seed 002, eq. (5)"),
+                Target("f_reference_fe", 896.0, "Hz", "reference", "seed 002, FEM (1,1)"),
+            )),
+        ),
+        assumptions=(
+            "core: homogenised HexWeb 5052 1/4-.001 honeycomb (Hexcel catalogue values)",
+            "mounts: springs kz = EA/h, kx = ky = shear + bending of a bonded block (E 2 MPa, "
+            "nu 0.49, A 8 cm^2, h 2.5 cm), centres 20 mm in from the edges",
+            "actuator: 2.3 kg smeared over a 40 x 40 mm patch at the centre of the bottom facing",
+        ),
+        kind="plate",
+    )
+
+
+def ciliary_beam() -> Scene:
+    """100 x 5 x 5 mm brass cantilever with a PZT bimorph at x0 = 68 mm; mode 6 (seed 003)."""
+    return Scene(
+        name="ciliary_beam",
+        device="ciliary_beam",
+        params={},
+        clamps={"clamp": "xyz"},
+        electrodes={"electrode_outer": "drive", "electrode_inner": "ground"},
+        analysis=Analysis(near=24e3, count=8),
+        mesh=MeshSettings(elements_per_wavelength=6.0, max_frequency=30e3),
+        working_modes=(
+            WorkingMode("bending-z 6", 24.2e3, (
+                Target("f_analytic", 24221.0, "Hz", "analytic", "seed 003, Euler-Bernoulli theory"),
+                Target("f_measured", 23.2e3, "Hz", "measured", "seed 003"),
+            )),
+        ),
+        assumptions=(
+            "x0 = 68 mm (l1 / l2 / l3 = 63 / 10 / 27 mm), rigid clamp at x = 0 (ASSUMPTIONS.md)",
+            "beam nu 0.34 (brass); sheets PZT-5A (seed gives only E 76.5 GPa, e31 2.0 C/m^2)",
+        ),
+        kind="beam",
+    )
+
+
+BUILTIN = {
+    "cube_plate": cube_plate,
+    "glass_plate": glass_plate,
+    "honeycomb_tile": honeycomb_tile,
+    "ciliary_beam": ciliary_beam,
+}

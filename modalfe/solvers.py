@@ -1,0 +1,156 @@
+"""Band-targeted eigen solves: shift-invert around a frequency, one factorization for all modes.
+
+The coupled piezoelectric problem K x = omega^2 M x has a singular M (no inertia on the potential);
+ARPACK's shift-invert mode accepts a positive semi-definite M, and the potential unknowns only
+add eigenvalues at infinity, which shift-invert maps to zero and never returns.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+
+import numpy as np
+from scipy.sparse.linalg import ArpackError, ArpackNoConvergence, LinearOperator, eigsh
+
+from modalfe.errors import SolverError
+from modalfe.labels import label_mode
+from modalfe.linalg import factorize
+from modalfe.results import Mode, Modes
+
+log = logging.getLogger(__name__)
+
+COARSE_FACTOR = 1.5  # coarse level of the Richardson estimate: elements 1.5x larger
+CONVERGENCE_ORDER = 4.0  # eigenvalue error of quadratic elements ~ h^(2p), p = 2 (Strang & Fix 1973)
+
+
+def solve_modes(
+    scene,
+    *,
+    near: float | None = None,
+    count: int | None = None,
+    band: tuple[float, float] | None = None,
+    circuit: str | None = None,
+    error_estimate: bool = True,
+    size_factor: float = 1.0,
+    solver: str = "auto",
+    frame=None,
+) -> Modes:
+    """Modes of ``scene``: ``count`` nearest ``near`` [Hz], or all in ``band`` [Hz].
+
+    Defaults come from ``scene.analysis``. With ``error_estimate`` the scene is solved again on a
+    mesh 1.5x coarser and each frequency gets a Richardson estimate of its relative error.
+    ``frame`` (3, 3) rotates the whole device (mesh and materials), for invariance checks.
+    """
+    from modalfe.scene import Analysis
+
+    a = scene.analysis
+    if near is not None or band is not None:
+        a = Analysis(near=near, count=count or a.count, band=band, circuit=circuit or a.circuit)
+    else:
+        a = Analysis(near=a.near, count=count or a.count, band=a.band, circuit=circuit or a.circuit)
+    if a.band is None and a.near is None:
+        raise SolverError("give near (and count) or band")
+    fine = _solve(scene, a, size_factor=size_factor, solver=solver, frame=frame)
+    if not error_estimate:
+        return fine
+    start = time.perf_counter()
+    coarse_analysis = Analysis(near=a.near, count=a.count + 4, band=a.band, circuit=a.circuit) \
+        if a.band is None else Analysis(band=(a.band[0] * 0.9, a.band[1] * 1.1), circuit=a.circuit)
+    coarse = _solve(scene, coarse_analysis, size_factor=size_factor * COARSE_FACTOR, solver=solver, frame=frame)
+    ratio = (fine.dofs / coarse.dofs) ** (1 / 3)  # <= the true size ratio: a conservative estimate
+    estimates = {}
+    for mode in fine:
+        same = [m for m in coarse if m.label == mode.label]
+        if not same:
+            continue
+        partner = min(same, key=lambda m: abs(m.frequency - mode.frequency))
+        if mode.frequency > 0 and abs(partner.frequency - mode.frequency) < 0.1 * mode.frequency:
+            estimates[mode.index] = abs(partner.frequency - mode.frequency) / (
+                (ratio**CONVERGENCE_ORDER - 1) * mode.frequency)
+    timings = dict(fine.timings, error_estimate=time.perf_counter() - start)
+    result = fine.with_error_estimates(estimates)
+    return Modes(result.modes, result.model, result.circuit, result.fidelity, result.dofs, timings)
+
+
+def _solve(scene, analysis, *, size_factor: float, solver: str, frame=None) -> Modes:
+    from modalfe.mesh import build_mesh, element_sizes
+    from modalfe.model import assemble
+
+    t0 = time.perf_counter()
+    sizes = {k: v * size_factor for k, v in element_sizes(scene).items()}
+    dm = build_mesh(scene.assembly(), size=sizes, element=scene.mesh.element, min_layers=scene.mesh.min_layers)
+    t_mesh = time.perf_counter() - t0
+    model = assemble(scene, dm, frame=frame)
+    constraints = model.constraints(analysis.circuit)
+    T = constraints.T
+    A = (T.T @ model.K @ T).tocsr()
+    B = (T.T @ model.M @ T).tocsr()
+    values, vectors, t_fact, t_eig, used = _eigen(A, B, analysis, solver)
+    shapes = T @ vectors
+    modes = []
+    for i in range(len(values)):
+        lam = values[i]
+        frequency = float(np.sqrt(max(lam, 0.0)) / (2 * np.pi))
+        label, wavelength = label_mode(model, shapes[:, i], scene.kind)
+        modes.append(Mode(i, frequency, label, shapes[:, i], wavelength=wavelength))
+    timings = {"mesh": t_mesh if dm.seconds else 0.0, "assembly": model.timings["assembly"],
+               "factorization": t_fact, "eigensolve": t_eig, "solver": used}
+    return Modes(tuple(modes), model, analysis.circuit, "solid", A.shape[0], timings)
+
+
+def _eigen(A, B, analysis, solver):
+    """Eigenpairs of A x = lam B x near the target; returns sorted (lam, X, t_fact, t_eig, solver)."""
+    two_pi = 2 * np.pi
+    if analysis.band is not None:
+        f1, f2 = analysis.band
+        centre = 0.5 * (f1 + f2)
+        sigma = (two_pi * centre) ** 2
+        count = 12
+    else:
+        sigma = (two_pi * analysis.near) ** 2
+        count = analysis.count
+    n = A.shape[0]
+    t = time.perf_counter()
+    solve, used = _factor_shifted(A, B, sigma, solver)
+    t_fact = time.perf_counter() - t
+    op = LinearOperator(A.shape, matvec=solve, dtype=float)
+    t = time.perf_counter()
+    while True:
+        k = min(count, n - 2)
+        try:
+            lam, X = eigsh(A, k=k, M=B, sigma=sigma, which="LM", OPinv=op, tol=1e-10)
+        except (ArpackNoConvergence, ArpackError) as exc:
+            raise SolverError(f"the eigen solve did not converge near {np.sqrt(abs(sigma)) / two_pi:.4g} Hz: {exc}") from None
+        if not np.all(np.isfinite(lam)):
+            raise SolverError("the eigen solve returned NaN eigenvalues")
+        if analysis.band is None or k >= n - 2:
+            break
+        freqs = np.sqrt(np.abs(lam)) / two_pi
+        # the returned set is the k nearest the centre: once it reaches past both band edges, all
+        # modes inside are found
+        if freqs.min() <= analysis.band[0] and freqs.max() >= analysis.band[1]:
+            break
+        if abs(freqs - centre).max() > max(centre - analysis.band[0], analysis.band[1] - centre):
+            break
+        count *= 2
+    t_eig = time.perf_counter() - t
+    order = np.argsort(lam)
+    lam, X = lam[order], X[:, order]
+    if analysis.band is not None:
+        freqs = np.sqrt(np.clip(lam, 0, None)) / two_pi
+        keep = (freqs >= analysis.band[0]) & (freqs <= analysis.band[1])
+        lam, X = lam[keep], X[:, keep]
+        if len(lam) == 0:
+            raise SolverError(f"no modes in the band {analysis.band[0]:g}-{analysis.band[1]:g} Hz")
+    return lam, X, t_fact, t_eig, used
+
+
+def _factor_shifted(A, B, sigma, solver):
+    """Factor A - sigma B; on a singular shift, move it by 1e-6 relative once and say so."""
+    try:
+        return factorize(A - sigma * B, solver=solver)
+    except SolverError:
+        moved = sigma * (1 + 1e-6) if sigma else 1e-6 * abs(A.diagonal()).mean() / abs(B.diagonal()).mean()
+        log.warning("shift %.6g is singular (on an eigenvalue?); moved to %.6g", sigma, moved)
+        return factorize(A - moved * B, solver=solver)

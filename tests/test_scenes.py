@@ -1,0 +1,199 @@
+"""Scenes: every built-in scene and registered builder, overrides, scene files and bad input."""
+
+import numpy as np
+import pytest
+
+from geometries import BUILDERS
+from modalfe.errors import MeshError, SceneError
+from modalfe.materials import MATERIALS, material
+from modalfe.scene import load_scene, scene_from_dict
+from modalfe.scenes import BUILTIN
+
+BEAM_FILE = """
+name = "bimorph"
+units = "mm"
+kind = "beam"
+[analysis]
+near = 2000.0
+count = 4
+[materials.steel]
+E = 200e9
+nu = 0.3
+rho = 7850.0
+[[parts]]
+name = "beam"
+material = "steel"
+origin = [0, 0, 0]
+size = [40, 4, 1]
+[[parts]]
+name = "patch"
+region = "piezo"
+material = "PZT-5A"
+origin = [5, 0, 1]
+size = [10, 4, 0.2]
+poling = 1
+[faces]
+clamp = ["beam.xmin"]
+electrode_top = ["patch.zmax"]
+electrode_bottom = ["patch.zmin"]
+[electrodes]
+electrode_top = "drive"
+electrode_bottom = "ground"
+[clamps]
+clamp = "xyz"
+[[working_modes]]
+selector = "bending-z 1"
+near = 500.0
+targets = [{name = "guess", value = 500.0}]
+"""
+
+
+@pytest.mark.parametrize("name", sorted(BUILTIN))
+def test_every_builtin_scene_validates_and_builds(name):
+    scene = load_scene(name)
+    assembly = scene.assembly()
+    assert assembly.parts, name
+    assert scene.working_modes, f"{name} names no working mode"
+    for wm in scene.working_modes:
+        assert wm.targets and all(t.source for t in wm.targets)
+
+
+@pytest.mark.parametrize("name", sorted(set(BUILDERS) - {"boxes"}))
+def test_every_registered_builder_runs_with_defaults(name):
+    assembly = BUILDERS[name]()
+    total = sum(p.volume for p in assembly.parts)
+    assert total > 0
+
+
+def test_overrides_change_the_geometry():
+    thin = load_scene("cube_plate", ceramic_thickness=0.65e-3).assembly().part("ceramic_1")
+    assert thin.size[2] == pytest.approx(0.65e-3)
+    scene = load_scene("cube_plate", **{"mesh.elements_per_wavelength": 8, "analysis.near": 41e3})
+    assert scene.mesh.elements_per_wavelength == 8 and scene.analysis.near == 41e3
+
+
+def test_scene_file_in_millimetres_equals_metres(tmp_path):
+    path = tmp_path / "bimorph.toml"
+    path.write_text(BEAM_FILE)
+    mm = load_scene(path)
+    metres = BEAM_FILE.replace('units = "mm"', 'units = "m"')
+    for a, b in (("[40, 4, 1]", "[0.04, 0.004, 0.001]"), ("[5, 0, 1]", "[0.005, 0, 0.001]"),
+                 ("[10, 4, 0.2]", "[0.01, 0.004, 0.0002]")):
+        metres = metres.replace(a, b)
+    (tmp_path / "m.toml").write_text(metres)
+    m = load_scene(tmp_path / "m.toml")
+    for pa, pb in zip(mm.assembly().parts, m.assembly().parts):
+        np.testing.assert_allclose(pa.lo, pb.lo, rtol=1e-12, atol=1e-15)
+        np.testing.assert_allclose(pa.hi, pb.hi, rtol=1e-12, atol=1e-15)
+    assert mm.material("steel").rho == 7850.0
+
+
+def _one_line_error(exc_info, *words):
+    text = str(exc_info.value)
+    assert "\n" not in text
+    for w in words:
+        assert w in text, f"'{w}' not named in: {text}"
+
+
+@pytest.mark.parametrize("key,value,field", [
+    ("thickness", 0.0, "thickness"),
+    ("thickness", -3e-3, "thickness"),
+    ("ceramic_length", -1e-3, "ceramic_length"),
+    ("length", float("nan"), "length"),
+])
+def test_bad_sizes_name_the_field(key, value, field):
+    with pytest.raises(SceneError) as info:
+        load_scene("cube_plate", **{key: value})
+    _one_line_error(info, field)
+
+
+def test_foot_off_the_plate_is_refused():
+    with pytest.raises(SceneError) as info:
+        load_scene("cube_plate", feet=((70e-3, 6e-3),))
+    _one_line_error(info, "feet[0]", "off the plate")
+
+
+def test_ceramic_off_the_plate_is_refused():
+    with pytest.raises(SceneError) as info:
+        load_scene("cube_plate", ceramic_pitch=20e-3)
+    _one_line_error(info, "ceramic", "off the plate")
+
+
+def test_overlapping_parts_are_refused():
+    data = {"parts": [
+        {"name": "a", "material": "CuBe", "origin": [0, 0, 0], "size": [1, 1, 1]},
+        {"name": "b", "material": "CuBe", "origin": [0.5, 0.5, 0.5], "size": [1, 1, 1]},
+    ], "analysis": {"near": 1000.0}}
+    with pytest.raises(SceneError) as info:
+        scene_from_dict(data)
+    _one_line_error(info, "'a'", "'b'", "overlap")
+
+
+def test_unknown_material_is_refused():
+    with pytest.raises(SceneError) as info:
+        load_scene("cube_plate", plate_material="unobtainium")
+    _one_line_error(info, "unobtainium", "plate")
+
+
+def test_material_tensor_must_be_positive_definite():
+    C = np.eye(6) * 1e9
+    C[0, 0] = -1e9
+    with pytest.raises(SceneError) as info:
+        material({"name": "bad", "C": C.tolist(), "rho": 1000.0})
+    _one_line_error(info, "'bad'", "positive definite")
+    with pytest.raises(SceneError) as info:
+        material({"name": "iso", "E": 1e9, "nu": 0.5, "rho": 1000.0})
+    _one_line_error(info, "nu")
+
+
+def test_piezo_grades_are_named_with_sources():
+    for grade in ("PZT-4", "PZT-5A", "PZT-5H"):
+        m = MATERIALS[grade]
+        assert m.is_piezoelectric and "Berlincourt" in m.source
+        # e31 < 0 < e33 for every poled PZT (Berlincourt 1964 tables)
+        assert m.e[2, 0] < 0 < m.e[2, 2]
+
+
+def test_poled_down_flips_the_coupling_only():
+    up = MATERIALS["PZT-5A"]
+    down = up.poled(-1)
+    np.testing.assert_allclose(down.C, up.C, rtol=1e-12)
+    np.testing.assert_allclose(down.e[2, :3], -up.e[2, :3], rtol=1e-12)
+
+
+def test_unknown_parameter_and_bad_roles_name_the_field():
+    with pytest.raises(SceneError) as info:
+        load_scene("cube_plate", ceramic_colour="red")
+    _one_line_error(info, "ceramic_colour")
+    with pytest.raises(SceneError) as info:
+        load_scene("cube_plate", **{"electrodes.electrode_top": "hot"})
+    _one_line_error(info, "electrodes.electrode_top")
+    with pytest.raises(SceneError) as info:
+        load_scene("cube_plate", **{"springs.nowhere": [1.0, 1.0, 1.0]})
+    _one_line_error(info, "springs.nowhere")
+    with pytest.raises(SceneError) as info:
+        load_scene("cube_plate", **{"analysis.band": [5e3, 1e3]})
+    _one_line_error(info, "analysis.band")
+
+
+def test_unknown_scene_and_bad_toml(tmp_path):
+    with pytest.raises(SceneError) as info:
+        load_scene("no_such_device")
+    _one_line_error(info, "no_such_device")
+    bad = tmp_path / "bad.toml"
+    bad.write_text("parts = [[[")
+    with pytest.raises(SceneError) as info:
+        load_scene(bad)
+    _one_line_error(info, "bad.toml")
+
+
+def test_empty_or_failed_mesh_is_a_mesh_error():
+    from modalfe.mesh import build_mesh
+
+    assembly = BUILDERS["ciliary_beam"]()
+    with pytest.raises(MeshError) as info:
+        build_mesh(assembly, size=0.0)
+    _one_line_error(info, "size")
+    with pytest.raises(MeshError) as info:
+        build_mesh(assembly, size=1e-3, element="prism")
+    _one_line_error(info, "mesh.element")

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from modalfe.errors import SceneError
 
 SIDES = ("xmin", "xmax", "ymin", "ymax", "zmin", "zmax")
@@ -125,6 +127,59 @@ class Assembly:
         for p in self.parts:
             out.setdefault(p.region, []).append(p.name)
         return {k: tuple(v) for k, v in out.items()}
+
+    def face_area(self, group: str) -> float:
+        """Area [m^2] of a face group, from the boxes (windows included)."""
+        total = 0.0
+        for f in self.faces[group]:
+            axis, _, lo, hi = self.part(f.part).face_bounds(f.side, f.window)
+            total += float(np.prod([hi[k] - lo[k] for k in range(3) if k != axis]))
+        return total
+
+    def halved(self, axis: int) -> Assembly:
+        """The half below the mid-plane normal to ``axis``, with the cut faces in group
+        ``symmetry_<x|y|z>``; raises SceneError unless the assembly is mirror-symmetric."""
+        lo, hi = self.bounds
+        mid = 0.5 * (lo[axis] + hi[axis])
+        scale = hi[axis] - lo[axis]
+        tol = 1e-9 * scale
+
+        def mirrored(p: Box) -> tuple:
+            a, b = list(p.lo), list(p.hi)
+            a[axis], b[axis] = 2 * mid - p.hi[axis], 2 * mid - p.lo[axis]
+            return tuple(a), tuple(b)
+
+        for p in self.parts:
+            a, b = mirrored(p)
+            if not any(q.material == p.material and q.poling == p.poling and np.allclose(q.lo, a, atol=tol)
+                       and np.allclose(q.hi, b, atol=tol) for q in self.parts):
+                raise SceneError(f"symmetry: part '{p.name}' has no mirror image about the {'xyz'[axis]} mid-plane")
+        kept, cut = [], []
+        for p in self.parts:
+            if p.lo[axis] >= mid - tol:
+                continue
+            if p.hi[axis] > mid + tol:
+                h = list(p.hi)
+                h[axis] = mid
+                p = Box(p.name, p.region, p.material, p.lo, tuple(h), p.poling)
+                cut.append(Face(p.name, "xyz"[axis] + "max"))
+            kept.append(p)
+        names = {p.name for p in kept}
+        faces = {}
+        for group, entries in self.faces.items():
+            inside = []
+            for f in entries:
+                if f.part not in names:
+                    continue
+                if f.window is not None:
+                    raise SceneError(f"symmetry: face windows (faces.{group}) are not supported with symmetry")
+                inside.append(f)
+            if inside:
+                faces[group] = tuple(inside)
+        if not cut:
+            raise SceneError(f"symmetry: no part crosses the {'xyz'[axis]} mid-plane")
+        faces[f"symmetry_{'xyz'[axis]}"] = tuple(cut)
+        return Assembly(tuple(kept), faces)
 
     @property
     def bounds(self) -> tuple[tuple[float, ...], tuple[float, ...]]:

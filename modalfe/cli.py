@@ -38,7 +38,7 @@ def _report(args) -> int:
         print(json.dumps([r.to_json() for r in rows], indent=2))
     else:
         print(format_rows(rows))
-    return 0
+    return 1 if any(r.mode == "FAILED" for r in rows) else 0
 
 
 def _modes(args) -> int:

@@ -40,7 +40,15 @@ def main_part_field(model, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     top = max(stiffness.values())
     keep = [p.name for p in assembly.parts if stiffness[p.name] >= 0.01 * top]
     vertices = np.unique(dm.mesh.t[:, np.concatenate([dm.parts[n] for n in keep])])
-    return dm.mesh.p[:, vertices], model.nodal_displacement(x)[:, vertices]
+    points, u = dm.mesh.p[:, vertices], model.nodal_displacement(x)[:, vertices]
+    lo, hi = scene.full_assembly().bounds
+    for axis in scene.symmetry:  # unfold a symmetric model into the whole device
+        k = "xyz".index(axis)
+        mirror_p, mirror_u = points.copy(), u.copy()
+        mirror_p[k] = lo[k] + hi[k] - points[k]
+        mirror_u[k] = -u[k]
+        points, u = np.hstack([points, mirror_p]), np.hstack([u, mirror_u])
+    return points, u
 
 
 def rigid_motion(points: np.ndarray, u: np.ndarray) -> tuple[str, float]:

@@ -170,7 +170,7 @@ def assemble(scene, device_mesh, *, frame: np.ndarray | None = None) -> Model:
 def _clamped_dofs(scene, device_mesh, u_basis) -> np.ndarray:
     """u DOFs fixed by the scene's clamps (each clamp fixes the components it names)."""
     fixed = [np.array([], dtype=int)]
-    for group, components in scene.clamps.items():
+    for group, components in {**scene.clamps, **scene.symmetry_clamps}.items():
         dofs = u_basis.get_dofs(device_mesh.faces[group])
         for c in components:
             fixed.append(dofs.all(f"u^{'xyz'.index(c) + 1}"))
@@ -275,16 +275,19 @@ def face_area(device_mesh, group: str) -> float:
 
 
 def _face_springs(scene, device_mesh, u_basis, scalar, intorder):
+    """Springs to ground: the scene gives totals for the whole face (whole device), spread
+    uniformly per unit area, so a symmetric half model carries its share."""
     out = sp.csr_matrix((u_basis.N, u_basis.N))
+    full = scene.full_assembly()
     for group, k in scene.springs.items():
-        area = face_area(device_mesh, group)
-        out = out + _face_operator(device_mesh, group, scalar, intorder, np.asarray(k) / area)
+        out = out + _face_operator(device_mesh, group, scalar, intorder, np.asarray(k) / full.face_area(group))
     return out
 
 
 def _face_masses(scene, device_mesh, u_basis, scalar, intorder):
+    """Attached masses (translational inertia), spread uniformly over the face like the springs."""
     out = sp.csr_matrix((u_basis.N, u_basis.N))
+    full = scene.full_assembly()
     for group, m in scene.masses.items():
-        area = face_area(device_mesh, group)
-        out = out + _face_operator(device_mesh, group, scalar, intorder, np.full(3, m / area))
+        out = out + _face_operator(device_mesh, group, scalar, intorder, np.full(3, m / full.face_area(group)))
     return out

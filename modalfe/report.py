@@ -10,6 +10,7 @@ from dataclasses import asdict, dataclass, field
 from modalfe.errors import SolverError
 
 _FAMILY = re.compile(r"^\((\d+|n),(\d+|n)\)$")
+_MAX_COUNT = 80  # modes searched around a target before a working mode is declared missing
 
 
 @dataclass(frozen=True)
@@ -29,6 +30,8 @@ class ReportRow:
     fidelity: str
     seconds: float
     wavelength_m: float | None = None
+    antiresonance_hz: float | None = None
+    k_eff: float | None = None
     notes: list[str] = field(default_factory=list)
 
     def to_json(self) -> dict:
@@ -54,7 +57,9 @@ def select(modes, selector: str, near: float):
 
 
 def device_report(scene, *, error_estimate: bool = True) -> list[ReportRow]:
-    """Rows for each working mode of ``scene``; solves once per frequency window."""
+    """Rows for each working mode of ``scene``; solves once per frequency window, and once more in
+    open circuit where the scene has a driven electrode (antiresonance and k_eff)."""
+    from modalfe.coupling import antiresonance, k_eff
     from modalfe.solvers import solve_modes
 
     rows = []
@@ -63,24 +68,37 @@ def device_report(scene, *, error_estimate: bool = True) -> list[ReportRow]:
     solved = {}
     for wm in scene.working_modes:
         key = "band" if band is not None else wm.near
-        if key not in solved:
-            solved[key] = (solve_modes(scene, error_estimate=error_estimate) if band is not None
-                           else solve_modes(scene, near=wm.near, count=max(scene.analysis.count, 10),
-                                            error_estimate=error_estimate))
-        modes = solved[key]
-        mode = select(modes, wm.selector, wm.near)
+        count = max(scene.analysis.count, 10)
+        while True:
+            if key not in solved:
+                solved[key] = (solve_modes(scene, error_estimate=error_estimate) if band is not None
+                               else solve_modes(scene, near=wm.near, count=count, error_estimate=error_estimate))
+            modes = solved[key]
+            try:
+                mode = select(modes, wm.selector, wm.near)
+                break
+            except SolverError:
+                if band is not None or count >= _MAX_COUNT:
+                    raise
+                count *= 2  # dense spectrum: look at more modes around the target
+                del solved[key]
         targets = []
         for t in wm.targets:
             value = mode.wavelength if t.unit == "m" else mode.frequency
             deviation = (value - t.value) / t.value if math.isfinite(value) else None
             targets.append({"name": t.name, "value": t.value, "unit": t.unit, "kind": t.kind,
                             "source": t.source, "deviation": deviation})
+        fa = coupling = None
+        if "drive" in scene.electrodes.values():
+            open_modes = solve_modes(scene, near=mode.frequency, count=6, circuit="open", error_estimate=False)
+            fa = antiresonance(mode, open_modes).frequency
+            coupling = k_eff(mode.frequency, fa)
         rows.append(ReportRow(
             scene=scene.name, mode=mode.label, frequency_hz=mode.frequency, targets=targets,
             error_estimate=None if math.isnan(mode.error_estimate) else mode.error_estimate,
             dofs=modes.dofs, fidelity=modes.fidelity, seconds=0.0,
             wavelength_m=None if math.isnan(mode.wavelength) else mode.wavelength,
-            notes=device_notes(scene, modes, mode),
+            antiresonance_hz=fa, k_eff=coupling, notes=device_notes(scene, modes, mode),
         ))
     seconds = time.perf_counter() - start
     return [ReportRow(**{**asdict(r), "seconds": seconds}) for r in rows]
@@ -89,6 +107,9 @@ def device_report(scene, *, error_estimate: bool = True) -> list[ReportRow]:
 def device_notes(scene, modes, mode) -> list[str]:
     """Computed remarks that explain a row: other modes of interest, model limits."""
     notes = []
+    if scene.symmetry:
+        notes.append(f"symmetric model about the {'/'.join(scene.symmetry)} mid-plane(s): "
+                     "modes antisymmetric about them are not computed (--set symmetry=[] for all)")
     if scene.analysis.band is not None:
         rigid = [m for m in modes if m.label in ("sway-x", "sway-y", "heave", "roll", "pitch", "yaw")]
         if rigid and mode.label in ("heave",):
@@ -116,7 +137,11 @@ def run_report(names: list[str] | None = None, *, progress: bool = True, error_e
         iterator = tqdm(names, desc="modalfe report", unit="device", leave=False)
     for name in iterator:
         scene = load_scene(name, **(overrides or {}))
-        rows.extend(device_report(scene, error_estimate=error_estimate))
+        try:
+            rows.extend(device_report(scene, error_estimate=error_estimate))
+        except SolverError as exc:
+            rows.append(ReportRow(scene=name, mode="FAILED", frequency_hz=float("nan"), targets=[],
+                                  error_estimate=None, dofs=0, fidelity="solid", seconds=0.0, notes=[str(exc)]))
     return rows
 
 
@@ -125,9 +150,12 @@ def format_rows(rows: list[ReportRow]) -> str:
     lines = [f"{'scene':<15} {'mode':<12} {'f [Hz]':>10} {'err est':>8} {'DOFs':>7} {'fidelity':>8} {'s':>6}"]
     for r in rows:
         err = f"{100 * r.error_estimate:.2f}%" if r.error_estimate is not None else "n/a"
-        lines.append(f"{r.scene:<15} {r.mode:<12} {r.frequency_hz:>10.1f} {err:>8} {r.dofs:>7} {r.fidelity:>8} {r.seconds:>6.1f}")
+        lines.append(f"{r.scene:<15} {r.mode:<12} {r.frequency_hz:>10.1f} {err:>8} {r.dofs:>7} "
+                     f"{r.fidelity:>8} {r.seconds:>6.1f}")
         if r.wavelength_m is not None:
             lines.append(f"{'':<15} wavelength along x {1e3 * r.wavelength_m:.2f} mm")
+        if r.k_eff is not None:
+            lines.append(f"{'':<15} antiresonance {r.antiresonance_hz:.1f} Hz, k_eff {r.k_eff:.4f}")
         for t in r.targets:
             dev = f"{100 * t['deviation']:+.1f}%" if t["deviation"] is not None else "n/a"
             value = f"{t['value']:.6g} {t['unit']}"

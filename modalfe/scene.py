@@ -88,9 +88,24 @@ class Scene:
     working_modes: tuple[WorkingMode, ...] = ()
     assumptions: tuple[str, ...] = ()
     kind: str = "plate"
+    symmetry: tuple[str, ...] = ()
 
     def assembly(self):
-        """The device's box assembly (validated by its builder)."""
+        """The box assembly that is meshed: the whole device, or the half (quarter) kept by
+        ``symmetry`` (axes whose mid-plane the device is mirror-symmetric about; the solve then
+        returns only the modes symmetric about those planes)."""
+        assembly = self.full_assembly()
+        for axis in self.symmetry:
+            assembly = assembly.halved("xyz".index(axis))
+        return assembly
+
+    @property
+    def symmetry_clamps(self) -> dict[str, str]:
+        """Mirror conditions: no displacement normal to each symmetry plane."""
+        return {f"symmetry_{axis}": axis for axis in self.symmetry}
+
+    def full_assembly(self):
+        """The device's whole box assembly (validated by its builder)."""
         from geometries import BUILDERS
 
         try:
@@ -130,6 +145,8 @@ class Scene:
                 table = dict(getattr(scene, head))
                 table[rest] = value
                 scene = replace(scene, **{head: table})
+            elif key == "symmetry":
+                scene = replace(scene, symmetry=tuple(value))
             elif head == "materials" and rest:
                 name, _, prop = rest.partition(".")
                 table = copy.deepcopy(dict(scene.materials))
@@ -159,6 +176,9 @@ class Scene:
                     if (key.endswith(("length", "width", "thickness", "height", "size", "side"))
                             and value <= 0):
                         raise SceneError(f"{key}: must be positive, got {value} m")
+        for axis in self.symmetry:
+            if axis not in ("x", "y", "z"):
+                raise SceneError(f"symmetry: axes must be 'x', 'y' or 'z', got '{axis}'")
         assembly = self.assembly()
         for part in assembly.parts:
             try:
@@ -240,7 +260,7 @@ def scene_from_toml(path: Path) -> Scene:
 
 
 _TOP_KEYS = {"name", "units", "parts", "faces", "materials", "electrodes", "clamps", "springs",
-             "masses", "analysis", "mesh", "working_modes", "kind"}
+             "masses", "analysis", "mesh", "working_modes", "kind", "symmetry"}
 _UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "um": 1e-6}
 
 
@@ -292,6 +312,7 @@ def scene_from_dict(data: Mapping[str, Any], default_name: str = "scene") -> Sce
         mesh=mesh,
         working_modes=tuple(working_modes),
         kind=str(data.get("kind", "plate")),
+        symmetry=tuple(data.get("symmetry", ())),
     )
     scene.validate()
     return scene

@@ -33,6 +33,7 @@ def cube_plate() -> Scene:
     return Scene(
         name="cube_plate",
         device="cube_plate",
+        symmetry=("y",),  # mirror-symmetric about y = width / 2; working modes are symmetric too
         params={},
         electrodes={"electrode_top": "drive", "electrode_bottom": "ground"},
         analysis=Analysis(near=40.7e3, count=8),
@@ -57,6 +58,7 @@ def glass_plate() -> Scene:
     return Scene(
         name="glass_plate",
         device="glass_plate",
+        symmetry=("y",),  # mirror-symmetric about y = width / 2; working modes are symmetric too
         params={},
         electrodes={"electrode_outer": "drive", "electrode_inner": "ground"},
         analysis=Analysis(near=66e3, count=8),
@@ -114,6 +116,7 @@ def ciliary_beam() -> Scene:
     return Scene(
         name="ciliary_beam",
         device="ciliary_beam",
+        symmetry=("y",),  # mirror-symmetric about y = width / 2; working modes are symmetric too
         params={},
         clamps={"clamp": "xyz"},
         electrodes={"electrode_outer": "drive", "electrode_inner": "ground"},

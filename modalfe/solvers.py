@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import logging
 import time
+from collections import OrderedDict
 
 import numpy as np
 from scipy.sparse.linalg import ArpackError, ArpackNoConvergence, LinearOperator, eigsh
@@ -73,15 +74,35 @@ def solve_modes(
     return Modes(result.modes, result.model, result.circuit, result.fidelity, result.dofs, timings)
 
 
-def _solve(scene, analysis, *, size_factor: float, solver: str, frame=None) -> Modes:
+def assembled_model(scene, *, size_factor: float = 1.0, frame=None):
+    """The scene's mesh and assembled model; reused while the scene's physics and mesh are unchanged
+    (a second window, the other circuit, a forced response), so nothing is assembled twice.
+    Returns (model, mesh seconds, assembly seconds), zero seconds for reused work."""
     from modalfe.mesh import build_mesh, element_sizes
     from modalfe.model import assemble
 
     t0 = time.perf_counter()
     sizes = {k: v * size_factor for k, v in element_sizes(scene).items()}
     dm = build_mesh(scene.assembly(), size=sizes, element=scene.mesh.element, min_layers=scene.mesh.min_layers)
-    t_mesh = time.perf_counter() - t0
+    t_mesh = (time.perf_counter() - t0) if dm.seconds else 0.0
+    key = repr((dm.key, scene.params, scene.materials, scene.springs, scene.masses, scene.electrodes,
+                scene.clamps, scene.mesh.order, None if frame is None else np.asarray(frame).tobytes()))
+    if key in _MODELS:
+        _MODELS.move_to_end(key)
+        return _MODELS[key], t_mesh, 0.0
     model = assemble(scene, dm, frame=frame)
+    _MODELS[key] = model
+    while len(_MODELS) > _MODELS_KEPT:
+        _MODELS.popitem(last=False)
+    return model, t_mesh, model.timings["assembly"]
+
+
+_MODELS: OrderedDict = OrderedDict()
+_MODELS_KEPT = 3  # a fine and a coarse model of the scene in use, plus one
+
+
+def _solve(scene, analysis, *, size_factor: float, solver: str, frame=None) -> Modes:
+    model, t_mesh, t_assembly = assembled_model(scene, size_factor=size_factor, frame=frame)
     constraints = model.constraints(analysis.circuit)
     T = constraints.T
     A = (T.T @ model.K @ T).tocsr()
@@ -94,7 +115,7 @@ def _solve(scene, analysis, *, size_factor: float, solver: str, frame=None) -> M
         frequency = float(np.sqrt(max(lam, 0.0)) / (2 * np.pi))
         label, wavelength = label_mode(model, shapes[:, i], scene.kind)
         modes.append(Mode(i, frequency, label, shapes[:, i], wavelength=wavelength))
-    timings = {"mesh": t_mesh if dm.seconds else 0.0, "assembly": model.timings["assembly"],
+    timings = {"mesh": t_mesh, "assembly": t_assembly,
                "factorization": t_fact, "eigensolve": t_eig, "solver": used}
     return Modes(tuple(modes), model, analysis.circuit, "solid", A.shape[0], timings)
 
@@ -121,7 +142,8 @@ def _eigen(A, B, analysis, solver):
         try:
             lam, X = eigsh(A, k=k, M=B, sigma=sigma, which="LM", OPinv=op, tol=1e-10)
         except (ArpackNoConvergence, ArpackError) as exc:
-            raise SolverError(f"the eigen solve did not converge near {np.sqrt(abs(sigma)) / two_pi:.4g} Hz: {exc}") from None
+            near_hz = np.sqrt(abs(sigma)) / two_pi
+            raise SolverError(f"the eigen solve did not converge near {near_hz:.4g} Hz: {exc}") from None
         if not np.all(np.isfinite(lam)):
             raise SolverError("the eigen solve returned NaN eigenvalues")
         if analysis.band is None or k >= n - 2:

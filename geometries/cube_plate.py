@@ -30,6 +30,9 @@ def cube_plate(
     foot_material: str = "CuBe",
     sensor: tuple[float, float] | None = None,
     sensor_size: float = 5e-3,
+    bond_thickness: float = 0.0,
+    bond_material: str = "epoxy",
+    poled: bool = True,
 ) -> Assembly:
     """Cu-Be plate, PZT ceramics glued on top, square feet below; lengths in metres.
 
@@ -39,7 +42,9 @@ def cube_plate(
            |       |       foot_1..foot_n, tips (faces foot_1..) at z = -foot_height
 
     ``polarity`` gives the poling sign of each column, so the +V/-V pattern drives the (0,6) mode
-    with one drive electrode. ``feet`` are foot centres (x, y); ``sensor`` an optional small ceramic
+    with one drive electrode. ``bond_thickness`` > 0 puts a glue layer (bond_1..) under each
+    ceramic; the seed's FE had none. ``poled=False`` leaves the ceramics unpoled (for an
+    isotropic stand-in material). ``feet`` are foot centres (x, y); ``sensor`` an optional small ceramic
     centred at (x, y) with its own electrode ``sensor_top``.
     """
     if len(polarity) != ceramic_columns:
@@ -49,7 +54,9 @@ def cube_plate(
     plate = Box("plate", "plate", plate_material, (0.0, 0.0, 0.0), (length, width, thickness))
     parts = [plate]
     top, bottom, feet_faces = [], [], {}
-    z0, z1 = thickness, thickness + ceramic_thickness
+    if bond_thickness < 0:
+        raise SceneError(f"bond_thickness: must be >= 0, got {bond_thickness}")
+    z0, z1 = thickness + bond_thickness, thickness + bond_thickness + ceramic_thickness
     index = 0
     for column in range(ceramic_columns):
         xc = length / 2 + (column - (ceramic_columns - 1) / 2) * ceramic_pitch
@@ -60,13 +67,16 @@ def cube_plate(
                 name, "piezo", ceramic_material,
                 (xc - ceramic_length / 2, yc - ceramic_width / 2, z0),
                 (xc + ceramic_length / 2, yc + ceramic_width / 2, z1),
-                poling=polarity[column],
+                poling=polarity[column] if poled else 0,
             )
             _inside_plate(box, plate, f"ceramic '{name}'")
             parts.append(box)
+            if bond_thickness > 0:
+                parts.append(Box(f"bond_{index}", "bond", bond_material, (box.lo[0], box.lo[1], thickness),
+                                 (box.hi[0], box.hi[1], z0)))
             top.append(Face(name, "zmax"))
             bottom.append(Face(name, "zmin"))
-    faces = {"electrode_top": tuple(top), "electrode_bottom": tuple(bottom)}
+    faces = {"electrode_top": tuple(top), "electrode_bottom": tuple(bottom)} if top else {}
     for i, (xc, yc) in enumerate(feet, start=1):
         name = f"foot_{i}"
         box = Box(
@@ -89,7 +99,7 @@ def cube_plate(
         _inside_plate(box, plate, "sensor")
         parts.append(box)
         faces["sensor_top"] = (Face("sensor", "zmax"),)
-        faces["electrode_bottom"] += (Face("sensor", "zmin"),)
+        faces["electrode_bottom"] = (*faces.get("electrode_bottom", ()), Face("sensor", "zmin"))
     return Assembly(tuple(parts), faces)
 
 

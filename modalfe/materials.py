@@ -195,6 +195,11 @@ def _library() -> dict[str, ElasticMaterial]:
             source="Hexcel, HexWeb Honeycomb Attributes and Properties (1999): 5052 1/4-.001, "
             "2.3 pcf; G_L 45 ksi (xz), G_W 22 ksi (yz), E_c 75 ksi; in-plane moduli ~0 (set 1 MPa)",
         ),
+        "epoxy": isotropic(
+            "epoxy", E=2.8e9, nu=0.35, rho=1200.0,
+            source="Ashby, Materials Selection in Mechanical Design, 4th ed. (2011): epoxies "
+            "E 2.35-3.08 GPa, rho 1110-1400 kg/m^3, nu 0.34-0.36 (mid-range values)",
+        ),
         "SBR": isotropic(
             "SBR", E=2.0e6, nu=0.49, rho=1100.0,
             source="seed 002 (E 2 MPa); nu 0.49 near-incompressible rubber, rho 1100 filled SBR "

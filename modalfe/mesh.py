@@ -59,7 +59,7 @@ def cache_dir() -> Path:
 
 
 def divisions(assembly, axis: int, breaks: np.ndarray, sizes: Mapping[str, float],
-              min_layers: int = 2) -> np.ndarray:
+              min_layers: int = 3) -> np.ndarray:
     """Elements per grid interval along ``axis``: ceil(length / size), with the size the smallest
     asked for by any part spanning that interval; the main (largest) part gets at least
     ``min_layers`` elements across each of its dimensions, so bending through its thickness is
@@ -111,7 +111,7 @@ def bending_wavelength(scene, assembly, frequency: float) -> float:
 
 
 def build_mesh(assembly, *, size: float | Mapping[str, float], element: str = "hex",
-               min_layers: int = 2, use_cache: bool = True) -> DeviceMesh:
+               min_layers: int = 3, use_cache: bool = True) -> DeviceMesh:
     """Mesh ``assembly`` with target element ``size`` [m] (one value, or one per part name);
     ``element`` is "hex" (structured) or "tet"."""
     if element not in ("hex", "tet"):

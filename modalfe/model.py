@@ -71,7 +71,7 @@ class Model:
         roles = self.scene.electrodes
         free_u = np.setdiff1d(np.arange(self.n_u), self.clamped)
         on_electrode = np.zeros(self.n_phi, dtype=bool)
-        for group in roles:
+        for group in self.electrodes:
             on_electrode[self.electrodes[group]] = True
         interior = np.flatnonzero(~on_electrode)
         scale = self.potential_scale()
@@ -83,7 +83,7 @@ class Model:
         floating = []
         if circuit == "open":
             for group, role in roles.items():
-                if role == "drive":
+                if role == "drive" and group in self.electrodes:
                     idx = self.n_u + self.electrodes[group]
                     cols.append(sp.csr_matrix((np.full(len(idx), scale), (idx, np.zeros(len(idx), dtype=int))),
                                               shape=(self.ndofs, 1)))
@@ -243,6 +243,8 @@ def _electrode_dofs(scene, device_mesh, mesh, scalar, phi_dofs) -> dict[str, np.
     probe = Basis(mesh, scalar, intorder=1, elements=np.arange(1))
     out = {}
     for group in scene.electrodes:
+        if group not in device_mesh.faces:
+            continue  # the mirror image of a face kept by the symmetric model
         dofs = probe.get_dofs(device_mesh.faces[group]).all()
         idx = np.array([index[d] for d in dofs if d in index], dtype=int)
         if len(idx) == 0:
@@ -280,6 +282,8 @@ def _face_springs(scene, device_mesh, u_basis, scalar, intorder):
     out = sp.csr_matrix((u_basis.N, u_basis.N))
     full = scene.full_assembly()
     for group, k in scene.springs.items():
+        if group not in device_mesh.faces:
+            continue  # the mirror image of a face kept by the symmetric model
         out = out + _face_operator(device_mesh, group, scalar, intorder, np.asarray(k) / full.face_area(group))
     return out
 
@@ -289,5 +293,7 @@ def _face_masses(scene, device_mesh, u_basis, scalar, intorder):
     out = sp.csr_matrix((u_basis.N, u_basis.N))
     full = scene.full_assembly()
     for group, m in scene.masses.items():
+        if group not in device_mesh.faces:
+            continue  # the mirror image of a face kept by the symmetric model
         out = out + _face_operator(device_mesh, group, scalar, intorder, np.full(3, m / full.face_area(group)))
     return out

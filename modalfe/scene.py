@@ -58,7 +58,7 @@ class MeshSettings:
     order: int = 2
     min_size: float = 0.0
     max_size: float = math.inf
-    min_layers: int = 2
+    min_layers: int = 3
 
 
 @dataclass(frozen=True)
@@ -145,6 +145,10 @@ class Scene:
                 table = dict(getattr(scene, head))
                 table[rest] = value
                 scene = replace(scene, **{head: table})
+            elif key in ("springs", "masses", "electrodes", "clamps"):
+                if not isinstance(value, Mapping):
+                    raise SceneError(f"{key}: must be a table group = value")
+                scene = replace(scene, **{key: dict(value)})
             elif key == "symmetry":
                 scene = replace(scene, symmetry=tuple(value))
             elif head == "materials" and rest:
@@ -187,7 +191,7 @@ class Scene:
                 raise SceneError(f"part '{part.name}': {exc}") from None
             if part.poling and not mat.is_piezoelectric:
                 raise SceneError(f"part '{part.name}': poled but material '{part.material}' is not piezoelectric")
-        groups = set(assembly.faces)
+        groups = set(self.full_assembly().faces) | set(assembly.faces)
         for role, table in (("electrodes", self.electrodes), ("springs", self.springs), ("masses", self.masses)):
             for group in table:
                 if group not in groups:

@@ -180,7 +180,7 @@ def _clamped_dofs(scene, device_mesh, u_basis) -> np.ndarray:
 def _strain_and_value(b):
     """Voigt strain (nloc, 6, nel, nq) and value (nloc, 3, nel, nq) of each vector basis function."""
     G = np.array([f[0].grad for f in b.basis])
-    V = np.array([f[0].value for f in b.basis])
+    V = np.array([np.asarray(f[0]) for f in b.basis])
     Bv = np.stack([G[:, 0, 0], G[:, 1, 1], G[:, 2, 2], G[:, 1, 2] + G[:, 2, 1],
                    G[:, 0, 2] + G[:, 2, 0], G[:, 0, 1] + G[:, 1, 0]], axis=1)
     return Bv, V

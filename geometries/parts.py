@@ -165,12 +165,14 @@ class Assembly:
                 cut.append(Face(p.name, "xyz"[axis] + "max"))
             kept.append(p)
         names = {p.name for p in kept}
+        clipped = {f.part for f in cut}
+        cut_side = "xyz"[axis] + "max"
         faces = {}
         for group, entries in self.faces.items():
             inside = []
             for f in entries:
-                if f.part not in names:
-                    continue
+                if f.part not in names or (f.part in clipped and f.side == cut_side):
+                    continue  # removed with the mirror half (a clipped part's far face is the cut)
                 if f.window is not None:
                     raise SceneError(f"symmetry: face windows (faces.{group}) are not supported with symmetry")
                 inside.append(f)

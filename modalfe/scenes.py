@@ -111,6 +111,44 @@ def honeycomb_tile() -> Scene:
     )
 
 
+# seed 002 eq. (5) inputs: facing E_f 60 GPa, t_f 0.083 cm, core h 2.5 cm, mean density 170 kg/m^3
+EQ5_FACING_MODULUS, EQ5_FACING_THICKNESS, EQ5_CORE_HEIGHT, EQ5_DENSITY = 60e9, 0.83e-3, 0.025, 170.0
+
+
+def tile_eq5() -> Scene:
+    """The seed's eq. (5) as an equivalent homogeneous plate, simply supported (seed 002).
+
+    Eq. (5) is thin-plate theory with E = E_f t_f / h (its own substitution into eq. (3)), the
+    panel's mean density and no Poisson factor, at k = pi sqrt(2) / L: the (1,1) mode of a
+    simply supported square plate. This scene is that plate in 3-D, with diaphragm supports (no
+    in-plane tangential and no normal displacement on the side faces), so the FE value differs from
+    eq. (5) only by shear and rotary inertia (h / L = 0.082) and discretization.
+    """
+    L = 0.304
+    return Scene(
+        name="tile_eq5",
+        device="boxes",
+        params={
+            "parts": [{"name": "plate", "region": "plate", "material": "eq5", "origin": [0, 0, 0],
+                       "size": [L, L, EQ5_CORE_HEIGHT]}],
+            "faces": {"side_x": ["plate.xmin", "plate.xmax"], "side_y": ["plate.ymin", "plate.ymax"]},
+        },
+        materials={"eq5": {"E": EQ5_FACING_MODULUS * EQ5_FACING_THICKNESS / EQ5_CORE_HEIGHT, "nu": 0.0,
+                           "rho": EQ5_DENSITY, "source": "seed 002 eq. (5): E = E_f t_f / h"}},
+        clamps={"side_x": "yz", "side_y": "xz"},
+        analysis=Analysis(near=845.0, count=4),
+        mesh=MeshSettings(elements_per_wavelength=6.0, max_frequency=2000.0),
+        working_modes=(
+            # labels count nodal lines: the simply supported one-half-wave (1,1) mode has none
+            WorkingMode("(0,0)", 845.0, (
+                Target("f_analytic_eq5", 845.0, "Hz", "analytic", "seed 002, eq. (5)"),
+            )),
+        ),
+        assumptions=("equivalent plate of eq. (5), simply supported: a check of the formula, not of the tile",),
+        symmetry=("x", "y"),
+    )
+
+
 def ciliary_beam() -> Scene:
     """100 x 5 x 5 mm brass cantilever with a PZT bimorph at x0 = 68 mm; mode 6 (seed 003)."""
     return Scene(
@@ -140,5 +178,6 @@ BUILTIN = {
     "cube_plate": cube_plate,
     "glass_plate": glass_plate,
     "honeycomb_tile": honeycomb_tile,
+    "tile_eq5": tile_eq5,
     "ciliary_beam": ciliary_beam,
 }

@@ -3,6 +3,7 @@ else SuperLU with a symmetric ordering. Both are checked by the residual of one 
 
 from __future__ import annotations
 
+import contextlib
 import logging
 
 import numpy as np
@@ -52,22 +53,37 @@ def factorize(A: sp.spmatrix, *, solver: str = "auto"):
 
 
 def _pardiso(A: sp.csr_matrix):
+    import os
+
     import pypardiso
 
     upper = sp.triu(A, format="csr")
     upper.sort_indices()
     ps = pypardiso.PyPardisoSolver(mtype=-2)  # real symmetric indefinite
+    # pypardiso searches the whole environment for MKL on every new solver: remember where it was
+    os.environ.setdefault("PYPARDISO_MKL_RT", ps.libmkl._name)
     ps.set_iparm(11, 1)  # scaling and weighted matching (1-based iparm 11, 13): saddle-point matrices
     ps.set_iparm(13, 1)
     ps.factorize(upper)
     ps.solve(upper, np.zeros(A.shape[0]))  # sets pypardiso's checked state once
 
-    def solve(b):
-        # phase 33 (solve only) directly: pypardiso's solve() re-hashes the whole matrix each call
-        ps.set_phase(33)
-        return ps._call_pardiso(upper, np.asarray(b, dtype=float).reshape(-1, 1)).ravel()
+    return _PardisoFactor(ps, upper)
 
-    return solve
+
+class _PardisoFactor:
+    """A PARDISO factorization as a callable solve(b); frees MKL's memory when dropped."""
+
+    def __init__(self, ps, upper):
+        self._ps, self._upper = ps, upper
+
+    def __call__(self, b):
+        # phase 33 (solve only) directly: pypardiso's solve() re-hashes the whole matrix each call
+        self._ps.set_phase(33)
+        return self._ps._call_pardiso(self._upper, np.asarray(b, dtype=float).reshape(-1, 1)).ravel()
+
+    def __del__(self):
+        with contextlib.suppress(Exception):  # at interpreter shutdown MKL may already be gone
+            self._ps.free_memory(everything=True)
 
 
 def _superlu(A: sp.csr_matrix):

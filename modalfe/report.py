@@ -33,6 +33,7 @@ class ReportRow:
     antiresonance_hz: float | None = None
     k_eff: float | None = None
     notes: list[str] = field(default_factory=list)
+    assumptions: list[str] = field(default_factory=list)
 
     def to_json(self) -> dict:
         return asdict(self)
@@ -99,6 +100,7 @@ def device_report(scene, *, error_estimate: bool = True) -> list[ReportRow]:
             dofs=modes.dofs, fidelity=modes.fidelity, seconds=0.0,
             wavelength_m=None if math.isnan(mode.wavelength) else mode.wavelength,
             antiresonance_hz=fa, k_eff=coupling, notes=device_notes(scene, modes, mode),
+            assumptions=list(scene.assumptions),
         ))
     seconds = time.perf_counter() - start
     return [ReportRow(**{**asdict(r), "seconds": seconds}) for r in rows]
@@ -178,4 +180,7 @@ def format_rows(rows: list[ReportRow]) -> str:
             lines.append(f"{'':<15} vs {t['name']:<20} {value:>14}  {dev:>7}  ({t['kind']}: {t['source']})")
         for note in r.notes:
             lines.append(f"{'':<15} note: {note}")
+        if r is rows[-1] or rows[rows.index(r) + 1].scene != r.scene:
+            for a in r.assumptions:
+                lines.append(f"{'':<15} assumption: {a}")
     return "\n".join(lines)

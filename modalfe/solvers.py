@@ -153,7 +153,7 @@ def _eigen(A, B, analysis, solver):
     while True:
         k = min(count, n - 2)
         try:
-            lam, X = eigsh(A, k=k, M=B, sigma=sigma, which="LM", OPinv=op, tol=1e-10)
+            lam, X = eigsh(A, k=k, M=B, sigma=sigma, which="LM", OPinv=op, tol=1e-8)
         except (ArpackNoConvergence, ArpackError) as exc:
             near_hz = np.sqrt(abs(sigma)) / two_pi
             raise SolverError(f"the eigen solve did not converge near {near_hz:.4g} Hz: {exc}") from None

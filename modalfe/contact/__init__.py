@@ -1,0 +1,1 @@
+"""Contact and friction simulators (placeholder while developing)."""

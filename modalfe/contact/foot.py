@@ -1,0 +1,733 @@
+"""Foot normal dynamics, flight ratio and Coulomb-Orowan friction of a plate standing on vibrating feet.
+
+Model (seed 000, section 4.3; seed 001, section 5)
+---------------------------------------------------
+The plate (mass ``m``) stands on ``n`` massless feet of stiffness ``kn`` and free height ``h``, with a
+damper ``dn`` on the plate's normal velocity, under a constant preload ``Fn``.  The working mode moves
+the top of each foot by ``w_A(t) = W sin(omega t)`` (seed 000 eq. 1).  One foot carries a share
+``m/n`` of the plate, so per foot, with ``z_G`` the height of the plate at rest and ``z_A`` the height of
+the foot's top:
+
+    contact (z_A <= h, eqs 6, 8, 11):  (m/n) z_G'' + dn z_G' + kn z_A = -Fn/n - (m/n) g + kn h
+    flight  (z_A >  h, eqs 5, 9, 12):  (m/n) z_G'' = -Fn/n - (m/n) g
+    normal reaction (eqs 3, 4):        Rn = kn (h - z_A) - dn z_G'  in contact,  Rn = 0 in flight
+
+Reading of the sign of ``w_A``.  The seed prints ``z_A = z_G - w_A`` (eq. 7) but also writes the contact
+test as ``z_G + w_A <= h`` (eqs 8, 9) and turns eq. 2, ``(m/n) z_A'' = (m/n) w_A'' - Fn/n - (m/n) g + Rn``,
+into eq. 10, ``(m/n) z_G'' = -Fn/n - (m/n) g + Rn``.  Eq. 2 gives eq. 10 only with ``z_A = z_G + w_A``
+(with the minus sign it gives ``z_G'' = 2 w_A'' + ...``), so eqs 2 and 8-12 agree with each other and
+eq. 7 is the misprint: this module uses ``z_A = z_G + w_A``.  Flipping the sign of ``w_A`` only shifts the
+drive by half a period, so no time-averaged output depends on this choice; the trajectories do.
+
+Contact is decided by geometry, as printed (eqs 5, 6): ``Rn`` may dip slightly below zero just before
+separation, because the damper acts on ``z_G'`` and not on the foot's compression rate.  Averages use
+``Rn`` as printed.
+
+Flight ratio, seed 000 eq. 13: ``beta = 100 (t_s - t_c) / T`` generalised to the total flight time per
+period when the foot lands several times a period ("chattering").
+
+Tangential force, Coulomb-Orowan (seed 000 eqs 14-17; seed 001 eqs 1-4, 8): the foot slides at the
+speed ``V`` imposed by the user; the tangential displacement since the last touchdown is
+``delta = V (t - t_c)``; ``delta_crit = mu0 Rn / kt``; ``mu = mu0 delta / delta_crit`` while
+``delta < delta_crit``, else ``mu0``; ``Rt = mu Rn``.  Written out, ``Rt = min(kt V (t - t_c), mu0 Rn)``
+during contact and 0 in flight.  Without flight (contact since ``t_c = -inf``) ``Rt = mu0 Rn``.
+The friction force felt by the user is ``n <Rt>``.
+
+Method
+------
+Both phases are linear with closed-form solutions: in contact a damped oscillator driven at ``omega``
+(steady sinusoid plus a homogeneous part propagated by the 2x2 exponential of the phase's state
+matrix), in flight a parabola.  Transitions are events ``z_A = h``, found by sampling the gap on a grid
+finer than the fastest time scale and polishing the sign change with Brent's method; a local extremum
+of the gap between samples is checked through the gap rate, so short grazing contacts are not missed.
+One period of this event-driven exact solution is the period map ``x(0) -> x(T)`` on the plate's
+``(z_G, z_G')``; the periodic steady state is its fixed point, found by Newton's method on the map
+(shooting, finite-difference Jacobian of size 2) from a quasi-static first guess.  Its Floquet
+multipliers tell whether the orbit is the attractor; when Newton fails or the orbit is unstable the
+solver marches in time with the same exact solution and averages over many periods instead
+(``periodic = False`` in the result).  Period averages of ``Rn`` and ``Rt`` are Gauss-Legendre integrals
+over the contact arcs, split at the stick/slip switch so every piece is smooth.
+
+A brute-force reference in the seed's manner (``brute_force_steady_state``: scipy ``solve_ivp`` with
+Bogacki-Shampine RK23, max step 1e-7 s, terminal events at the switches, run until the period
+averages stop changing) is provided for the benchmark ``studies/benchmark_contact.py``.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, fields, replace
+
+import numpy as np
+from scipy.optimize import brentq
+
+from modalfe.errors import ContactError
+
+log = logging.getLogger(__name__)
+
+# Seed 000, appendix (also seed 000 section 4.3.1.2, numerical example): the foot model's parameters.
+KN = 9.7e6  # N/m, normal stiffness of one foot
+DN = 200.0  # N s/m, damper on the plate's normal velocity
+FN = 10.0  # N, preload
+MASS = 0.0723  # kg, vibrating plate
+H = 4e-3  # m, free height of a foot
+N_FEET = 3  # feet sharing the load (appendix; the device has four)
+G = 9.81  # m/s^2
+# Seed 001 section 2: working frequency (measured resonance); seed 000 Fig. 12 uses 35 kHz.
+FREQUENCY = 40.7e3  # Hz
+# Friction coefficients: steel substrate, seed 000 section 6 / seed 001 section 7; glass, seed 001 section 5.
+SUBSTRATES = {"steel": 0.2, "glass": 0.08}
+# Tangential contact stiffness of one foot: not given by the seeds; identified from seed 001's
+# measured reduction (0.71 N -> 0.274 N at 3 N preload, 1 cm/s, steel) by studies/identify_kt.py.
+KT = 1.0e7  # N/m
+# Seed 001 section 7: the user's sliding speed of the measured reduction.
+SPEED = 0.01  # m/s
+
+SAMPLES_PER_PERIOD = 64  # event search grid: points per drive period or per contact oscillation
+GAUSS_ORDER = 12  # Gauss-Legendre nodes per quadrature chunk
+_GAUSS_X, _GAUSS_W = np.polynomial.legendre.leggauss(GAUSS_ORDER)
+
+
+# ----------------------------------------------------------------------------------------------
+# Event-driven tools, shared with modalfe.contact.finger
+# ----------------------------------------------------------------------------------------------
+
+
+def _grid(t0: float, t1: float, step: float) -> np.ndarray:
+    return np.linspace(t0, t1, max(2, math.ceil((t1 - t0) / step) + 1))
+
+
+def _root(fun: Callable[[float], float], a: float, b: float) -> float:
+    return brentq(fun, a, b, xtol=4 * np.finfo(float).eps * max(abs(a), abs(b), 1e-300))
+
+
+def first_crossing(fun: Callable, rate: Callable, t0: float, t1: float, step: float, *,
+                   upward: bool) -> float | None:
+    """First time in (t0, t1] where ``fun`` crosses zero upward (or downward), else None.
+
+    ``fun`` and its time derivative ``rate`` take arrays.  ``fun`` is on the near side of zero at
+    ``t0`` up to rounding (an arc starts at the previous event).  Sign changes are found on a grid of
+    spacing ``step``; a local extremum between two samples that reaches across zero (a grazing arc
+    shorter than ``step``) is found through ``rate``.  Roots are polished with Brent's method.
+    Returns ``t0`` when the arc leaves at once (it starts tangent to its exit).
+    """
+    sign = 1.0 if upward else -1.0
+
+    def f(t):
+        return sign * fun(t)
+
+    def d(t):
+        return sign * rate(t)
+
+    t = _grid(t0, t1, step)
+    fv, dv = f(t), d(t)
+    if (fv[0] >= 0 and dv[0] > 0) or (fv[0] > 0 and dv[0] >= 0):
+        return t0
+    after = np.flatnonzero(fv[1:] > 0) + 1
+    last = after[0] if after.size else len(t) - 1
+
+    def low(i, b):
+        # a point of [t_i, b) where f <= 0; at t0, f may be a rounding residue above zero
+        if i > 0 or fv[0] <= 0:
+            return t[i]
+        tm = _root(d, t0, b) if d(b) > 0 else b
+        return tm if f(tm) <= 0 else None
+
+    for i in np.flatnonzero((dv[:last] > 0) & (dv[1 : last + 1] < 0)):
+        tm = _root(d, t[i], t[i + 1])
+        if f(tm) > 0:
+            a = low(i, tm)
+            return t0 if a is None else _root(f, a, tm)
+    if not after.size:
+        return None
+    a = low(last - 1, t[last])
+    return t0 if a is None else _root(f, a, t[last])
+
+
+def sign_changes(fun: Callable, t0: float, t1: float, step: float) -> list[float]:
+    """All sign changes of ``fun`` in (t0, t1) seen on a grid of spacing ``step``, polished by Brent."""
+    t = _grid(t0, t1, step)
+    fv = fun(t)
+    idx = np.flatnonzero(np.sign(fv[:-1]) * np.sign(fv[1:]) < 0)
+    return [_root(fun, t[i], t[i + 1]) for i in idx]
+
+
+def gauss_nodes(a: float, b: float, chunk: float) -> tuple[np.ndarray, np.ndarray]:
+    """Gauss-Legendre nodes and weights on [a, b], split into chunks no longer than ``chunk``."""
+    if b <= a:
+        return np.empty(0), np.empty(0)
+    edges = np.linspace(a, b, max(1, math.ceil((b - a) / chunk)) + 1)
+    half = 0.5 * np.diff(edges)[:, None]
+    mid = 0.5 * (edges[:-1] + edges[1:])[:, None]
+    return (mid + half * _GAUSS_X).ravel(), (half * _GAUSS_W).ravel()
+
+
+@dataclass(frozen=True)
+class PeriodicState:
+    """Fixed point of a period map found by Newton shooting.
+
+    state : the state at the start of the period; iterations : Newton steps taken;
+    residual : scaled |P(x) - x| at the end; multipliers : Floquet multipliers (eigenvalues of dP/dx);
+    converged : residual below tolerance.
+    """
+
+    state: np.ndarray
+    iterations: int
+    residual: float
+    multipliers: np.ndarray
+    converged: bool
+
+    @property
+    def stable(self) -> bool:
+        """Every Floquet multiplier inside the unit circle (small margin for the finite differences)."""
+        return bool(np.all(np.abs(self.multipliers) < 1 + 1e-6))
+
+
+def shoot_periodic(period_map: Callable[[np.ndarray], np.ndarray], x0: np.ndarray, scale: np.ndarray, *,
+                   tol: float = 1e-11, max_iter: int = 40, fd_step: float = 1e-7) -> PeriodicState:
+    """Periodic steady state x = P(x) by Newton's method with a finite-difference Jacobian.
+
+    Works in the scaled variables ``x / scale``; ``tol`` bounds the scaled residual.  A Newton step
+    that does not reduce the residual is halved up to six times, then replaced by one step of the map
+    itself (time marching), which the physical attractor contracts.
+    """
+    scale = np.asarray(scale, float)
+    n = len(scale)
+
+    def residual(y):
+        return period_map(y * scale) / scale - y
+
+    def jacobian(y, r):
+        J = np.empty((n, n))
+        for j in range(n):
+            e = np.zeros(n)
+            e[j] = fd_step
+            J[:, j] = (residual(y + e) - r) / fd_step
+        return J
+
+    y = np.asarray(x0, float) / scale
+    r = residual(y)
+    J = None
+    steps = 0
+    while np.linalg.norm(r) >= tol and steps < max_iter:
+        steps += 1
+        J = jacobian(y, r)
+        try:
+            dy = np.linalg.solve(J, -r)
+        except np.linalg.LinAlgError:
+            dy = r
+        norm = np.linalg.norm(r)
+        for _ in range(7):
+            r_new = residual(y + dy)
+            if np.linalg.norm(r_new) < (1 - 1e-4) * norm:
+                y, r = y + dy, r_new
+                break
+            dy = dy / 2
+        else:
+            y = y + r
+            r = residual(y)
+    if J is None or np.linalg.norm(r) < tol:
+        J = jacobian(y, r)
+    multipliers = np.linalg.eigvals(J + np.eye(n))
+    res = float(np.linalg.norm(r))
+    return PeriodicState(y * scale, steps, res, multipliers, res < tol)
+
+
+# ----------------------------------------------------------------------------------------------
+# Parameters and validation
+# ----------------------------------------------------------------------------------------------
+
+
+def require(name: str, value, *, positive: bool = False, nonnegative: bool = False) -> float:
+    """``value`` as a finite float, or a one-line ContactError naming ``name``."""
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise ContactError(f"{name}: expected a number, got {value!r}") from None
+    if not math.isfinite(x):
+        raise ContactError(f"{name}: must be finite, got {x}")
+    if positive and x <= 0:
+        raise ContactError(f"{name}: must be positive, got {x:g}")
+    if nonnegative and x < 0:
+        raise ContactError(f"{name}: must be >= 0, got {x:g}")
+    return x
+
+
+@dataclass(frozen=True)
+class FootParameters:
+    """Foot contact model parameters (defaults: seed 000 appendix; kt identified, see module docstring).
+
+    kn : normal stiffness of one foot [N/m]; dn : damper on the plate's normal velocity [N s/m];
+    mass : vibrating plate, m [kg]; h : free height of a foot [m]; n : feet sharing the load;
+    g : gravity [m/s^2]; frequency : drive frequency [Hz]; mu0 : maximum (static) friction
+    coefficient; kt : tangential contact stiffness of one foot [N/m].
+    """
+
+    kn: float = KN
+    dn: float = DN
+    mass: float = MASS
+    h: float = H
+    n: int = N_FEET
+    g: float = G
+    frequency: float = FREQUENCY
+    mu0: float = SUBSTRATES["steel"]
+    kt: float = KT
+
+    def __post_init__(self):
+        for name in ("kn", "mass", "h", "frequency", "kt"):
+            require(name, getattr(self, name), positive=True)
+        for name in ("dn", "g", "mu0"):
+            require(name, getattr(self, name), nonnegative=True)
+        if isinstance(self.n, bool) or int(self.n) != self.n or self.n < 1:
+            raise ContactError(f"n: number of feet must be a positive integer, got {self.n!r}")
+
+    @classmethod
+    def for_substrate(cls, substrate: str, **changes) -> FootParameters:
+        """Parameters with ``mu0`` of a named substrate (``steel`` 0.2, ``glass`` 0.08; seeds 000, 001)."""
+        if substrate not in SUBSTRATES:
+            raise ContactError(f"substrate: expected one of {sorted(SUBSTRATES)}, got {substrate!r}")
+        return cls(**{"mu0": SUBSTRATES[substrate], **changes})
+
+    def with_(self, **changes) -> FootParameters:
+        """A copy with some fields changed (validated); unknown names raise ContactError."""
+        known = {f.name for f in fields(self)}
+        for key in changes:
+            if key not in known:
+                raise ContactError(f"{key}: not a foot parameter (known: {', '.join(sorted(known))})")
+        return replace(self, **changes)
+
+    @property
+    def omega(self) -> float:
+        """Drive angular frequency [rad/s]."""
+        return 2 * math.pi * self.frequency
+
+    @property
+    def period(self) -> float:
+        """Drive period T [s]."""
+        return 1.0 / self.frequency
+
+    def total_load(self, preload: float) -> float:
+        """Fn + m g [N], the load the feet carry on average (seed 000, after eq. 17)."""
+        return preload + self.mass * self.g
+
+    def onset_amplitude(self, preload: float) -> float:
+        """Smallest amplitude W [m] at which a foot leaves the ground (contact-only steady response).
+
+        Without flight the plate's response is linear: ``z_A - h = -P/kn + Im((W + X) e^{i omega t})``
+        with ``X = -kn W / (kn - M omega^2 + i dn omega)``, so the foot lifts off once ``|W + X| = P/kn``.
+        """
+        M = self.mass / self.n
+        P = self.total_load(preload) / self.n
+        w = self.omega
+        gain = abs((-M * w * w + 1j * self.dn * w) / (self.kn - M * w * w + 1j * self.dn * w))
+        return P / self.kn / gain
+
+
+# ----------------------------------------------------------------------------------------------
+# Closed-form arcs
+# ----------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class _Dynamics:
+    """Per-foot constants of one operating point, in u = z_G - h and v = z_G'."""
+
+    M: float  # m/n [kg]
+    P: float  # (Fn + m g)/n [N]
+    kn: float
+    dn: float
+    omega: float
+    W: float
+    Xr: float  # steady contact response to the drive, X = Xr + i Xi
+    Xi: float
+    alpha: float  # -dn / (2M)
+    beta: float  # sqrt(|w0^2 - alpha^2|)
+    w0sq: float  # kn / M
+    overdamped: bool
+
+    @classmethod
+    def build(cls, p: FootParameters, W: float, preload: float) -> _Dynamics:
+        M = p.mass / p.n
+        P = p.total_load(preload) / p.n
+        w = p.omega
+        X = -p.kn * W / (p.kn - M * w * w + 1j * p.dn * w)
+        alpha = -p.dn / (2 * M)
+        w0sq = p.kn / M
+        disc = w0sq - alpha * alpha
+        return cls(M, P, p.kn, p.dn, w, W, X.real, X.imag, alpha, math.sqrt(abs(disc)), w0sq, disc < 0)
+
+    @property
+    def step(self) -> float:
+        """Event search grid spacing [s]: the shorter of the drive and the contact oscillation periods."""
+        return 2 * math.pi / max(self.omega, math.sqrt(self.w0sq)) / SAMPLES_PER_PERIOD
+
+    def drive(self, t):
+        """w_A = W sin(omega t) and its rate, seed 000 eq. 1."""
+        return self.W * np.sin(self.omega * t), self.W * self.omega * np.cos(self.omega * t)
+
+    def contact_particular(self, t):
+        """Steady sinusoidal solution of seed 000 eq. 11 (u_p, v_p)."""
+        s, c = np.sin(self.omega * t), np.cos(self.omega * t)
+        return -self.P / self.kn + self.Xr * s + self.Xi * c, self.omega * (self.Xr * c - self.Xi * s)
+
+    def kernels(self, tau):
+        """e^{alpha tau} cosh(s tau) and e^{alpha tau} sinh(s tau)/s, s^2 = alpha^2 - w0^2."""
+        if self.overdamped:
+            g = self.beta
+            ep = np.exp((self.alpha + g) * tau)
+            return 0.5 * (ep + np.exp((self.alpha - g) * tau)), -ep * np.expm1(-2 * g * tau) / (2 * g)
+        e = np.exp(self.alpha * tau)
+        return e * np.cos(self.beta * tau), e * tau * np.sinc(self.beta * tau / math.pi)
+
+
+@dataclass(frozen=True)
+class _Arc:
+    """One contact or flight arc starting at t0 from (u0, v0); evaluates anywhere on the arc."""
+
+    dyn: _Dynamics
+    contact: bool
+    t0: float
+    u0: float
+    v0: float
+
+    def state(self, t):
+        """(u, v) at t: seed 000 eq. 11 (contact) or eq. 12 (flight), in closed form."""
+        tau = np.asarray(t, float) - self.t0
+        d = self.dyn
+        if not self.contact:
+            a = d.P / d.M
+            return self.u0 + self.v0 * tau - 0.5 * a * tau * tau, self.v0 - a * tau
+        up0, vp0 = d.contact_particular(self.t0)
+        y0, y1 = self.u0 - up0, self.v0 - vp0
+        c, s = d.kernels(tau)
+        up, vp = d.contact_particular(t)
+        return (up + (c - d.alpha * s) * y0 + s * y1,
+                vp - d.w0sq * s * y0 + (c + d.alpha * s) * y1)
+
+    def gap(self, t):
+        """z_A - h = z_G + w_A - h: contact when <= 0 (seed 000 eqs 8, 9)."""
+        return self.state(t)[0] + self.dyn.drive(t)[0]
+
+    def gap_rate(self, t):
+        return self.state(t)[1] + self.dyn.drive(t)[1]
+
+    def normal_force(self, t):
+        """Rn = kn (h - z_A) - dn z_G' in contact (seed 000 eq. 3), 0 in flight (eq. 4)."""
+        if not self.contact:
+            return np.zeros_like(np.asarray(t, float))
+        u, v = self.state(t)
+        return -self.dyn.kn * (u + self.dyn.drive(t)[0]) - self.dyn.dn * v
+
+
+@dataclass(frozen=True)
+class _Piece:
+    arc: _Arc
+    t0: float
+    t1: float
+
+
+_MAX_EVENTS_PER_PERIOD = 10_000
+
+
+def _advance(dyn: _Dynamics, t0: float, t1: float, u: float, v: float, *,
+             contact: bool | None = None) -> tuple[list[_Piece], float, float]:
+    """Exact event-driven solution on [t0, t1]: the arcs and the final (u, v)."""
+    if contact is None:
+        gap = u + dyn.drive(t0)[0]
+        contact = gap < 0 or (gap == 0 and v + dyn.drive(t0)[1] <= 0)
+    pieces: list[_Piece] = []
+    t = t0
+    horizon = 2 * math.pi / dyn.omega
+    limit = _MAX_EVENTS_PER_PERIOD * max(1, round((t1 - t0) / horizon))
+    while True:
+        arc = _Arc(dyn, contact, t, u, v)
+        a = t
+        while True:  # search one drive period at a time
+            b = min(a + horizon, t1)
+            te = first_crossing(arc.gap, arc.gap_rate, a, b, dyn.step, upward=contact)
+            if te is not None or b >= t1:
+                break
+            a = b
+        end = t1 if te is None else te
+        pieces.append(_Piece(arc, t, end))
+        u, v = (float(x) for x in arc.state(end))
+        if te is None:
+            return pieces, u, v
+        t, contact = te, not contact
+        if len(pieces) > limit:
+            raise ContactError("contact events: no progress (more than "
+                               f"{_MAX_EVENTS_PER_PERIOD} switches per period); check kn, dn and frequency")
+
+
+# ----------------------------------------------------------------------------------------------
+# Steady state
+# ----------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, eq=False)
+class ContactOrbit:
+    """Steady state of one foot at one amplitude, preload and speed.
+
+    amplitude : W, 0-peak [m]; preload : Fn [N]; speed : V [m/s];
+    flight_ratio : beta, flight time per period [%] (seed 000 eq. 13);
+    normal_mean : <Rn> per foot [N]; friction_mean : <Rt> per foot [N] (seed 001 eq. 8);
+    contacts_per_period : touchdowns per period (0 in permanent contact);
+    periodic : True for an exact period-1 orbit (shooting), False for a time average over
+    ``periods`` periods; residual : scaled shooting residual.
+    """
+
+    amplitude: float
+    preload: float
+    speed: float
+    parameters: FootParameters
+    flight_ratio: float
+    normal_mean: float
+    friction_mean: float
+    contacts_per_period: float
+    periodic: bool
+    residual: float
+    periods: int
+    pieces: tuple[_Piece, ...]
+    touchdowns: tuple[float, ...]
+
+    @property
+    def friction_force(self) -> float:
+        """Friction felt by the user, n <Rt> [N]."""
+        return self.parameters.n * self.friction_mean
+
+    @property
+    def t_start(self) -> float:
+        """Start of the analysed window [s] (a touchdown when there is one)."""
+        return self.pieces[0].t0
+
+    def _locate(self, t):
+        """Wrap times into the analysed window and find each one's arc."""
+        t = np.asarray(t, float)
+        span = self.pieces[-1].t1 - self.t_start
+        tw = self.t_start + np.mod(t - self.t_start, span)
+        ends = np.array([p.t1 for p in self.pieces])
+        return tw, np.minimum(np.searchsorted(ends, tw), len(self.pieces) - 1)
+
+    def normal_force(self, t) -> np.ndarray:
+        """Rn(t) per foot [N] (seed 000 eqs 3, 4) on the steady state."""
+        tw, idx = self._locate(t)
+        out = np.zeros_like(tw)
+        for i in np.unique(idx):
+            m = idx == i
+            out[m] = self.pieces[i].arc.normal_force(tw[m])
+        return out
+
+    def friction(self, t) -> np.ndarray:
+        """Rt(t) per foot [N], Coulomb-Orowan (seed 000 eqs 14-17) on the steady state."""
+        tw, idx = self._locate(t)
+        out = np.zeros_like(tw)
+        p = self.parameters
+        for i in np.unique(idx):
+            m = idx == i
+            piece = self.pieces[i]
+            out[m] = _tangential(piece.arc.normal_force(tw[m]), tw[m], self._touchdown(piece), p.kt, self.speed,
+                                 p.mu0) if piece.arc.contact else 0.0
+        return out
+
+    def gap(self, t) -> np.ndarray:
+        """z_A - h per foot [m]: negative in contact."""
+        tw, idx = self._locate(t)
+        out = np.empty_like(tw)
+        for i in np.unique(idx):
+            m = idx == i
+            out[m] = self.pieces[i].arc.gap(tw[m])
+        return out
+
+    def _touchdown(self, piece: _Piece) -> float:
+        return piece.arc.t0 if piece.arc.t0 in self.touchdowns else -math.inf
+
+
+def _tangential(Rn, t, tc: float, kt: float, speed: float, mu0: float):
+    """Rt = mu(t) Rn with mu from seed 000 eqs 14-16: min(kt V (t - tc), mu0 Rn)."""
+    if tc == -math.inf:
+        return mu0 * Rn
+    return np.minimum(kt * speed * (t - tc), mu0 * Rn)
+
+
+def _quasi_static_offset(W: float, P: float, kn: float) -> float:
+    """u = z_G - h of a plate held still whose mean foot force kn <(-u - W sin)^+> equals P."""
+    if P / kn >= W:
+        return -P / kn
+
+    def mean(a):  # <(a - sin theta)^+> over theta, |a| <= 1
+        return (a * (math.pi + 2 * math.asin(a)) + 2 * math.sqrt(1 - a * a)) / (2 * math.pi)
+
+    a = brentq(lambda a: kn * W * mean(a) - P, -1.0, 1.0, xtol=1e-15)
+    return -a * W
+
+
+def _integrate(dyn: _Dynamics, p: FootParameters, speed: float, pieces: Sequence[_Piece],
+               touchdowns: set[float]) -> tuple[float, float, float]:
+    """Time integrals over the pieces: flight time [s], int Rn dt, int Rt dt [N s]."""
+    chunk = min(2 * math.pi / dyn.omega, 2 * math.pi / math.sqrt(dyn.w0sq)) / 8
+    flight = sum_rn = sum_rt = 0.0
+    for piece in pieces:
+        if not piece.arc.contact:
+            flight += piece.t1 - piece.t0
+            continue
+        tc = piece.arc.t0 if piece.arc.t0 in touchdowns else -math.inf
+        arc = piece.arc
+        if tc == -math.inf:
+            cuts = []
+        else:
+            cuts = sign_changes(lambda t, arc=arc, tc=tc: p.kt * speed * (t - tc) - p.mu0 * arc.normal_force(t),
+                                piece.t0, piece.t1, dyn.step)
+        edges = [piece.t0, *cuts, piece.t1]
+        for a, b in zip(edges[:-1], edges[1:]):
+            x, w = gauss_nodes(a, b, chunk)
+            rn = arc.normal_force(x)
+            sum_rn += float(w @ rn)
+            sum_rt += float(w @ _tangential(rn, x, tc, p.kt, speed, p.mu0))
+    return flight, sum_rn, sum_rt
+
+
+def steady_state(amplitude: float, *, preload: float = FN, speed: float = SPEED,
+                 parameters: FootParameters | None = None, march_periods: int = 400) -> ContactOrbit:
+    """Periodic steady state of one foot (seed 000 eqs 2-17) at amplitude W [m, 0-peak].
+
+    preload : Fn [N]; speed : sliding speed V [m/s]; parameters : FootParameters (defaults: seed 000
+    appendix).  ``march_periods`` is the length of the time average used when no stable period-1
+    orbit exists (the same number of transient periods are discarded first).
+    """
+    p = parameters if parameters is not None else FootParameters()
+    W = require("amplitude", amplitude, nonnegative=True)
+    Fn = require("preload", preload, nonnegative=True)
+    V = require("speed", speed, nonnegative=True)
+    if p.total_load(Fn) <= 0:
+        raise ContactError(f"preload: the load Fn + m g must be positive, got {p.total_load(Fn):g} N")
+    dyn = _Dynamics.build(p, W, Fn)
+    T = p.period
+
+    def period_map(x):
+        _, u, v = _advance(dyn, 0.0, T, float(x[0]), float(x[1]))
+        return np.array([u, v])
+
+    su = max(W, dyn.P / dyn.kn)
+    x0 = np.array([_quasi_static_offset(W, dyn.P, dyn.kn), 0.0])
+    sol = shoot_periodic(period_map, x0, np.array([su, su * dyn.omega]))
+    periodic = sol.converged and sol.stable
+    if periodic:
+        x, periods = sol.state, 1
+    else:
+        log.warning("no stable period-1 orbit at W = %g m, Fn = %g N (residual %.2g, multipliers %s); "
+                    "averaging over %d periods", W, Fn, sol.residual, np.abs(sol.multipliers), march_periods)
+        _, u, v = _advance(dyn, 0.0, march_periods * T, float(sol.state[0]), float(sol.state[1]))
+        x, periods = np.array([u, v]), march_periods
+    # Start the analysed window at a touchdown, so each contact arc's Coulomb-Orowan displacement starts
+    # inside the window (seed 000 eq. 17).
+    first, _, _ = _advance(dyn, 0.0, T, float(x[0]), float(x[1]))
+    # Arcs alternate, so a contact arc after the first one follows a flight: a touchdown.  A period
+    # that opens in contact and has a flight lands at t = 0 (= T).
+    landing = next((q for q in first[1:] if q.arc.contact), None)
+    if landing is None and first[0].arc.contact and len(first) > 1:
+        landing = first[0]
+    if landing is None:
+        t_start, u0, v0, contact = 0.0, float(x[0]), float(x[1]), None
+    else:
+        t_start, u0, v0, contact = landing.t0, landing.arc.u0, landing.arc.v0, True
+    span = periods * T
+    pieces, _, _ = _advance(dyn, t_start, t_start + span, u0, v0, contact=contact)
+    # a touchdown found a rounding error before the window's end is the next window's first one
+    pieces = [q for q in pieces if q.t0 < t_start + span * (1 - 1e-9)]
+    touchdowns = {q.arc.t0 for q in pieces if q.arc.contact} if landing is not None else set()
+    flight, int_rn, int_rt = _integrate(dyn, p, V, pieces, touchdowns)
+    return ContactOrbit(
+        amplitude=W, preload=Fn, speed=V, parameters=p,
+        flight_ratio=100.0 * flight / span, normal_mean=int_rn / span, friction_mean=int_rt / span,
+        contacts_per_period=len(touchdowns) / periods, periodic=periodic, residual=sol.residual, periods=periods,
+        pieces=tuple(pieces), touchdowns=tuple(sorted(touchdowns)))
+
+
+# ----------------------------------------------------------------------------------------------
+# Brute-force reference in the seed's manner
+# ----------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class BruteForceResult:
+    """Steady state from time integration (seed 000 section 4.3.1.2: ode23, max step 1e-7 s).
+
+    flight_ratio [%], normal_mean [N], friction_mean [N] per foot, over the last period;
+    periods : periods integrated; converged : the period averages settled before ``max_periods``.
+    """
+
+    amplitude: float
+    flight_ratio: float
+    normal_mean: float
+    friction_mean: float
+    periods: int
+    converged: bool
+
+
+def brute_force_steady_state(amplitude: float, *, preload: float = FN, speed: float = SPEED,
+                             parameters: FootParameters | None = None, max_step: float = 1e-7,
+                             rtol: float = 1e-6, window: int = 20, settle: float = 1e-5,
+                             max_periods: int = 20_000) -> BruteForceResult:
+    """Reference steady state by scipy ``solve_ivp`` (RK23 = Bogacki-Shampine, the seed's ode23).
+
+    Integrates seed 000 eqs 10-12 with the contact switch as a terminal event (Stateflow's role in the
+    seed), the tangential displacement delta (eq. 17, reset at each touchdown) and the integrals of
+    Rn and of Rt = mu Rn (eqs 14-16, written with delta_crit as printed) as extra states; starts from
+    the quasi-static guess ``steady_state`` also starts from, and stops when beta, <Rn> and <Rt> over
+    the last ``window`` periods spread less than ``settle`` (relative; beta in percentage points).
+    """
+    from scipy.integrate import solve_ivp
+
+    p = parameters if parameters is not None else FootParameters()
+    W = require("amplitude", amplitude, nonnegative=True)
+    Fn = require("preload", preload, nonnegative=True)
+    V = require("speed", speed, nonnegative=True)
+    M, P = p.mass / p.n, p.total_load(Fn) / p.n
+    w, T = p.omega, p.period
+
+    def contact_rhs(t, y):
+        u, v, delta = y[0], y[1], y[2]
+        Rn = -p.kn * (u + W * math.sin(w * t)) - p.dn * v  # eq. 3 with z_A = z_G + w_A
+        delta_crit = p.mu0 * Rn / p.kt  # eq. 14
+        mu = p.mu0 * delta / delta_crit if 0 < delta < delta_crit else p.mu0  # eqs 15, 16
+        return [v, (Rn - P) / M, V, Rn, mu * Rn]
+
+    def flight_rhs(t, y):
+        return [y[1], -P / M, 0.0, 0.0, 0.0]
+
+    def gap(t, y):
+        return y[0] + W * math.sin(w * t)
+
+    rising, falling = (lambda t, y: gap(t, y)), (lambda t, y: gap(t, y))
+    rising.terminal = falling.terminal = True
+    rising.direction, falling.direction = 1, -1
+    su = max(W, P / p.kn)
+    atol = 1e-3 * rtol * np.array([su, su * w, V * T + su, P * T, P * T])
+    u0 = _quasi_static_offset(W, P, p.kn)
+    y = np.array([u0, 0.0, 0.0, 0.0, 0.0])
+    contact = u0 <= 0
+    history: list[tuple[float, float, float]] = []
+    for k in range(max_periods):
+        t, t_end, flight = k * T, (k + 1) * T, 0.0
+        y[3:] = 0.0
+        while t < t_end:
+            sol = solve_ivp(contact_rhs if contact else flight_rhs, (t, t_end), y, method="RK23",
+                            max_step=max_step, rtol=rtol, atol=atol, events=rising if contact else falling)
+            if not contact:
+                flight += sol.t[-1] - t
+            t, y = sol.t[-1], sol.y[:, -1].copy()
+            if sol.status == 1:
+                t, y = sol.t_events[0][0], sol.y_events[0][0].copy()
+                contact = not contact
+                if contact:
+                    y[2] = 0.0  # eq. 17: the tangential displacement restarts at each touchdown
+        history.append((100 * flight / T, y[3] / T, y[4] / T))
+        if len(history) >= window:
+            last = np.array(history[-window:])
+            spread = last.max(axis=0) - last.min(axis=0)
+            scale_ = np.array([1.0, abs(last[-1, 1]) or 1.0, abs(last[-1, 2]) or 1.0])
+            if np.all(spread <= settle * scale_):
+                return BruteForceResult(W, *history[-1], k + 1, True)
+    return BruteForceResult(W, *history[-1], max_periods, False)

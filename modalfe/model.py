@@ -91,6 +91,15 @@ class Model:
         T = sp.hstack(cols, format="csr")
         return Constraints(T, scale, tuple(floating))
 
+    def prescribed_potential(self, volts: float) -> np.ndarray:
+        """Full DOF vector that is ``volts`` [V] on every driven electrode and zero elsewhere: with the
+        short-circuit constraints (driven electrodes eliminated) x = T x_free + x_volts."""
+        x = np.zeros(self.ndofs)
+        for group, role in self.scene.electrodes.items():
+            if role == "drive" and group in self.electrodes:
+                x[self.n_u + self.electrodes[group]] = volts
+        return x
+
     def potential_scale(self) -> float:
         """Scale of the potential unknowns: sqrt(mean diag K_uu / mean diag K_phiphi)."""
         if self.n_phi == 0:

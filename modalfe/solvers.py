@@ -80,6 +80,18 @@ def solve_modes(
     return Modes(result.modes, result.model, result.circuit, result.fidelity, result.dofs, timings)
 
 
+def static_response(scene, volts: float, *, solver: str = "auto") -> np.ndarray:
+    """Static full DOF vector (u then phi) under ``volts`` [V] on the driven electrodes, the other
+    electrodes grounded: solve T^T K T x = -T^T K x_volts (the scene's supports must remove the
+    rigid-body motions)."""
+    model, _, _ = assembled_model(scene)
+    T = model.constraints("short").T
+    x_volts = model.prescribed_potential(volts)
+    A = (T.T @ model.K @ T).tocsr()
+    solve, _ = factorize(A, solver=solver)
+    return T @ solve(-(T.T @ (model.K @ x_volts))) + x_volts
+
+
 def refinement_ratio(fine_mesh, coarse_mesh, scene) -> float:
     """Mean element-size ratio between two meshes of the main part: (n_fine / n_coarse)^(1/3)."""
     main = max(scene.assembly().parts, key=lambda p: p.volume).name

@@ -102,3 +102,16 @@ def test_element_size_follows_the_frequency():
     high = element_sizes(load_scene("glass_plate"))
     # bending wavelength ~ f^-1/2: 250 kHz vs 70 kHz asks for elements ~ sqrt(250/70) = 1.9x smaller
     assert low["glass"] / high["glass"] == pytest.approx(np.sqrt(250 / 70), rel=0.15)
+
+
+def test_a_gmsh_failure_is_a_one_line_mesh_error(monkeypatch):
+    import gmsh
+
+    def broken(dim):
+        raise Exception("Meshing failed in volume 3")
+
+    monkeypatch.setattr(gmsh.model.mesh, "generate", broken)
+    with pytest.raises(MeshError) as info:
+        build_mesh(BUILDERS["ciliary_beam"](), size=4e-3, use_cache=False)
+    assert "gmsh failed" in str(info.value) and "\n" not in str(info.value)
+    assert not gmsh.isInitialized()  # gmsh is finalized even when it fails

@@ -13,6 +13,7 @@ and every sign change is a root.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -44,8 +45,8 @@ _XTOL = 1e-14  # brentq tolerance on dimensionless roots: far below any verifica
 # root finding helpers
 
 
-def _bracketed_roots(fun, grid: np.ndarray, count: int) -> list[float]:
-    """The first ``count`` roots of ``fun`` on ``grid`` (sign changes refined with brentq)."""
+def _bracketed_roots(fun, grid: np.ndarray) -> list[float]:
+    """All roots of ``fun`` bracketed by sign changes on ``grid``, refined with brentq."""
     values = np.array([fun(x) for x in grid])
     roots: list[float] = []
     for i in range(len(grid) - 1):
@@ -54,8 +55,6 @@ def _bracketed_roots(fun, grid: np.ndarray, count: int) -> list[float]:
             roots.append(float(a))
         elif fa * fb < 0:
             roots.append(float(brentq(fun, a, b, xtol=_XTOL * max(abs(a), abs(b), 1.0), rtol=1e-15)))
-        if len(roots) == count:
-            break
     return roots
 
 
@@ -152,7 +151,8 @@ def timoshenko_cantilever(
     Its roots are bracketed on a grid fine in sqrt(omega) (where cantilever roots are nearly
     evenly spaced) up to the Euler-Bernoulli frequency of mode ``count``, an upper bound of the
     Timoshenko one (min-max: Euler-Bernoulli is Timoshenko with psi = w' and without rotary
-    inertia). Roots of the second spectrum above the cut-off are returned in order with the rest.
+    inertia), and the grid is refined until doubling it finds no new root. Roots of the second
+    spectrum above the cut-off are returned in order with the rest.
 
     length [m], E, G [Pa], rho [kg/m^3], area [m^2], inertia [m^4], kappa (shear coefficient).
     """
@@ -179,12 +179,15 @@ def timoshenko_cantilever(
 
     upper = 2 * math.pi * euler_bernoulli_cantilever(
         length=L, E=E, rho=rho, area=area, inertia=inertia, count=count)[-1] * (1 + 1e-9)
-    for points in (400, 1600, 6400):
+    # a grid twice as fine must find the same roots (no pair of close roots hidden in one cell)
+    previous: list[float] = []
+    for points in (200, 400, 800, 1600, 3200, 6400):
         grid = np.linspace(1e-6, math.sqrt(upper), points * count) ** 2
-        roots = _bracketed_roots(determinant, grid, count)
-        if len(roots) == count:
-            return np.array(roots) / (2 * math.pi)
-    raise RuntimeError(f"timoshenko_cantilever: found only {len(roots)} of {count} roots")
+        roots = _bracketed_roots(determinant, grid)
+        if len(roots) >= count and len(roots) == len(previous):
+            return np.array(roots[:count]) / (2 * math.pi)
+        previous = roots
+    raise RuntimeError(f"timoshenko_cantilever: root count not stable ({len(roots)} for {count} asked)")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -289,6 +292,7 @@ def rayleigh_lamb_plate_ss(m: int, n: int, *, a: float, b: float, h: float, E: f
 _TANHC_TERMS = 48  # Taylor terms of tanh(x)/x used for z = x^2 <= 1: ratio 4/pi^2, error < 1e-18
 
 
+@functools.cache
 def _tanhc_coefficients() -> np.ndarray:
     """a_n with tanh(x)/x = sum_n a_n x^(2n), a_n = 2^(2n+2) (2^(2n+2) - 1) B_(2n+2) / (2n+2)!
     (Abramowitz & Stegun 4.5.64), from exact rational Bernoulli numbers (A&S 23.1.1 recurrence;
@@ -303,13 +307,10 @@ def _tanhc_coefficients() -> np.ndarray:
                      for j in range(_TANHC_TERMS)])
 
 
-_TANHC = _tanhc_coefficients()
-
-
 def _tanhc(z: float) -> float:
     """tanh(sqrt z)/sqrt z for z >= 0."""
     if z <= 1.0:
-        return float(np.polyval(_TANHC[::-1], z))
+        return float(np.polyval(_tanhc_coefficients()[::-1], z))
     r = math.sqrt(z)
     return math.tanh(r) / r
 
@@ -319,9 +320,10 @@ def _tanhc_divided_difference(z1: float, z2: float) -> float:
     Summed term by term (complete homogeneous polynomials) when both z <= 1, so thin plates
     lose no digits to cancellation."""
     if max(z1, z2) <= 1.0:
+        a = _tanhc_coefficients()
         total, h_prev, p2 = 0.0, 1.0, 1.0  # h_j = sum_i z1^i z2^(j-i), h_0 = 1
         for j in range(1, _TANHC_TERMS):
-            total += _TANHC[j] * h_prev
+            total += a[j] * h_prev
             p2 *= z2
             h_prev = z1 * h_prev + p2
         return total

@@ -88,12 +88,15 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-error-estimate", action="store_true", help="skip the coarse-mesh solve")
     p.set_defaults(func=_modes)
 
-    try:
-        from modalfe import cli_contact
-    except ImportError:
-        cli_contact = None
-    if cli_contact is not None:
-        cli_contact.register(sub)
+    from modalfe import cli_forced
+
+    cli_forced.register(sub)
+    for module in ("cli_contact", "cli_view"):
+        try:
+            extra = __import__(f"modalfe.{module}", fromlist=["register"])
+        except ImportError:
+            continue
+        extra.register(sub)
     return parser
 
 

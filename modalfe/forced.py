@@ -242,7 +242,8 @@ def _drive(model):
 
 
 def reduce(scene, mode, modes, *, outputs, damping: Damping, reference: str | None = None) -> ReducedModel:
-    """Reduced model of ``mode`` (one of ``modes``, short circuit) at the named ``outputs``."""
+    """Reduced model of ``mode`` (one of ``modes``, short circuit) at the named ``outputs``; the
+    ``reference`` output (default: the one with the largest normal motion) carries the modal mass."""
     from modalfe.linalg import factorize
 
     model = modes.model
@@ -250,7 +251,6 @@ def reduce(scene, mode, modes, *, outputs, damping: Damping, reference: str | No
     A = (T.T @ model.K @ T).tocsr()
     B = (T.T @ model.M @ T).tocsr()
     points = output_points(scene, outputs)
-    reference = reference or next(iter(points))
     probes = {name: probe(model, p) for name, p in points.items()}
     v_free = _free_coordinates(model, T, mode.shape)
     theta = float(v_free @ F)
@@ -261,6 +261,7 @@ def reduce(scene, mode, modes, *, outputs, damping: Damping, reference: str | No
     x_d = solve(F)
     modal_d = theta / (omega_r**2 - omega_d**2)
     phi = {name: P @ mode.shape for name, P in probes.items()}
+    reference = reference or max(phi, key=lambda name: abs(phi[name][2]))  # the output that moves most
     full_d = {name: P @ (T @ x_d + x_v) for name, P in probes.items()}
     feed = {name: (full_d[name] - phi[name] * modal_d) for name in probes}
     capacitance = float(F @ x_d + C_b - theta * modal_d)
@@ -301,7 +302,8 @@ class HarmonicResponse:
         return -((2 * np.pi * self.frequency[:, None]) ** 2) * self.displacement[output]
 
 
-def harmonic_response(scene, modes, frequency, *, outputs, damping: Damping, reference_omega: float) -> HarmonicResponse:
+def harmonic_response(scene, modes, frequency, *, outputs, damping: Damping,
+                      reference_omega: float) -> HarmonicResponse:
     """Direct damped solve at each frequency [Hz] (one complex factorization each)."""
     from scipy.sparse.linalg import splu
 

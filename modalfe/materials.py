@@ -172,6 +172,13 @@ def _library() -> dict[str, ElasticMaterial]:
             "brass-seed003", E=105e9, nu=0.34, rho=8500.0,
             source="seed 003 (E, rho); nu 0.34 typical of brass, ASM Handbook vol. 2 (1990)",
         ),
+        "piezo-seed003-e31": PiezoMaterial(
+            "piezo-seed003-e31", isotropic("iso", E=76.5e9, nu=0.31, rho=7500.0, source="").C, 7500.0,
+            "seed 003 (E 76.5 GPa, rho 7500, e31 = e32 = 2.0 C/m^2, no other coupling); nu 0.31 as seed 001; "
+            "eps_S of PZT-5A (the seed gives none; it only sets the electrical side)",
+            e=np.array([[0, 0, 0, 0, 0, 0], [0, 0, 0, 0, 0, 0], [2.0, 2.0, 0, 0, 0, 0]], dtype=float),
+            eps_S=EPS0 * np.diag([916.0, 916.0, 830.0]),
+        ),
         "piezo-seed003": isotropic(
             "piezo-seed003", E=76.5e9, nu=0.31, rho=7500.0,
             source="seed 003 (E, rho); nu 0.31 as the seed 001 PZT",

@@ -33,8 +33,8 @@ def face_field(modes, mode, *, part: str, side: str = "zmin", spacing: float = 0
     axis, c, lo, hi = box.face_bounds(side)
     if axis != 2:
         raise SolverError("antinodes: only z faces (zmin, zmax) are supported")
-    xs = np.linspace(lo[0], hi[0], max(8, int(round((hi[0] - lo[0]) / spacing)) + 1))
-    ys = np.linspace(lo[1], hi[1], max(8, int(round((hi[1] - lo[1]) / spacing)) + 1))
+    xs = np.linspace(lo[0], hi[0], max(8, round((hi[0] - lo[0]) / spacing) + 1))
+    ys = np.linspace(lo[1], hi[1], max(8, round((hi[1] - lo[1]) / spacing) + 1))
     X, Y = np.meshgrid(xs, ys)
     points = np.vstack([X.ravel(), Y.ravel(), np.full(X.size, c)])
     w = (probes(model, points) @ mode.shape)[2 * X.size:]
@@ -57,7 +57,7 @@ def antinodes(modes, mode, *, part: str, side: str = "zmin", threshold: float = 
         window = (1, 5)  # nodal lines across x only: maxima along x
     elif mode.label.endswith(",0)") and not mode.label.startswith("(0,"):
         window = (5, 1)
-    peaks = (A == maximum_filter(A, size=window, mode="nearest")) & (A >= threshold * A.max())
+    peaks = (maximum_filter(A, size=window, mode="nearest") == A) & (threshold * A.max() <= A)
     found = [Antinode(float(xs[j]), float(ys[i]), float(W[i, j])) for i, j in zip(*np.nonzero(peaks))]
     return sorted(found, key=lambda a: -abs(a.w))
 

@@ -49,6 +49,18 @@ class WorkingMode:
 
 
 @dataclass(frozen=True)
+class Drive:
+    """Forced-response defaults: ``damping`` (``Q=150``, ``zeta=0.025`` or ``rayleigh=a,b``, with its
+    source in ``damping_source``), ``outputs`` (face groups or (name, (x, y, z))), the working mode
+    to drive, and amplitude or time targets from the seeds."""
+
+    damping: str = "Q=150"
+    damping_source: str = "assumption (ASSUMPTIONS.md default Q ~ 150)"
+    outputs: tuple = ()
+    targets: tuple[Target, ...] = ()
+
+
+@dataclass(frozen=True)
 class MeshSettings:
     """Element size from elements per wavelength at ``max_frequency`` [Hz]; ``element`` hex or tet."""
 
@@ -89,6 +101,7 @@ class Scene:
     assumptions: tuple[str, ...] = ()
     kind: str = "plate"
     symmetry: tuple[str, ...] = ()
+    drive: Drive = Drive()
 
     def assembly(self):
         """The box assembly that is meshed: the whole device, or the half (quarter) kept by
@@ -133,7 +146,7 @@ class Scene:
         params = dict(self.params)
         for key, value in overrides.items():
             head, _, rest = key.partition(".")
-            if head in ("mesh", "analysis") and rest:
+            if head in ("mesh", "analysis", "drive") and rest:
                 sub = getattr(scene, head)
                 names = {f.name for f in fields(sub)}
                 if rest not in names:

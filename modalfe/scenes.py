@@ -6,7 +6,7 @@ scene needs beyond geometry. Every number carries its source.
 
 from __future__ import annotations
 
-from modalfe.scene import Analysis, MeshSettings, Scene, Target, WorkingMode
+from modalfe.scene import Analysis, Drive, MeshSettings, Scene, Target, WorkingMode
 
 
 def rubber_mount_stiffness(*, E: float, nu: float, area: float, height: float) -> tuple[float, float, float]:
@@ -37,6 +37,16 @@ def cube_plate() -> Scene:
         params={},
         electrodes={"electrode_top": "drive", "electrode_bottom": "ground"},
         analysis=Analysis(near=40.7e3, count=8),
+        drive=Drive(
+            damping="Q=150",
+            damping_source="assumption: the seeds give no Q for the plate (ASSUMPTIONS.md default ~150)",
+            outputs=("foot_1", "foot_2", "foot_3", "foot_4"),
+            targets=(
+                Target("amplitude_available", 1.7e-6, "m", "measured", "seed 001, 0-peak at the feet"),
+                Target("amplitude_strong_feeling", 0.65e-6, "m", "measured", "seed 001"),
+                Target("response_time", 1e-3, "s", "measured", "seed 001, amplitude step with preload"),
+            ),
+        ),
         mesh=MeshSettings(elements_per_wavelength=6.0, max_frequency=50e3),
         working_modes=(
             WorkingMode("(0,6)", 40.7e3, (
@@ -60,10 +70,23 @@ def glass_plate() -> Scene:
     return Scene(
         name="glass_plate",
         device="glass_plate",
-        symmetry=("y",),  # mirror-symmetric about y = width / 2; working modes are symmetric too
+        # mirror-symmetric about both mid-planes; the two piezos are driven in phase, so modes
+        # antisymmetric about x = L / 2 get no net drive: the quarter model keeps just the driven ones
+        symmetry=("x", "y"),
         params={},
         electrodes={"electrode_outer": "drive", "electrode_inner": "ground"},
         analysis=Analysis(near=66e3, count=8),
+        drive=Drive(
+            damping="Q=150",
+            damping_source="ASSUMPTIONS.md: Q ~ pi f tau from seed 004's response times, default 150",
+            outputs=(("centre_top", (0.03, 0.01, 1.9e-3)), ("quarter_top", (0.015, 0.01, 1.9e-3))),
+            targets=(
+                Target("amplitude_pp_66kHz", 2.8e-6, "m", "measured", "seed 004, peak-to-peak"),
+                Target("amplitude_pp_225kHz", 194e-9, "m", "measured", "seed 004, peak-to-peak"),
+                Target("response_time_66kHz", 1.3e-3, "s", "measured", "seed 004"),
+                Target("response_time_225kHz", 0.5e-3, "s", "measured", "seed 004"),
+            ),
+        ),
         mesh=MeshSettings(elements_per_wavelength=6.0, max_frequency=250e3),
         working_modes=(
             WorkingMode("(0,n)", 66e3, (
@@ -77,7 +100,7 @@ def glass_plate() -> Scene:
         ),
         assumptions=(
             "in-plane size 60 x 20 mm and piezo positions not in the seed's text (figure lost)",
-            "soda-lime glass (EN 572-1), piezos PZT-4",
+            "soda-lime glass (EN 572-1), piezos PZT-4, driven in phase",
         ),
     )
 
@@ -167,6 +190,17 @@ def ciliary_beam() -> Scene:
         clamps={"clamp": "xyz"},
         electrodes={"electrode_outer": "drive", "electrode_inner": "ground"},
         analysis=Analysis(near=24e3, count=8),
+        drive=Drive(
+            damping="zeta=0.025",
+            damping_source="seed 003 (zeta = 0.025)",
+            outputs=(("tip", (0.1, 2.5e-3, 5e-3)), ("x_47.25mm", (0.04725, 2.5e-3, 5e-3)),
+                     ("x_74.70mm", (0.0747, 2.5e-3, 5e-3))),
+            targets=(
+                Target("amplitude_100V", 1.44e-6, "m", "analytic", "seed 003, mode 6 at 100 V (e31 = 2.0 C/m^2)"),
+                Target("amplitude_200V", 2.62e-6, "m", "analytic", "seed 003, mode 6 at 200 V"),
+                Target("acceleration_max", 69324.0, "m/s^2", "analytic", "seed 003, half-period average"),
+            ),
+        ),
         mesh=MeshSettings(elements_per_wavelength=6.0, max_frequency=30e3),
         working_modes=(
             WorkingMode("bending-z 6", 24.2e3, (

@@ -174,6 +174,10 @@ class ReducedModel:
         motional = self.force_factor**2 / (self.stiffness - self.modal_mass * w**2 + 1j * self.damping * w)
         return 1j * w * (self.capacitance + motional)
 
+    def impedance(self, frequency) -> np.ndarray:
+        """Electrical impedance Z = 1 / Y [ohm] (complex)."""
+        return 1.0 / self.admittance(frequency)
+
     @property
     def bvd(self) -> dict[str, float]:
         """Butterworth-Van Dyke circuit: C0 [F], R1 [ohm], L1 [H], C1 [F] (IEEE Std 176-1987)."""
@@ -300,6 +304,11 @@ class HarmonicResponse:
 
     def acceleration(self, output: str) -> np.ndarray:
         return -((2 * np.pi * self.frequency[:, None]) ** 2) * self.displacement[output]
+
+    @property
+    def impedance(self) -> np.ndarray:
+        """Electrical impedance Z = 1 / Y [ohm] (complex)."""
+        return 1.0 / self.admittance
 
 
 def harmonic_response(scene, modes, frequency, *, outputs, damping: Damping,

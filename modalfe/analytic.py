@@ -5,10 +5,11 @@ Every function states its source (textbook or paper, and the equation or section
 throughout: lengths [m], moduli [Pa], densities [kg/m^3], masses [kg], forces [N]; frequencies
 are returned in [Hz], angular frequencies are called ``omega`` [rad/s].
 
-Transcendental equations are solved by bracketing sign changes on a fine grid and refining each
-with ``scipy.optimize.brentq``; the bracketed functions are written as entire functions of
-omega^2 (cosh / sinh(x)/x pairs that turn into cos / sin(x)/x smoothly), so they have no poles
-and every sign change is a root.
+Transcendental equations are solved with ``scipy.optimize.brentq`` on brackets that are known
+to hold exactly one root (cantilever, k31 bar, Rayleigh-Lamb), or found as sign changes on a
+grid refined until it finds no new root (Timoshenko). The functions are written without poles
+(entire functions of omega^2: cosh / sinh(x)/x pairs that turn into cos / sin(x)/x smoothly),
+so every sign change is a root.
 """
 
 from __future__ import annotations
@@ -112,8 +113,8 @@ def euler_bernoulli_cantilever(
 def cowper_shear_coefficient_rectangle(nu: float) -> float:
     """Timoshenko shear coefficient of a solid rectangle, kappa = 10 (1 + nu) / (12 + 11 nu).
 
-    Cowper, 'The shear coefficient in Timoshenko's beam theory', J. Appl. Mech. 33 (1966) 335-340,
-    Table 1 (rectangle).
+    Cowper, 'The shear coefficient in Timoshenko's beam theory', J. Appl. Mech. 33 (1966) 335-340
+    (its result for the solid rectangular section).
     """
     return 10 * (1 + nu) / (12 + 11 * nu)
 
@@ -133,7 +134,7 @@ def timoshenko_cantilever(
 
     Equations of motion (Timoshenko, Phil. Mag. 41 (1921) 744-746; in the notation of Han,
     Benaroya & Wei, 'Dynamics of transversely vibrating beams using four engineering theories',
-    J. Sound Vib. 225 (1999) 935-988, sec. 5), for deflection w and section rotation psi:
+    J. Sound Vib. 225 (1999) 935-988), for deflection w and section rotation psi:
 
         kappa G A (w'' - psi') + rho A omega^2 w = 0
         E I psi'' + kappa G A (w' - psi) + rho I omega^2 psi = 0
@@ -164,8 +165,8 @@ def timoshenko_cantilever(
         # dimensionless S~ = S L^2: S~^2 + b S~ + c = 0
         b = w2 * L**2 * (rI / EI + rA / kGA)
         c = rA * w2 * L**4 * (rI * w2 - kGA) / (kGA * EI)
-        # b^2 - 4c > 0 at every omega (it is a sum of squares times positive factors): two
-        # distinct real roots S, one negative (oscillating), the other positive below the cut-off
+        # b^2 - 4c = w^4 L^4 (rI/EI - rA/kGA)^2 + 4 rA w^2 L^4 / EI > 0: two distinct real roots
+        # S, one negative (oscillating), the other positive below the cut-off
         disc = math.sqrt(b * b - 4 * c)
         q = -0.5 * (b + disc)
         S1, S2 = (c / q, q) if q != 0 else (0.0, 0.0)
@@ -220,16 +221,17 @@ def mindlin_plate_ss(m: int, n: int, *, a: float, b: float, h: float, E: float, 
 
     Mindlin, 'Influence of rotatory inertia and shear on flexural motions of isotropic, elastic
     plates', J. Appl. Mech. 18 (1951) 31-38, with shear factor kappa^2 = pi^2/12 (matches the
-    exact thickness-shear cut-off). With w = W sin(ax) sin(by), psi_x = X cos(ax) sin(by),
-    psi_y = Y sin(ax) cos(by) (a = m pi / a_side, b = n pi / b_side) the equations of motion
-    become (K - omega^2 M) [W, X, Y] = 0 with M = diag(rho h, rho h^3/12, rho h^3/12) and
+    exact thickness-shear cut-off). With w = W sin(al x) sin(be y), psi_x = X cos(al x) sin(be y),
+    psi_y = Y sin(al x) cos(be y), al = m pi / a, be = n pi / b (the Navier form, exact for
+    simple supports), the equations of motion become (K - omega^2 M) [W, X, Y] = 0 with
+    M = diag(rho h, rho h^3/12, rho h^3/12) and, with S = kappa^2 G h, D = E h^3 / (12 (1 - nu^2)),
 
-        K = [[k2 G' (a^2 + b^2),  k2 G' a,                          k2 G' b                 ],
-             [k2 G' a,            D (a^2 + (1-nu)/2 b^2) + k2 G',   D (1+nu)/2 a b          ],
-             [k2 G' b,            D (1+nu)/2 a b,                   D (b^2 + (1-nu)/2 a^2) + k2 G']]
+        K = [[S (al^2 + be^2),  S al,                             S be                            ],
+             [S al,             D (al^2 + (1-nu)/2 be^2) + S,     D (1+nu)/2 al be                ],
+             [S be,             D (1+nu)/2 al be,                 D (be^2 + (1-nu)/2 al^2) + S    ]]
 
-    (G' = G h, k2 = shear_factor): the 3 x 3 form of Mindlin's cubic in omega^2. The lowest root
-    is the flexural one; the other two are thickness-shear modes.
+    the 3 x 3 form of Mindlin's cubic in omega^2. The lowest root is the flexural one; the other
+    two are thickness-shear modes. a, b sides [m]; h thickness [m]; E [Pa]; rho [kg/m^3].
     """
     from scipy.linalg import eigh
 
@@ -295,8 +297,8 @@ _TANHC_TERMS = 48  # Taylor terms of tanh(x)/x used for z = x^2 <= 1: ratio 4/pi
 @functools.cache
 def _tanhc_coefficients() -> np.ndarray:
     """a_n with tanh(x)/x = sum_n a_n x^(2n), a_n = 2^(2n+2) (2^(2n+2) - 1) B_(2n+2) / (2n+2)!
-    (Abramowitz & Stegun 4.5.64), from exact rational Bernoulli numbers (A&S 23.1.1 recurrence;
-    scipy's floating-point ones carry 1e-12 errors)."""
+    (Abramowitz & Stegun 4.5.64), with exact rational Bernoulli numbers from the recurrence
+    sum_(j <= m) C(m+1, j) B_j = 0 (scipy's floating-point ones carry 1e-12 errors)."""
     from fractions import Fraction
 
     top = 2 * _TANHC_TERMS + 2
@@ -342,8 +344,8 @@ def piezo_compliance_form(c_E: np.ndarray, e: np.ndarray, eps_S: np.ndarray
     """(s^E [1/Pa] (6, 6), d [C/N] (3, 6), eps^T [F/m] (3, 3)) from the e-form tensors.
 
     s^E = (c^E)^-1, d = e s^E, eps^T = eps^S + d e^T; IEEE Std 176-1987 (relations between
-    the four forms of the piezoelectric constitutive equations; exact matrix
-    identities). Voigt order xx, yy, zz, yz, xz, xy.
+    the four forms of the piezoelectric constitutive equations; exact matrix identities).
+    Voigt order xx, yy, zz, yz, xz, xy.
     """
     s_E = np.linalg.inv(np.asarray(c_E, dtype=float))
     d = np.asarray(e, dtype=float) @ s_E

@@ -41,6 +41,8 @@ def main_part_field(model, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     keep = [p.name for p in assembly.parts if stiffness[p.name] >= 0.01 * top]
     vertices = np.unique(dm.mesh.t[:, np.concatenate([dm.parts[n] for n in keep])])
     points, u = dm.mesh.p[:, vertices], model.nodal_displacement(x)[:, vertices]
+    if model.frame is not None:  # a rotated device is labelled in its own axes
+        points, u = model.frame.T @ points, model.frame.T @ u
     lo, hi = scene.full_assembly().bounds
     for axis in scene.symmetry:  # unfold a symmetric model into the whole device
         k = "xyz".index(axis)

@@ -47,6 +47,7 @@ class Model:
     electrodes: dict[str, np.ndarray]
     clamped: np.ndarray
     timings: dict[str, float] = field(default_factory=dict)
+    frame: np.ndarray | None = None
 
     @property
     def n_phi(self) -> int:
@@ -139,6 +140,9 @@ def assemble(scene, device_mesh, *, frame: np.ndarray | None = None) -> Model:
     if frame is not None:
         if scene.springs:
             raise SceneError("frame: face springs are axis-aligned and cannot be rotated")
+        if any(len(set(c)) < 3 for c in {**scene.clamps, **scene.symmetry_clamps}.values()):
+            raise SceneError("frame: clamps fixing some components only (and symmetry planes) are "
+                             "axis-aligned and cannot be rotated")
         frame = np.asarray(frame, dtype=float)
         mesh = type(mesh)(frame @ mesh.p, mesh.t)
         device_mesh = replace(device_mesh, mesh=mesh)
@@ -173,7 +177,7 @@ def assemble(scene, device_mesh, *, frame: np.ndarray | None = None) -> Model:
     electrodes = _electrode_dofs(scene, device_mesh, mesh, scalar, phi_dofs)
     clamped = _clamped_dofs(scene, device_mesh, u_basis)
     return Model(scene, device_mesh, u_basis, K, M, n_u, phi_dofs, electrodes, clamped,
-                 {"assembly": time.perf_counter() - start})
+                 {"assembly": time.perf_counter() - start}, frame)
 
 
 def _clamped_dofs(scene, device_mesh, u_basis) -> np.ndarray:

@@ -244,10 +244,11 @@ class Scene:
 
     @property
     def max_frequency(self) -> float:
-        """Highest frequency the mesh must resolve [Hz]."""
+        """Highest frequency the mesh must resolve [Hz]: mesh.max_frequency, or the analysis's top
+        (band end, or the target frequency) when higher."""
         a = self.analysis
-        guess = a.band[1] if a.band is not None else 1.25 * a.near
-        return max(self.mesh.max_frequency, guess)
+        top = a.band[1] if a.band is not None else a.near
+        return max(self.mesh.max_frequency, top)
 
 
 def load_scene(name_or_path: str | Path, **overrides: Any) -> Scene:

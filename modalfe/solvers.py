@@ -10,6 +10,7 @@ from __future__ import annotations
 import logging
 import time
 from collections import OrderedDict
+from dataclasses import replace
 
 import numpy as np
 from scipy.sparse.linalg import ArpackError, ArpackNoConvergence, LinearOperator, eigsh
@@ -56,6 +57,9 @@ def solve_modes(
         a = Analysis(near=a.near, count=count or a.count, band=a.band, circuit=circuit or a.circuit)
     if a.band is None and a.near is None:
         raise SolverError("give near (and count) or band")
+    # the mesh resolves the frequencies asked for, whichever is higher: the scene's or this call's
+    scene = replace(scene, analysis=a) if a.band != scene.analysis.band or (a.near or 0) > (scene.analysis.near or 0) \
+        else scene
     fine = _solve(scene, a, size_factor=size_factor, solver=solver, frame=frame)
     if not error_estimate:
         return fine

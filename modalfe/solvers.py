@@ -24,9 +24,10 @@ log = logging.getLogger(__name__)
 
 COARSE_FACTOR = 1.5  # coarse level of the Richardson estimate: elements 1.5x larger
 # Eigenvalue error of quadratic elements is ~h^(2p) = h^4 for smooth modes (Strang & Fix 1973), but
-# bonded patches and feet make re-entrant edges whose singular fields slow it down; the estimate
-# assumes order 3. studies/convergence.py compares the estimate with three-level refinements.
-CONVERGENCE_ORDER = 3.0
+# clamped faces, bonded patches and feet make re-entrant edges whose singular fields slow it down:
+# studies/convergence.py observes orders 1.5-2.1 on the seed devices' working modes. The estimate
+# assumes order 2, which keeps it at or above the error found by four-level refinement there.
+CONVERGENCE_ORDER = 2.0
 
 
 def solve_modes(

@@ -19,9 +19,11 @@ into eq. 10, ``(m/n) z_G'' = -Fn/n - (m/n) g + Rn``.  Eq. 2 gives eq. 10 only wi
 eq. 7 is the misprint: this module uses ``z_A = z_G + w_A``.  Flipping the sign of ``w_A`` only shifts the
 drive by half a period, so no time-averaged output depends on this choice; the trajectories do.
 
+The solver works in ``u = z_G - h`` (so the appendix's ``h = 4 mm`` drops out) and ``v = z_G'``.
 Contact is decided by geometry, as printed (eqs 5, 6): ``Rn`` may dip slightly below zero just before
-separation, because the damper acts on ``z_G'`` and not on the foot's compression rate.  Averages use
-``Rn`` as printed.
+separation, because the damper acts on ``z_G'`` and not on the foot's compression rate (at the appendix
+values by at most ~2 % of its peak, for < 0.3 % of a period, ~1e-4 of the impulse).  Averages use ``Rn``
+as printed.
 
 Flight ratio, seed 000 eq. 13: ``beta = 100 (t_s - t_c) / T`` generalised to the total flight time per
 period when the foot lands several times a period ("chattering").
@@ -37,16 +39,18 @@ Method
 ------
 Both phases are linear with closed-form solutions: in contact a damped oscillator driven at ``omega``
 (steady sinusoid plus a homogeneous part propagated by the 2x2 exponential of the phase's state
-matrix), in flight a parabola.  Transitions are events ``z_A = h``, found by sampling the gap on a grid
-finer than the fastest time scale and polishing the sign change with Brent's method; a local extremum
-of the gap between samples is checked through the gap rate, so short grazing contacts are not missed.
-One period of this event-driven exact solution is the period map ``x(0) -> x(T)`` on the plate's
-``(z_G, z_G')``; the periodic steady state is its fixed point, found by Newton's method on the map
-(shooting, finite-difference Jacobian of size 2) from a quasi-static first guess.  Its Floquet
-multipliers tell whether the orbit is the attractor; when Newton fails or the orbit is unstable the
-solver marches in time with the same exact solution and averages over many periods instead
-(``periodic = False`` in the result).  Period averages of ``Rn`` and ``Rt`` are Gauss-Legendre integrals
-over the contact arcs, split at the stick/slip switch so every piece is smooth.
+matrix), in flight a parabola.  Transitions are the events ``z_A = h``: the gap is sampled on a grid
+finer than the fastest time scale (64 points per drive or contact-oscillation period), a local extremum
+between samples that reaches across zero is found through the gap rate (so short grazing contacts
+are not missed), and each root is polished by Newton's method inside its bracket.  One period of this
+event-driven exact solution is the period map ``(u, v)(0) -> (u, v)(T)``; the periodic steady state is
+its fixed point, found by Newton's method on the map (shooting) from a quasi-static first guess.  The
+map's Jacobian (monodromy matrix) is exact: the arcs' transition matrices chained with the saltation
+matrix of each switch.  Its eigenvalues (Floquet multipliers) tell whether the orbit is the
+attractor; if it is not, orbits of period k T (k <= 8) are shot from a state reached by marching in
+time, and failing those the solver averages over many periods with the same exact solution
+(``periodic = False`` in the result).  Period averages of ``Rn`` and ``Rt`` are Gauss-Legendre
+integrals over the contact arcs, split where ``kt V (t - t_c) = mu0 Rn`` so every piece is smooth.
 
 A brute-force reference in the seed's manner (``brute_force_steady_state``: scipy ``solve_ivp`` with
 Bogacki-Shampine RK23, max step 1e-7 s, terminal events at the switches, run until the period
@@ -55,10 +59,12 @@ averages stop changing) is provided for the benchmark ``studies/benchmark_contac
 
 from __future__ import annotations
 
+import itertools
 import logging
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, fields, replace
+from functools import cached_property
 
 import numpy as np
 from scipy.optimize import brentq
@@ -72,7 +78,6 @@ KN = 9.7e6  # N/m, normal stiffness of one foot
 DN = 200.0  # N s/m, damper on the plate's normal velocity
 FN = 10.0  # N, preload
 MASS = 0.0723  # kg, vibrating plate
-H = 4e-3  # m, free height of a foot
 N_FEET = 3  # feet sharing the load (appendix; the device has four)
 G = 9.81  # m/s^2
 # Seed 001 section 2: working frequency (measured resonance); seed 000 Fig. 12 uses 35 kHz.
@@ -81,7 +86,7 @@ FREQUENCY = 40.7e3  # Hz
 SUBSTRATES = {"steel": 0.2, "glass": 0.08}
 # Tangential contact stiffness of one foot: not given by the seeds; identified from seed 001's
 # measured reduction (0.71 N -> 0.274 N at 3 N preload, 1 cm/s, steel) by studies/identify_kt.py.
-KT = 1.0e7  # N/m
+KT = 5.44e6  # N/m (fit at an assumed 0.65 um 0-peak; see the study for the sensitivity)
 # Seed 001 section 7: the user's sliding speed of the measured reduction.
 SPEED = 0.01  # m/s
 
@@ -100,50 +105,77 @@ def _grid(t0: float, t1: float, step: float) -> np.ndarray:
 
 
 def _root(fun: Callable[[float], float], a: float, b: float) -> float:
+    """Brent's method to rounding accuracy on a bracket (the end nearer zero if rounding undid the bracket)."""
+    fa, fb = fun(a), fun(b)
+    if fa * fb > 0:
+        return a if abs(fa) < abs(fb) else b
     return brentq(fun, a, b, xtol=4 * np.finfo(float).eps * max(abs(a), abs(b), 1e-300))
 
 
-def first_crossing(fun: Callable, rate: Callable, t0: float, t1: float, step: float, *,
-                   upward: bool) -> float | None:
-    """First time in (t0, t1] where ``fun`` crosses zero upward (or downward), else None.
+def _newton_root(fr: Callable, a: float, b: float) -> float:
+    """Zero of f on [a, b] with f(a) <= 0 < f(b); ``fr(t) -> (f, f')``: Newton kept inside the bracket."""
+    fa, fb = fr(a)[0], fr(b)[0]
+    x = a - fa * (b - a) / (fb - fa) if fb > fa else 0.5 * (a + b)
+    tol = 4 * np.finfo(float).eps * max(abs(a), abs(b))
+    for _ in range(100):
+        f, d = fr(x)
+        if f > 0:
+            b = x
+        else:
+            a = x
+        xn = x - f / d if d != 0 else a - 1.0
+        if not a <= xn <= b:
+            xn = 0.5 * (a + b)
+        if abs(xn - x) <= tol or b - a <= tol:
+            return float(xn)
+        x = xn
+    return float(x)
 
-    ``fun`` and its time derivative ``rate`` take arrays.  ``fun`` is on the near side of zero at
-    ``t0`` up to rounding (an arc starts at the previous event).  Sign changes are found on a grid of
-    spacing ``step``; a local extremum between two samples that reaches across zero (a grazing arc
-    shorter than ``step``) is found through ``rate``.  Roots are polished with Brent's method.
-    Returns ``t0`` when the arc leaves at once (it starts tangent to its exit).
+
+def first_crossing(fun_rate: Callable, t0: float, t1: float, step: float, *, upward: bool) -> float | None:
+    """First time in (t0, t1] where a function crosses zero upward (or downward), else None.
+
+    ``fun_rate(t) -> (f, df/dt)`` takes arrays and floats.  ``f`` is on the near side of zero at ``t0``
+    up to rounding (an arc starts at the previous event).  Sign changes are found on a grid of spacing
+    ``step``; a local extremum between two samples that reaches across zero (a grazing arc shorter than
+    ``step``) is found through the rate.  Roots are polished by Newton's method inside the bracket.
+    Returns ``t0`` when the arc leaves at once (it starts moving towards its exit).  A start where
+    both the function and its rate vanish to rounding is tangent: the samples after it decide.
     """
     sign = 1.0 if upward else -1.0
 
-    def f(t):
-        return sign * fun(t)
+    def fr(t):
+        f, d = fun_rate(t)
+        return sign * f, sign * d
 
     def d(t):
-        return sign * rate(t)
+        return fr(t)[1]
 
     t = _grid(t0, t1, step)
-    fv, dv = f(t), d(t)
-    if (fv[0] >= 0 and dv[0] > 0) or (fv[0] > 0 and dv[0] >= 0):
+    fv, dv = fr(t)
+    if abs(fv[0]) <= 1e-9 * np.max(np.abs(fv)) and abs(dv[0]) <= 1e-9 * np.max(np.abs(dv)):
+        fv[0] = dv[0] = 0.0  # a tangent start (a Kelvin-Voigt layer's separation): the grid decides
+    elif (fv[0] >= 0 and dv[0] > 0) or (fv[0] > 0 and dv[0] >= 0):
         return t0
     after = np.flatnonzero(fv[1:] > 0) + 1
     last = after[0] if after.size else len(t) - 1
 
     def low(i, b):
-        # a point of [t_i, b) where f <= 0; at t0, f may be a rounding residue above zero
-        if i > 0 or fv[0] <= 0:
+        # a point of [t_i, b) where f <= 0 after the start; at t0, f is zero or a rounding residue
+        if i > 0 or fv[0] < 0:
             return t[i]
         tm = _root(d, t0, b) if d(b) > 0 else b
-        return tm if f(tm) <= 0 else None
+        return tm if fr(tm)[0] < 0 else None
 
     for i in np.flatnonzero((dv[:last] > 0) & (dv[1 : last + 1] < 0)):
         tm = _root(d, t[i], t[i + 1])
-        if f(tm) > 0:
+        if fr(tm)[0] > 0:
             a = low(i, tm)
-            return t0 if a is None else _root(f, a, tm)
+            return t0 if a is None else _newton_root(fr, a, tm)
     if not after.size:
         return None
     a = low(last - 1, t[last])
-    return t0 if a is None else _root(f, a, t[last])
+    return t0 if a is None else _newton_root(fr, a, t[last])
 
 
 def sign_changes(fun: Callable, t0: float, t1: float, step: float) -> list[float]:
@@ -181,14 +213,15 @@ class PeriodicState:
 
     @property
     def stable(self) -> bool:
-        """Every Floquet multiplier inside the unit circle (small margin for the finite differences)."""
+        """Every Floquet multiplier inside the unit circle (with a margin for rounding)."""
         return bool(np.all(np.abs(self.multipliers) < 1 + 1e-6))
 
 
-def shoot_periodic(period_map: Callable[[np.ndarray], np.ndarray], x0: np.ndarray, scale: np.ndarray, *,
-                   tol: float = 1e-11, max_iter: int = 40, fd_step: float = 1e-7) -> PeriodicState:
-    """Periodic steady state x = P(x) by Newton's method with a finite-difference Jacobian.
+def shoot_periodic(period_map: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]], x0: np.ndarray,
+                   scale: np.ndarray, *, tol: float = 1e-11, max_iter: int = 40) -> PeriodicState:
+    """Periodic steady state x = P(x) by Newton's method (shooting).
 
+    ``period_map(x) -> (P(x), dP/dx)``: the state one period later and the monodromy matrix.
     Works in the scaled variables ``x / scale``; ``tol`` bounds the scaled residual.  A Newton step
     that does not reduce the residual is halved up to six times, then replaced by one step of the map
     itself (time marching), which the physical attractor contracts.
@@ -197,42 +230,30 @@ def shoot_periodic(period_map: Callable[[np.ndarray], np.ndarray], x0: np.ndarra
     n = len(scale)
 
     def residual(y):
-        return period_map(y * scale) / scale - y
-
-    def jacobian(y, r):
-        J = np.empty((n, n))
-        for j in range(n):
-            e = np.zeros(n)
-            e[j] = fd_step
-            J[:, j] = (residual(y + e) - r) / fd_step
-        return J
+        xT, Phi = period_map(y * scale)
+        return xT / scale - y, Phi * scale[None, :] / scale[:, None] - np.eye(n)
 
     y = np.asarray(x0, float) / scale
-    r = residual(y)
-    J = None
+    r, J = residual(y)
     steps = 0
     while np.linalg.norm(r) >= tol and steps < max_iter:
         steps += 1
-        J = jacobian(y, r)
         try:
             dy = np.linalg.solve(J, -r)
         except np.linalg.LinAlgError:
             dy = r
         norm = np.linalg.norm(r)
         for _ in range(7):
-            r_new = residual(y + dy)
+            r_new, J_new = residual(y + dy)
             if np.linalg.norm(r_new) < (1 - 1e-4) * norm:
-                y, r = y + dy, r_new
+                y, r, J = y + dy, r_new, J_new
                 break
             dy = dy / 2
         else:
             y = y + r
-            r = residual(y)
-    if J is None or np.linalg.norm(r) < tol:
-        J = jacobian(y, r)
-    multipliers = np.linalg.eigvals(J + np.eye(n))
+            r, J = residual(y)
     res = float(np.linalg.norm(r))
-    return PeriodicState(y * scale, steps, res, multipliers, res < tol)
+    return PeriodicState(y * scale, steps, res, np.linalg.eigvals(J + np.eye(n)), res < tol)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -260,7 +281,7 @@ class FootParameters:
     """Foot contact model parameters (defaults: seed 000 appendix; kt identified, see module docstring).
 
     kn : normal stiffness of one foot [N/m]; dn : damper on the plate's normal velocity [N s/m];
-    mass : vibrating plate, m [kg]; h : free height of a foot [m]; n : feet sharing the load;
+    mass : vibrating plate, m [kg]; n : feet sharing the load;
     g : gravity [m/s^2]; frequency : drive frequency [Hz]; mu0 : maximum (static) friction
     coefficient; kt : tangential contact stiffness of one foot [N/m].
     """
@@ -268,7 +289,6 @@ class FootParameters:
     kn: float = KN
     dn: float = DN
     mass: float = MASS
-    h: float = H
     n: int = N_FEET
     g: float = G
     frequency: float = FREQUENCY
@@ -276,19 +296,20 @@ class FootParameters:
     kt: float = KT
 
     def __post_init__(self):
-        for name in ("kn", "mass", "h", "frequency", "kt"):
+        for name in ("kn", "mass", "frequency", "kt"):
             require(name, getattr(self, name), positive=True)
         for name in ("dn", "g", "mu0"):
             require(name, getattr(self, name), nonnegative=True)
-        if isinstance(self.n, bool) or int(self.n) != self.n or self.n < 1:
+        n = require("n", self.n, positive=True) if not isinstance(self.n, bool) else 0.5
+        if n != int(n):
             raise ContactError(f"n: number of feet must be a positive integer, got {self.n!r}")
+        object.__setattr__(self, "n", int(n))
 
-    @classmethod
-    def for_substrate(cls, substrate: str, **changes) -> FootParameters:
-        """Parameters with ``mu0`` of a named substrate (``steel`` 0.2, ``glass`` 0.08; seeds 000, 001)."""
+    def on(self, substrate: str) -> FootParameters:
+        """A copy with ``mu0`` of a named substrate (``steel`` 0.2, ``glass`` 0.08; seeds 000, 001)."""
         if substrate not in SUBSTRATES:
             raise ContactError(f"substrate: expected one of {sorted(SUBSTRATES)}, got {substrate!r}")
-        return cls(**{"mu0": SUBSTRATES[substrate], **changes})
+        return replace(self, mu0=SUBSTRATES[substrate])
 
     def with_(self, **changes) -> FootParameters:
         """A copy with some fields changed (validated); unknown names raise ContactError."""
@@ -363,23 +384,21 @@ class _Dynamics:
         """Event search grid spacing [s]: the shorter of the drive and the contact oscillation periods."""
         return 2 * math.pi / max(self.omega, math.sqrt(self.w0sq)) / SAMPLES_PER_PERIOD
 
-    def drive(self, t):
-        """w_A = W sin(omega t) and its rate, seed 000 eq. 1."""
-        return self.W * np.sin(self.omega * t), self.W * self.omega * np.cos(self.omega * t)
-
-    def contact_particular(self, t):
-        """Steady sinusoidal solution of seed 000 eq. 11 (u_p, v_p)."""
-        s, c = np.sin(self.omega * t), np.cos(self.omega * t)
+    def contact_particular(self, s, c):
+        """Steady sinusoidal solution (u_p, v_p) of seed 000 eq. 11, given sin and cos of omega t."""
         return -self.P / self.kn + self.Xr * s + self.Xi * c, self.omega * (self.Xr * c - self.Xi * s)
 
-    def kernels(self, tau):
-        """e^{alpha tau} cosh(s tau) and e^{alpha tau} sinh(s tau)/s, s^2 = alpha^2 - w0^2."""
+    def kernels(self, tau, f=np):
+        """e^{alpha tau} cosh(s tau) and e^{alpha tau} sinh(s tau)/s, s^2 = alpha^2 - w0^2; ``f`` is
+        numpy for arrays or math for one time (several times faster on a float)."""
         if self.overdamped:
             g = self.beta
-            ep = np.exp((self.alpha + g) * tau)
-            return 0.5 * (ep + np.exp((self.alpha - g) * tau)), -ep * np.expm1(-2 * g * tau) / (2 * g)
-        e = np.exp(self.alpha * tau)
-        return e * np.cos(self.beta * tau), e * tau * np.sinc(self.beta * tau / math.pi)
+            ep = f.exp((self.alpha + g) * tau)
+            return 0.5 * (ep + f.exp((self.alpha - g) * tau)), -ep * f.expm1(-2 * g * tau) / (2 * g)
+        e = f.exp(self.alpha * tau)
+        if self.beta == 0:  # critically damped
+            return e, e * tau
+        return e * f.cos(self.beta * tau), e * f.sin(self.beta * tau) / self.beta
 
 
 @dataclass(frozen=True)
@@ -392,33 +411,54 @@ class _Arc:
     u0: float
     v0: float
 
-    def state(self, t):
-        """(u, v) at t: seed 000 eq. 11 (contact) or eq. 12 (flight), in closed form."""
-        tau = np.asarray(t, float) - self.t0
+    def _evaluate(self, t):
+        """u, v (seed 000 eq. 11 in contact, eq. 12 in flight, closed form) and sin, cos(omega t)."""
+        f = math if isinstance(t, float) else np
+        t = t if f is math else np.asarray(t, float)
         d = self.dyn
+        sn, cs = f.sin(d.omega * t), f.cos(d.omega * t)
+        tau = t - self.t0
         if not self.contact:
             a = d.P / d.M
-            return self.u0 + self.v0 * tau - 0.5 * a * tau * tau, self.v0 - a * tau
-        up0, vp0 = d.contact_particular(self.t0)
-        y0, y1 = self.u0 - up0, self.v0 - vp0
-        c, s = d.kernels(tau)
-        up, vp = d.contact_particular(t)
-        return (up + (c - d.alpha * s) * y0 + s * y1,
-                vp - d.w0sq * s * y0 + (c + d.alpha * s) * y1)
+            return self.u0 + self.v0 * tau - 0.5 * a * tau * tau, self.v0 - a * tau, sn, cs
+        y0, y1 = self._homogeneous0
+        c, s = d.kernels(tau, f)
+        up, vp = d.contact_particular(sn, cs)
+        return (up + (c - d.alpha * s) * y0 + s * y1, vp - d.w0sq * s * y0 + (c + d.alpha * s) * y1, sn, cs)
+
+    def state(self, t):
+        """(u, v) = (z_G - h, z_G') at t."""
+        return self._evaluate(t)[:2]
+
+    @cached_property
+    def _homogeneous0(self) -> tuple[float, float]:
+        up0, vp0 = self.dyn.contact_particular(math.sin(self.dyn.omega * self.t0), math.cos(self.dyn.omega * self.t0))
+        return self.u0 - up0, self.v0 - vp0
+
+    def gap_and_rate(self, t):
+        """z_A - h = z_G + w_A - h (contact when <= 0, seed 000 eqs 1, 8, 9) and its rate."""
+        u, v, sn, cs = self._evaluate(t)
+        W = self.dyn.W
+        return u + W * sn, v + W * self.dyn.omega * cs
 
     def gap(self, t):
-        """z_A - h = z_G + w_A - h: contact when <= 0 (seed 000 eqs 8, 9)."""
-        return self.state(t)[0] + self.dyn.drive(t)[0]
-
-    def gap_rate(self, t):
-        return self.state(t)[1] + self.dyn.drive(t)[1]
+        return self.gap_and_rate(t)[0]
 
     def normal_force(self, t):
         """Rn = kn (h - z_A) - dn z_G' in contact (seed 000 eq. 3), 0 in flight (eq. 4)."""
         if not self.contact:
             return np.zeros_like(np.asarray(t, float))
-        u, v = self.state(t)
-        return -self.dyn.kn * (u + self.dyn.drive(t)[0]) - self.dyn.dn * v
+        u, v, sn, _ = self._evaluate(t)
+        return -self.dyn.kn * (u + self.dyn.W * sn) - self.dyn.dn * v
+
+    def transition(self, t: float) -> np.ndarray:
+        """d(u, v)(t) / d(u, v)(t0): the 2x2 state transition matrix of the arc."""
+        tau = t - self.t0
+        if not self.contact:
+            return np.array([[1.0, tau], [0.0, 1.0]])
+        d = self.dyn
+        c, s = d.kernels(tau, math)
+        return np.array([[c - d.alpha * s, s], [-d.w0sq * s, c + d.alpha * s]])
 
 
 @dataclass(frozen=True)
@@ -427,18 +467,28 @@ class _Piece:
     t0: float
     t1: float
 
+    @property
+    def contact(self) -> bool:
+        return self.arc.contact
+
 
 _MAX_EVENTS_PER_PERIOD = 10_000
 
 
 def _advance(dyn: _Dynamics, t0: float, t1: float, u: float, v: float, *,
-             contact: bool | None = None) -> tuple[list[_Piece], float, float]:
-    """Exact event-driven solution on [t0, t1]: the arcs and the final (u, v)."""
+             contact: bool | None = None) -> tuple[list[_Piece], float, float, np.ndarray]:
+    """Exact event-driven solution on [t0, t1]: the arcs, the final (u, v) and d(u, v)(t1)/d(u, v)(t0).
+
+    The sensitivity chains the arcs' transition matrices with the saltation matrix of each switch,
+    ``S = I + (f_after - f_before) (dh/dx)^T / (dh/dt along the flow)`` for the gap ``h = z_A - h``; the
+    acceleration jumps by ``Rn/M = -dn z_G'/M`` at a switch (the damper force, eq. 3 at zero gap).
+    """
     if contact is None:
-        gap = u + dyn.drive(t0)[0]
-        contact = gap < 0 or (gap == 0 and v + dyn.drive(t0)[1] <= 0)
+        gap, rate = (float(x) for x in _Arc(dyn, True, t0, u, v).gap_and_rate(t0))
+        contact = gap < 0 or (gap == 0 and rate <= 0)
     pieces: list[_Piece] = []
     t = t0
+    Phi = np.eye(2)
     horizon = 2 * math.pi / dyn.omega
     limit = _MAX_EVENTS_PER_PERIOD * max(1, round((t1 - t0) / horizon))
     while True:
@@ -446,15 +496,20 @@ def _advance(dyn: _Dynamics, t0: float, t1: float, u: float, v: float, *,
         a = t
         while True:  # search one drive period at a time
             b = min(a + horizon, t1)
-            te = first_crossing(arc.gap, arc.gap_rate, a, b, dyn.step, upward=contact)
+            te = first_crossing(arc.gap_and_rate, a, b, dyn.step, upward=contact)
             if te is not None or b >= t1:
                 break
             a = b
         end = t1 if te is None else te
         pieces.append(_Piece(arc, t, end))
-        u, v = (float(x) for x in arc.state(end))
+        Phi = arc.transition(end) @ Phi
+        u, v, _, cs = arc._evaluate(float(end))
         if te is None:
-            return pieces, u, v
+            return pieces, u, v, Phi
+        jump = (-1.0 if contact else 1.0) * (-dyn.dn * v) / dyn.M  # a_after - a_before
+        rate = v + dyn.W * dyn.omega * cs  # gap rate
+        if rate != 0:
+            Phi = np.array([[1.0, 0.0], [jump / rate, 1.0]]) @ Phi
         t, contact = te, not contact
         if len(pieces) > limit:
             raise ContactError("contact events: no progress (more than "
@@ -473,9 +528,10 @@ class ContactOrbit:
     amplitude : W, 0-peak [m]; preload : Fn [N]; speed : V [m/s];
     flight_ratio : beta, flight time per period [%] (seed 000 eq. 13);
     normal_mean : <Rn> per foot [N]; friction_mean : <Rt> per foot [N] (seed 001 eq. 8);
-    contacts_per_period : touchdowns per period (0 in permanent contact);
-    periodic : True for an exact period-1 orbit (shooting), False for a time average over
-    ``periods`` periods; residual : scaled shooting residual.
+    contacts_per_period : touchdowns per drive period (0 in permanent contact);
+    periodic : True for an exact periodic orbit (shooting) of ``periods`` drive periods (1, or k for a
+    subharmonic orbit), False for a time average over ``periods`` periods; residual : scaled shooting
+    residual.
     """
 
     amplitude: float
@@ -569,7 +625,7 @@ def _integrate(dyn: _Dynamics, p: FootParameters, speed: float, pieces: Sequence
     chunk = min(2 * math.pi / dyn.omega, 2 * math.pi / math.sqrt(dyn.w0sq)) / 8
     flight = sum_rn = sum_rt = 0.0
     for piece in pieces:
-        if not piece.arc.contact:
+        if not piece.contact:
             flight += piece.t1 - piece.t0
             continue
         tc = piece.arc.t0 if piece.arc.t0 in touchdowns else -math.inf
@@ -580,7 +636,7 @@ def _integrate(dyn: _Dynamics, p: FootParameters, speed: float, pieces: Sequence
             cuts = sign_changes(lambda t, arc=arc, tc=tc: p.kt * speed * (t - tc) - p.mu0 * arc.normal_force(t),
                                 piece.t0, piece.t1, dyn.step)
         edges = [piece.t0, *cuts, piece.t1]
-        for a, b in zip(edges[:-1], edges[1:]):
+        for a, b in itertools.pairwise(edges):
             x, w = gauss_nodes(a, b, chunk)
             rn = arc.normal_force(x)
             sum_rn += float(w @ rn)
@@ -588,13 +644,60 @@ def _integrate(dyn: _Dynamics, p: FootParameters, speed: float, pieces: Sequence
     return flight, sum_rn, sum_rt
 
 
+def find_orbit(period_map: Callable[[int, np.ndarray], tuple[np.ndarray, np.ndarray]], x0: np.ndarray,
+               scale: np.ndarray, *, max_subharmonic: int, march_periods: int) -> tuple[int, np.ndarray, PeriodicState]:
+    """A stable periodic orbit of period k T: k = 1 shot from ``x0``, then k = 2..``max_subharmonic``
+    shot from the state reached after ``march_periods`` periods (from the unstable period-1 orbit, or
+    from ``x0`` if Newton did not converge).
+
+    ``period_map(k, x) -> (x(k T), dx(k T)/dx(0))``.  Returns (k, state at t = 0, shooting result),
+    or k = 0 and the marched state when there is none (the caller then averages over time).
+    """
+    sol = shoot_periodic(lambda x: period_map(1, x), x0, scale)
+    if sol.converged and sol.stable:
+        return 1, sol.state, sol
+    marched = period_map(march_periods, sol.state if sol.converged else x0)[0]
+    for k in range(2, max_subharmonic + 1):
+        # from a state on the attractor, Newton converges in a few steps if a period-k orbit attracts
+        sol_k = shoot_periodic(lambda x, k=k: period_map(k, x), marched, scale, max_iter=8)
+        if sol_k.converged and sol_k.stable:
+            return k, sol_k.state, sol_k
+    return 0, marched, sol
+
+
+def landed_window(advance: Callable, span: float, periodic: bool) -> tuple[list, bool]:
+    """The pieces to average over, starting at a touchdown when there is one, and whether there is.
+
+    ``advance(piece, t0, t1)`` returns the pieces from the start state (``piece`` None) or from a
+    landing piece's initial state.  Starting at a touchdown puts each contact's tangential history
+    (Coulomb-Orowan displacement, stick phase) inside the window.  Arcs alternate, so a contact piece
+    after the first is a touchdown; a window that opens in contact and has a flight lands at its start.
+    A periodic orbit is re-run for one full period from its touchdown; a time average drops the
+    pieces before the first touchdown.
+    """
+    pieces = advance(None, 0.0, span)
+    i = next((k for k in range(1, len(pieces)) if pieces[k].contact), None)
+    if i is None and pieces[0].contact and len(pieces) > 1:
+        i = 0
+    if i is None:
+        return pieces, False
+    if not periodic:
+        return pieces[i:], True
+    start = pieces[i]
+    window = advance(start, start.t0, start.t0 + span)
+    # a touchdown found a rounding error before the window's end is the next window's first one
+    return [q for q in window if q.t0 < start.t0 + span * (1 - 1e-9)], True
+
+
 def steady_state(amplitude: float, *, preload: float = FN, speed: float = SPEED,
-                 parameters: FootParameters | None = None, march_periods: int = 400) -> ContactOrbit:
+                 parameters: FootParameters | None = None, max_subharmonic: int = 8,
+                 march_periods: int = 400) -> ContactOrbit:
     """Periodic steady state of one foot (seed 000 eqs 2-17) at amplitude W [m, 0-peak].
 
     preload : Fn [N]; speed : sliding speed V [m/s]; parameters : FootParameters (defaults: seed 000
-    appendix).  ``march_periods`` is the length of the time average used when no stable period-1
-    orbit exists (the same number of transient periods are discarded first).
+    appendix).  When the period-1 orbit is unstable, orbits of period k T (k <= ``max_subharmonic``)
+    are sought from the state reached after ``march_periods`` periods; failing that, the result is a
+    time average over ``march_periods`` further periods (``periodic = False``).
     """
     p = parameters if parameters is not None else FootParameters()
     W = require("amplitude", amplitude, nonnegative=True)
@@ -605,44 +708,165 @@ def steady_state(amplitude: float, *, preload: float = FN, speed: float = SPEED,
     dyn = _Dynamics.build(p, W, Fn)
     T = p.period
 
-    def period_map(x):
-        _, u, v = _advance(dyn, 0.0, T, float(x[0]), float(x[1]))
-        return np.array([u, v])
-
     su = max(W, dyn.P / dyn.kn)
-    x0 = np.array([_quasi_static_offset(W, dyn.P, dyn.kn), 0.0])
-    sol = shoot_periodic(period_map, x0, np.array([su, su * dyn.omega]))
-    periodic = sol.converged and sol.stable
-    if periodic:
-        x, periods = sol.state, 1
-    else:
-        log.warning("no stable period-1 orbit at W = %g m, Fn = %g N (residual %.2g, multipliers %s); "
-                    "averaging over %d periods", W, Fn, sol.residual, np.abs(sol.multipliers), march_periods)
-        _, u, v = _advance(dyn, 0.0, march_periods * T, float(sol.state[0]), float(sol.state[1]))
-        x, periods = np.array([u, v]), march_periods
-    # Start the analysed window at a touchdown, so each contact arc's Coulomb-Orowan displacement starts
-    # inside the window (seed 000 eq. 17).
-    first, _, _ = _advance(dyn, 0.0, T, float(x[0]), float(x[1]))
-    # Arcs alternate, so a contact arc after the first one follows a flight: a touchdown.  A period
-    # that opens in contact and has a flight lands at t = 0 (= T).
-    landing = next((q for q in first[1:] if q.arc.contact), None)
-    if landing is None and first[0].arc.contact and len(first) > 1:
-        landing = first[0]
-    if landing is None:
-        t_start, u0, v0, contact = 0.0, float(x[0]), float(x[1]), None
-    else:
-        t_start, u0, v0, contact = landing.t0, landing.arc.u0, landing.arc.v0, True
-    span = periods * T
-    pieces, _, _ = _advance(dyn, t_start, t_start + span, u0, v0, contact=contact)
-    # a touchdown found a rounding error before the window's end is the next window's first one
-    pieces = [q for q in pieces if q.t0 < t_start + span * (1 - 1e-9)]
-    touchdowns = {q.arc.t0 for q in pieces if q.arc.contact} if landing is not None else set()
+    scale = np.array([su, su * dyn.omega])
+
+    last: dict = {}
+
+    def period_map(k, x):
+        pieces, u, v, Phi = _advance(dyn, 0.0, k * T, float(x[0]), float(x[1]))
+        last.update(k=k, x=tuple(x), pieces=pieces)
+        return np.array([u, v]), Phi
+
+    periods, x, sol = find_orbit(period_map, np.array([_quasi_static_offset(W, dyn.P, dyn.kn), 0.0]), scale,
+                                 max_subharmonic=max_subharmonic, march_periods=march_periods)
+    if not periods:
+        log.warning("no stable orbit of period up to %d T at W = %g m, Fn = %g N; averaging over %d periods",
+                    max_subharmonic, W, Fn, march_periods)
+
+    def advance(piece, t0, t1):
+        if piece is None:
+            if last.get("x") == tuple(x) and last["k"] * T == t1:  # the shooting's last period
+                return last["pieces"]
+            return _advance(dyn, t0, t1, float(x[0]), float(x[1]))[0]
+        return _advance(dyn, t0, t1, piece.arc.u0, piece.arc.v0, contact=True)[0]
+
+    pieces, landed = landed_window(advance, (periods or march_periods) * T, bool(periods))
+    span = pieces[-1].t1 - pieces[0].t0
+    touchdowns = {q.arc.t0 for q in pieces if q.contact} if landed else set()
     flight, int_rn, int_rt = _integrate(dyn, p, V, pieces, touchdowns)
+    n_periods = span / T
     return ContactOrbit(
         amplitude=W, preload=Fn, speed=V, parameters=p,
         flight_ratio=100.0 * flight / span, normal_mean=int_rn / span, friction_mean=int_rt / span,
-        contacts_per_period=len(touchdowns) / periods, periodic=periodic, residual=sol.residual, periods=periods,
+        contacts_per_period=len(touchdowns) / (periods or n_periods), periodic=bool(periods), residual=sol.residual,
+        periods=round(n_periods),
         pieces=tuple(pieces), touchdowns=tuple(sorted(touchdowns)))
+
+
+# ----------------------------------------------------------------------------------------------
+# Curves
+# ----------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, eq=False)
+class ContactCurve:
+    """Steady-state friction of the plate against vibration amplitude (seed 000 Fig. 15, seed 001 Figs 6, 9, 10).
+
+    amplitude : W at the feet, 0-peak [m]; voltage : drive voltage [V] when the curve was asked in
+    volts, else None; preload : Fn [N]; speed : sliding speed V [m/s]; parameters : the model's;
+    flight_ratio : beta [%] (seed 000 eq. 13); normal_mean : <Rn> per foot [N];
+    friction_force : friction felt by the user, n <Rt> [N]; contacts_per_period : touchdowns per
+    drive period; periodic : exact periodic orbit (else a time average, see ``steady_state``).
+    """
+
+    amplitude: np.ndarray
+    voltage: np.ndarray | None
+    preload: float
+    speed: float
+    parameters: FootParameters
+    flight_ratio: np.ndarray
+    normal_mean: np.ndarray
+    friction_force: np.ndarray
+    contacts_per_period: np.ndarray
+    periodic: np.ndarray
+
+    @property
+    def static_friction(self) -> float:
+        """mu0 (Fn + m g) [N]: the friction without vibration."""
+        return self.parameters.mu0 * self.parameters.total_load(self.preload)
+
+    @property
+    def friction_coefficient(self) -> np.ndarray:
+        """Apparent friction coefficient n <Rt> / (Fn + m g)."""
+        return self.friction_force / self.parameters.total_load(self.preload)
+
+    @property
+    def friction_reduction(self) -> np.ndarray:
+        """1 - n <Rt> / (mu0 (Fn + m g)): the fraction of friction removed by the vibration."""
+        return 1.0 - self.friction_force / self.static_friction
+
+    def to_json(self) -> dict:
+        """Plain dict of lists, SI units in the key names."""
+        p = self.parameters
+        return {
+            "preload_n": self.preload, "speed_m_s": self.speed,
+            "parameters": {"kn_n_m": p.kn, "dn_n_s_m": p.dn, "mass_kg": p.mass, "n": p.n,
+                           "g_m_s2": p.g, "frequency_hz": p.frequency, "mu0": p.mu0, "kt_n_m": p.kt},
+            "amplitude_m": self.amplitude.tolist(),
+            "voltage_v": None if self.voltage is None else self.voltage.tolist(),
+            "flight_ratio_percent": self.flight_ratio.tolist(),
+            "normal_mean_n": self.normal_mean.tolist(),
+            "friction_force_n": self.friction_force.tolist(),
+            "friction_coefficient": self.friction_coefficient.tolist(),
+            "friction_reduction": self.friction_reduction.tolist(),
+            "contacts_per_period": self.contacts_per_period.tolist(),
+            "periodic": self.periodic.tolist(),
+        }
+
+
+def values(name: str, x, *, nonnegative: bool = True) -> np.ndarray:
+    """A 1-D array of finite numbers (>= 0 unless told), or a one-line ContactError naming the entry."""
+    try:
+        arr = np.atleast_1d(np.asarray(x, dtype=float))
+    except (TypeError, ValueError):
+        raise ContactError(f"{name}: expected numbers, got {x!r}") from None
+    if arr.ndim != 1 or arr.size == 0:
+        raise ContactError(f"{name}: expected a number or a 1-D sequence of numbers")
+    for i, xi in enumerate(arr):
+        require(f"{name}[{i}]" if arr.size > 1 else name, xi, nonnegative=nonnegative)
+    return arr
+
+
+def amplitudes_from_voltage(voltage, amplitude_per_volt: float | Callable[[float], float],
+                            frequency: float) -> np.ndarray:
+    """W = volts x amplitude per volt [m]; the latter a number [m/V] or a callable of the drive
+    frequency [Hz] (for instance a reduced modal model's receptance at the feet)."""
+    volts = values("voltage", voltage)
+    apv = amplitude_per_volt(frequency) if callable(amplitude_per_volt) else amplitude_per_volt
+    return volts * require("amplitude_per_volt", apv, nonnegative=True)
+
+
+def simulate_contact(amplitude=None, *, voltage=None,
+                     amplitude_per_volt: float | Callable[[float], float] | None = None,
+                     preload: float = FN, speed: float = SPEED, substrate: str | None = None,
+                     parameters: FootParameters | None = None, progress: bool = False) -> ContactCurve:
+    """Friction, flight ratio and mean normal force against vibration amplitude (seed 000 eqs 2-17).
+
+    Give either ``amplitude`` (W at the feet, 0-peak [m], a number or a sequence) or ``voltage`` [V]
+    with ``amplitude_per_volt`` [m/V] (a number or a callable of the drive frequency [Hz]).
+    preload : Fn [N]; speed : sliding speed V [m/s]; substrate : ``steel`` or ``glass`` sets mu0
+    (seeds 000, 001); parameters : FootParameters (defaults: seed 000 appendix, identified kt);
+    progress : show a tqdm bar.
+    """
+    p = parameters if parameters is not None else FootParameters()
+    if substrate is not None:
+        p = p.on(substrate)
+    if (amplitude is None) == (voltage is None):
+        raise ContactError("amplitude: give either amplitude [m] or voltage [V] (with amplitude_per_volt)")
+    volts = None
+    if voltage is not None:
+        if amplitude_per_volt is None:
+            raise ContactError("amplitude_per_volt: needed to turn voltage into amplitude")
+        volts = values("voltage", voltage)
+        W = amplitudes_from_voltage(volts, amplitude_per_volt, p.frequency)
+    else:
+        W = values("amplitude", amplitude)
+    require("preload", preload, nonnegative=True)
+    require("speed", speed, nonnegative=True)
+    items = W
+    if progress:
+        from tqdm import tqdm
+
+        items = tqdm(W, desc="friction", unit="amplitude", leave=False)
+    orbits = [steady_state(w, preload=preload, speed=speed, parameters=p) for w in items]
+    return ContactCurve(
+        amplitude=W, voltage=volts, preload=float(preload), speed=float(speed), parameters=p,
+        flight_ratio=np.array([o.flight_ratio for o in orbits]),
+        normal_mean=np.array([o.normal_mean for o in orbits]),
+        friction_force=np.array([o.friction_force for o in orbits]),
+        contacts_per_period=np.array([o.contacts_per_period for o in orbits]),
+        periodic=np.array([o.periodic for o in orbits]))
 
 
 # ----------------------------------------------------------------------------------------------
@@ -669,14 +893,16 @@ class BruteForceResult:
 def brute_force_steady_state(amplitude: float, *, preload: float = FN, speed: float = SPEED,
                              parameters: FootParameters | None = None, max_step: float = 1e-7,
                              rtol: float = 1e-6, window: int = 20, settle: float = 1e-5,
-                             max_periods: int = 20_000) -> BruteForceResult:
+                             max_periods: int = 20_000, start: str = "rest") -> BruteForceResult:
     """Reference steady state by scipy ``solve_ivp`` (RK23 = Bogacki-Shampine, the seed's ode23).
 
     Integrates seed 000 eqs 10-12 with the contact switch as a terminal event (Stateflow's role in the
     seed), the tangential displacement delta (eq. 17, reset at each touchdown) and the integrals of
-    Rn and of Rt = mu Rn (eqs 14-16, written with delta_crit as printed) as extra states; starts from
-    the quasi-static guess ``steady_state`` also starts from, and stops when beta, <Rn> and <Rt> over
-    the last ``window`` periods spread less than ``settle`` (relative; beta in percentage points).
+    Rn and of Rt = mu Rn (eqs 14-16, written with delta_crit as printed) as extra states, and stops
+    when beta, <Rn> and <Rt> over the last ``window`` periods spread less than ``settle`` (relative;
+    beta in percentage points).  ``start``: ``rest`` (the plate at rest under its load when the
+    vibration starts, as in the seed's simulations) or ``quasi-static`` (the first guess that
+    ``steady_state`` shoots from, which shortens the transient).
     """
     from scipy.integrate import solve_ivp
 
@@ -705,7 +931,9 @@ def brute_force_steady_state(amplitude: float, *, preload: float = FN, speed: fl
     rising.direction, falling.direction = 1, -1
     su = max(W, P / p.kn)
     atol = 1e-3 * rtol * np.array([su, su * w, V * T + su, P * T, P * T])
-    u0 = _quasi_static_offset(W, P, p.kn)
+    if start not in ("rest", "quasi-static"):
+        raise ContactError(f"start: expected 'rest' or 'quasi-static', got {start!r}")
+    u0 = -P / p.kn if start == "rest" else _quasi_static_offset(W, P, p.kn)
     y = np.array([u0, 0.0, 0.0, 0.0, 0.0])
     contact = u0 <= 0
     history: list[tuple[float, float, float]] = []

@@ -1,0 +1,54 @@
+"""The report's accuracy goals (issue 3), checked on the default report of every device."""
+
+import pytest
+
+from modalfe.report import run_report
+
+
+@pytest.fixture(scope="module")
+def rows():
+    return {(r.scene, r.mode): r for r in run_report(progress=False)}
+
+
+def _row(rows, scene):
+    found = [r for (s, _), r in rows.items() if s == scene]
+    assert found and all(r.mode != "FAILED" for r in found), found
+    return found
+
+
+def _deviation(row, name):
+    return next(t["deviation"] for t in row.targets if t["name"] == name)
+
+
+def test_cube_plate_within_three_percent_of_the_measurement(rows):
+    (row,) = _row(rows, "cube_plate")
+    assert row.mode == "(0,6)"
+    # issue 3: within 3 % of the measured 40.7 kHz with sourced physics (the seed's Abaqus: +4.9 %)
+    assert abs(_deviation(row, "f_measured")) < 0.03
+    assert row.error_estimate is not None and row.error_estimate < 0.02
+
+
+def test_glass_wavelengths_within_ten_percent(rows):
+    low, high = sorted(_row(rows, "glass_plate"), key=lambda r: r.frequency_hz)
+    for row in (low, high):
+        assert row.mode.startswith("(0,")
+        # issue 3: wavelengths within 10 % of the measured 15 mm and 7.5 mm
+        assert abs(_deviation(row, "wavelength_measured")) < 0.10
+
+
+def test_ciliary_beam_below_euler_bernoulli(rows):
+    (row,) = _row(rows, "ciliary_beam")
+    assert row.mode == "bending-z 6"
+    # shear and rotary inertia lower mode 6 by ~11 % from Euler-Bernoulli (tests/test_verification.py)
+    assert -0.15 < _deviation(row, "f_analytic") < -0.05
+
+
+def test_tile_suspension_and_equivalent_plate(rows):
+    heave, plate = sorted(_row(rows, "honeycomb_tile"), key=lambda r: r.frequency_hz)
+    assert heave.mode == "heave"
+    # lumped 4 EA / (h M0) gives 49 Hz; the plate's own bending softens it slightly: within 10 %
+    assert abs(_deviation(heave, "f_lumped")) < 0.10
+    assert plate.mode == "(1,1)"
+    (eq5,) = _row(rows, "tile_eq5")
+    # the equivalent plate reproduces eq. (5) up to shear and rotary inertia at h / L = 0.08 (~2 %)
+    assert abs(_deviation(eq5, "f_analytic_eq5")) < 0.04

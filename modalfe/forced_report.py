@@ -83,6 +83,9 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
     for t in scene.drive.targets:
         if t.unit != "m":
             continue
+        at_khz = re.search(r"_(\d+)kHz$", t.name)
+        if at_khz and abs(1e3 * float(at_khz.group(1)) / rom.frequency - 1) > 0.2:
+            continue  # a target of another working mode
         at_volts = re.search(r"_(\d+(?:\.\d+)?)V$", t.name)
         if at_volts:  # a seed's amplitude at a stated voltage: compare ours at that voltage
             volts = float(at_volts.group(1))
@@ -99,6 +102,19 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
                                      damping=damping, reference_omega=omega)
         frf_full = response.displacement[rom.reference][:, 2]
     notes = [f"damping {rom.damping_description} ({scene.drive.damping_source})"]
+    for t in scene.drive.targets:
+        at = re.search(r"_(\d+)kHz$", t.name)
+        if at and abs(1e3 * float(at.group(1)) / rom.frequency - 1) > 0.2:
+            continue  # a target of another working mode
+        if t.unit == "s":
+            tau = rom.envelope_time_constant
+            notes.append(f"amplitude time constant {1e3 * tau:.3g} ms vs {t.name} {1e3 * t.value:.3g} ms "
+                         f"({100 * (tau / t.value - 1):+.0f}%; {t.source}); Q = pi f tau would be "
+                         f"{np.pi * rom.frequency * t.value:.0f} for the seed's time")
+        elif t.unit == "m/s^2":
+            average = max(a[1] for a in accel.values()) * 100.0
+            notes.append(f"half-period average acceleration at 100 V {average:.4g} m/s^2 vs {t.name} {t.value:.6g} "
+                         f"({100 * (average / t.value - 1):+.0f}%; {t.source})")
     peak, where = _face_peak(scene, modes, mode, rom)
     notes.append(f"largest normal amplitude on the top face: {1e9 * peak:.3g} nm/V (0-peak) at x = "
                  f"{1e3 * where[0]:.1f} mm, y = {1e3 * where[1]:.1f} mm")

@@ -4,7 +4,11 @@ else SuperLU with a symmetric ordering. Both are checked by the residual of one 
 from __future__ import annotations
 
 import contextlib
+import functools
+import glob
 import logging
+import os
+import sys
 
 import numpy as np
 import scipy.sparse as sp
@@ -15,15 +19,31 @@ log = logging.getLogger(__name__)
 
 
 def available_solvers() -> list[str]:
-    out = []
-    try:
-        import pypardiso  # noqa: F401
+    """Direct solvers usable here, fastest first: PARDISO when MKL loads, SuperLU always."""
+    return (["pardiso"] if _mkl_found() else []) + ["superlu"]
 
-        out.append("pardiso")
-    except ImportError:
-        pass
-    out.append("superlu")
-    return out
+
+@functools.cache
+def _mkl_found() -> bool:
+    """Whether pypardiso can load MKL; helps it find libmkl_rt in the base interpreter's lib folder
+    (a virtual environment's own prefix does not have it), and remembers the answer."""
+    if "PYPARDISO_MKL_RT" not in os.environ:  # must be set before pypardiso is imported
+        for prefix in dict.fromkeys((sys.prefix, sys.base_prefix)):
+            found = sorted(glob.glob(os.path.join(prefix, "lib", "libmkl_rt.so*"))
+                           + glob.glob(os.path.join(prefix, "Library", "bin", "mkl_rt*.dll")), key=len)
+            if found:
+                os.environ["PYPARDISO_MKL_RT"] = found[0]
+                break
+    try:
+        import pypardiso
+
+        solver = pypardiso.PyPardisoSolver()
+    except (ImportError, OSError) as exc:
+        log.warning("PARDISO unavailable (%s): using SuperLU", exc)
+        return False
+    # pypardiso otherwise searches the whole environment for MKL on every new solver
+    os.environ.setdefault("PYPARDISO_MKL_RT", solver.libmkl._name)
+    return True
 
 
 def factorize(A: sp.spmatrix, *, solver: str = "auto"):
@@ -53,15 +73,11 @@ def factorize(A: sp.spmatrix, *, solver: str = "auto"):
 
 
 def _pardiso(A: sp.csr_matrix):
-    import os
-
     import pypardiso
 
     upper = sp.triu(A, format="csr")
     upper.sort_indices()
     ps = pypardiso.PyPardisoSolver(mtype=-2)  # real symmetric indefinite
-    # pypardiso searches the whole environment for MKL on every new solver: remember where it was
-    os.environ.setdefault("PYPARDISO_MKL_RT", ps.libmkl._name)
     ps.set_iparm(11, 1)  # scaling and weighted matching (1-based iparm 11, 13): saddle-point matrices
     ps.set_iparm(13, 1)
     ps.factorize(upper)

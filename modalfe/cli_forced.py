@@ -4,8 +4,6 @@ from __future__ import annotations
 
 import json
 
-import numpy as np
-
 
 def register(subparsers) -> None:
     p = subparsers.add_parser("forced", help="forced response per volt of a scene's working mode")
@@ -63,22 +61,15 @@ def _forced(args) -> int:
 
 
 def _plot(fig, path: str, volts: float) -> None:
-    import matplotlib
+    """FRF (reduced model, and full FE when computed) and admittance, one PNG."""
+    from modalfe.plots import plot_admittance, plot_frf
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    figure, (ax1, ax2) = plt.subplots(2, 1, figsize=(7, 6), sharex=True)
-    ax1.semilogy(fig.frequency / 1e3, volts * np.abs(fig.frf) * 1e6, label="reduced model")
+    curves = {"reduced model": volts * fig.frf}
     if fig.frf_full is not None:
-        ax1.semilogy(fig.frequency / 1e3, volts * np.abs(fig.frf_full) * 1e6, "o", ms=3, label="full FE")
-    ax1.set_ylabel(f"amplitude at {fig.rom.reference} [um] at {volts:g} V")
-    ax1.legend()
-    ax2.semilogy(fig.frequency / 1e3, np.abs(fig.admittance))
-    ax2.set_ylabel("|admittance| [S]")
-    ax2.set_xlabel("frequency [kHz]")
-    figure.suptitle(f"{fig.scene}: {fig.rom.label}, {fig.rom.damping_description}")
-    figure.tight_layout()
-    figure.savefig(path, dpi=110)
-    plt.close(figure)
-
+        curves["full FE"] = volts * fig.frf_full
+    title = f"{fig.scene}: {fig.rom.label}, {fig.rom.damping_description}"
+    frf = plot_frf(fig.frequency, curves, ylabel=f"amplitude at {fig.rom.reference} [m] at {volts:g} V", title=title)
+    stem, dot, ext = path.rpartition(".")
+    frf.savefig(path, dpi=110)
+    plot_admittance(fig.frequency, fig.admittance, title=title).savefig(f"{stem}_admittance.{ext}" if dot else
+                                                                        f"{path}_admittance", dpi=110)

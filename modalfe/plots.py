@@ -1,0 +1,85 @@
+"""Curve plots (matplotlib): each returns a Figure and never shows it."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def _figure(rows: int = 1, **kwargs):
+    import matplotlib
+
+    matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+
+    return plt.subplots(rows, 1, figsize=(7, 3.2 * rows), **kwargs)
+
+
+def plot_frf(frequency, responses: dict[str, np.ndarray], *, ylabel: str = "amplitude [m/V]", title: str = ""):
+    """|response| vs frequency [Hz] for each named curve, log scale."""
+    fig, ax = _figure()
+    for name, r in responses.items():
+        ax.semilogy(np.asarray(frequency) / 1e3, np.abs(r), label=name)
+    ax.set_xlabel("frequency [kHz]")
+    ax.set_ylabel(ylabel)
+    ax.legend()
+    ax.set_title(title)
+    fig.tight_layout()
+    return fig
+
+
+def plot_admittance(frequency, admittance, *, title: str = ""):
+    """|Y| [S] and phase [deg] vs frequency [Hz]."""
+    fig, (ax1, ax2) = _figure(2, sharex=True)
+    f = np.asarray(frequency) / 1e3
+    ax1.semilogy(f, np.abs(admittance))
+    ax1.set_ylabel("|Y| [S]")
+    ax2.plot(f, np.degrees(np.angle(admittance)))
+    ax2.set_ylabel("phase [deg]")
+    ax2.set_xlabel("frequency [kHz]")
+    ax1.set_title(title)
+    fig.tight_layout()
+    return fig
+
+
+def plot_convergence(dofs, error, *, label: str = "", order: float | None = None):
+    """Relative error vs DOFs, log-log, with an optional reference slope -order/3."""
+    fig, ax = _figure()
+    dofs, error = np.asarray(dofs, float), np.abs(np.asarray(error, float))
+    ax.loglog(dofs, error, "o-", label=label or "error")
+    if order is not None:
+        ax.loglog(dofs, error[0] * (dofs / dofs[0]) ** (-order / 3), "k--", label=f"h^{order:g}")
+    ax.set_xlabel("DOFs")
+    ax.set_ylabel("relative error")
+    ax.legend()
+    fig.tight_layout()
+    return fig
+
+
+def plot_time_vs_error(seconds: dict[str, np.ndarray], error: dict[str, np.ndarray]):
+    """Wall time [s] vs relative error, one curve per named model or fidelity."""
+    fig, ax = _figure()
+    for name in seconds:
+        ax.loglog(np.abs(error[name]), seconds[name], "o-", label=name)
+    ax.set_xlabel("relative error")
+    ax.set_ylabel("time [s]")
+    ax.legend()
+    fig.tight_layout()
+    return fig
+
+
+def plot_sweep(table: dict[str, np.ndarray], x: str, y: str, *, group: str | None = None):
+    """Column ``y`` against column ``x`` of a results table (dict of columns), one curve per ``group``."""
+    fig, ax = _figure()
+    xs, ys = np.asarray(table[x]), np.asarray(table[y])
+    if group is None:
+        ax.plot(xs, ys, "o-")
+    else:
+        keys = np.asarray(table[group])
+        for value in np.unique(keys):
+            sel = keys == value
+            ax.plot(xs[sel], ys[sel], "o-", label=f"{group} = {value}")
+        ax.legend()
+    ax.set_xlabel(x)
+    ax.set_ylabel(y)
+    fig.tight_layout()
+    return fig

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 import math
+from pathlib import Path
 
 from modalfe.report import select
 from modalfe.scene import load_scene
@@ -35,12 +36,20 @@ def sequence(name: str, selector: str, near: float, levels: int) -> list[tuple[f
     return out
 
 
+def _plot(name: str, seq, extrapolated: float, order: float, path: Path) -> None:
+    from modalfe.plots import plot_convergence
+
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig = plot_convergence([d for _, d, _ in seq], [abs(f / extrapolated - 1) for _, _, f in seq],
+                           label=f"{name}: error vs extrapolated", order=order)
+    fig.savefig(path, dpi=110)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="beam only, three levels")
-    parser.add_argument("--plot", default="studies/out/convergence.png", help="error vs DOFs plot (PNG)")
+    parser.add_argument("--plots", default="studies/out", help="folder for the error vs DOFs plots")
     args = parser.parse_args()
-    curves = {}
     cases = {"ciliary_beam": CASES["ciliary_beam"]} if args.quick else CASES
     levels = 3 if args.quick else 4
     for name, (selector, near) in cases.items():
@@ -53,23 +62,12 @@ def main() -> None:
         mode = select(default, selector, near)
         true_error = abs(mode.frequency / extrapolated - 1)
         print(f"{name} {mode.label}: levels " + ", ".join(f"{d} DOFs {f:.1f} Hz" for _, d, f in seq))
-        curves[name] = ([d for _, d, _ in seq], [abs(f / extrapolated - 1) for _, _, f in seq])
+        _plot(name, seq, extrapolated, order, Path(args.plots) / f"convergence_{name}.png")
         print(f"  observed order {order:.2f}, extrapolated {extrapolated:.1f} Hz; "
               f"default mesh {mode.frequency:.1f} Hz: estimate {100 * mode.error_estimate:.3f}% "
               f"vs error {100 * true_error:.3f}%")
-    _plot(curves, args.plot)
 
 
 if __name__ == "__main__":
     main()
 
-
-def _plot(curves: dict, path: str) -> None:
-    from pathlib import Path
-
-    from modalfe.plots import plot_time_vs_error
-
-    Path(path).parent.mkdir(parents=True, exist_ok=True)
-    fig = plot_time_vs_error({k: v[0] for k, v in curves.items()}, {k: v[1] for k, v in curves.items()})
-    fig.axes[0].set_ylabel("DOFs")
-    fig.savefig(path, dpi=110)

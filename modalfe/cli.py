@@ -91,7 +91,7 @@ def build_parser() -> argparse.ArgumentParser:
     from modalfe import cli_forced
 
     cli_forced.register(sub)
-    for module in ("cli_contact", "cli_view"):
+    for module in ("cli_contact", "cli_view", "cli_sweep"):
         try:
             extra = __import__(f"modalfe.{module}", fromlist=["register"])
         except ImportError:

@@ -24,7 +24,7 @@ def main() -> None:
     args = parser.parse_args()
     base = {"mesh.elements_per_wavelength": 4.0} if args.quick else {}
     n = 4 if args.quick else 7
-    for name, values in (("length", np.linspace(60e-3, 66e-3, n)), ("thickness", np.linspace(2.8e-3, 3.3e-3, n))):
+    for name, values in (("length", np.linspace(62e-3, 66e-3, n)), ("thickness", np.linspace(2.8e-3, 3.3e-3, n))):
         suffix = "_quick" if args.quick else ""
         rows = sweep("cube_plate", {name: list(values)}, out=f"studies/out/sweep_cube_{name}{suffix}.csv",
                      selector="(0,6)", near=TARGET, base=base, workers=args.workers, progress=True)

@@ -67,8 +67,9 @@ def factorize(A: sp.spmatrix, *, solver: str = "auto"):
         residual = np.linalg.norm(A @ x - b) / np.linalg.norm(b)
         if np.all(np.isfinite(x)) and residual < 1e-6:
             return solve, name
-        last = SolverError(f"{name}: relative residual {residual:.1e}")
-        log.warning("%s solve inaccurate (residual %.1e)", name, residual)
+        # a singular matrix defeats every direct solver alike: no point trying the next one
+        raise SolverError(f"the shifted matrix is singular to working precision ({name}: relative residual "
+                          f"{residual:.1e}); move the shift")
     raise SolverError(f"the shifted matrix is singular or ill-conditioned ({last}); move the shift")
 
 

@@ -96,3 +96,13 @@ def test_missing_label_is_an_error_naming_what_was_found():
     with pytest.raises(SolverError) as info:
         modes.labelled("(7,7)")
     assert "(7,7)" in str(info.value)
+
+
+def test_a_shift_exactly_on_an_eigenvalue_is_moved_and_said(caplog):
+    scene = load_scene("ciliary_beam", **{"mesh.elements_per_wavelength": 4.0})
+    first = solve_modes(scene, near=22e3, count=4, error_estimate=False).labelled("bending-z 6")
+    with caplog.at_level("WARNING"):
+        again = solve_modes(scene, near=first.frequency, count=4, error_estimate=False).labelled("bending-z 6")
+    assert "singular" in caplog.text
+    # the shift moves by 1e-6 relative in omega^2: the mode is still found, to ARPACK's accuracy
+    assert again.frequency == pytest.approx(first.frequency, rel=1e-5)

@@ -21,8 +21,8 @@ import numpy as np
 
 from modalfe import analytic
 from modalfe.materials import MATERIALS
-from modalfe.scene import scene_from_dict
 from modalfe.solvers import solve_modes
+from modalfe.verification_cases import cantilever_scene, diaphragm_plate_scene, k31_bar_scene
 
 CUBE = {"E": 123e9, "nu": 0.30, "rho": 8250.0}  # modalfe.materials "CuBe" (seed 001)
 BRASS = {"E": 105e9, "nu": 0.34, "rho": 8500.0}  # modalfe.materials "brass-seed003" (seed 003)
@@ -33,45 +33,6 @@ PLATE_MODES = [(1, 1), (2, 1), (1, 2), (2, 2), (3, 1)]
 SEED_003_MODE6 = 24221.0  # Hz, seed 003, Euler-Bernoulli theory of the ciliary beam
 SEED_002_F1 = 845.0  # Hz, seed 002, eq. (5)
 SEED_002_F0 = 49.0  # Hz, seed 002, sec. 4.3
-
-
-def _mesh(max_size: float, min_layers: int) -> dict:
-    return {"elements_per_wavelength": 1.0, "max_size": max_size, "min_layers": min_layers}
-
-
-def cantilever_scene(max_size: float):
-    """Seed 003's beam made uniform: 100 x 5 x 5 mm brass, clamped (all components) at x = 0."""
-    return scene_from_dict({
-        "name": "uniform-cantilever", "units": "mm", "kind": "beam",
-        "parts": [{"name": "beam", "region": "beam", "material": "brass-seed003",
-                   "origin": [0, 0, 0], "size": [100, 5, 5]}],
-        "faces": {"clamp": ["beam.xmin"]}, "clamps": {"clamp": "xyz"},
-        "analysis": {"near": 11e3, "count": 18}, "mesh": _mesh(max_size, 2),
-    })
-
-
-def diaphragm_plate_scene(a: float, b: float, h: float, max_size: float):
-    """CuBe plate a x b x h [m]: u_y = u_z = 0 on x = 0, a; u_x = u_z = 0 on y = 0, b."""
-    return scene_from_dict({
-        "name": "diaphragm-plate", "units": "m", "kind": "plate",
-        "parts": [{"name": "plate", "region": "plate", "material": "CuBe",
-                   "origin": [0, 0, 0], "size": [a, b, h]}],
-        "faces": {"x_edges": ["plate.xmin", "plate.xmax"], "y_edges": ["plate.ymin", "plate.ymax"]},
-        "clamps": {"x_edges": "yz", "y_edges": "xz"},
-        "analysis": {"near": 1e3, "count": 8}, "mesh": _mesh(max_size, 1),
-    })
-
-
-def k31_bar_scene(max_size: float):
-    """PZT-5A bar 30 x 2 x 1 mm, free, poled along z, electrodes on zmin (ground), zmax (drive)."""
-    return scene_from_dict({
-        "name": "k31-bar", "units": "mm", "kind": "beam",
-        "parts": [{"name": "bar", "region": "piezo", "material": "PZT-5A",
-                   "origin": [0, 0, 0], "size": [30, 2, 1], "poling": 1}],
-        "faces": {"top": ["bar.zmax"], "bottom": ["bar.zmin"]},
-        "electrodes": {"top": "drive", "bottom": "ground"},
-        "analysis": {"near": 47e3, "count": 8}, "mesh": _mesh(max_size, 2),
-    })
 
 
 def rotation() -> np.ndarray:

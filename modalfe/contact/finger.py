@@ -48,12 +48,20 @@ from __future__ import annotations
 import logging
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, fields, replace
+from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
 
-from modalfe.contact.foot import find_orbit, first_crossing, gauss_nodes, landed_window, require, values
+from modalfe.contact.foot import (
+    find_orbit,
+    first_crossing,
+    gauss_nodes,
+    landed_window,
+    replaced,
+    require,
+    values,
+)
 from modalfe.errors import ContactError
 
 log = logging.getLogger(__name__)
@@ -109,11 +117,7 @@ class FingerParameters:
 
     def with_(self, **changes) -> FingerParameters:
         """A copy with some fields changed (validated); unknown names raise ContactError."""
-        known = {f.name for f in fields(self)}
-        for key in changes:
-            if key not in known:
-                raise ContactError(f"{key}: not a finger parameter (known: {', '.join(sorted(known))})")
-        return replace(self, **changes)
+        return replaced(self, "finger", changes)
 
     @property
     def stiffness(self) -> np.ndarray:

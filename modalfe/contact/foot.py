@@ -261,6 +261,15 @@ def shoot_periodic(period_map: Callable[[np.ndarray], tuple[np.ndarray, np.ndarr
 # ----------------------------------------------------------------------------------------------
 
 
+def replaced(params, kind: str, changes: dict):
+    """A validated copy of a parameter dataclass with ``changes``; unknown names raise ContactError."""
+    known = {f.name for f in fields(params)}
+    for key in changes:
+        if key not in known:
+            raise ContactError(f"{key}: not a {kind} parameter (known: {', '.join(sorted(known))})")
+    return replace(params, **changes)
+
+
 def require(name: str, value, *, positive: bool = False, nonnegative: bool = False) -> float:
     """``value`` as a finite float, or a one-line ContactError naming ``name``."""
     try:
@@ -313,11 +322,7 @@ class FootParameters:
 
     def with_(self, **changes) -> FootParameters:
         """A copy with some fields changed (validated); unknown names raise ContactError."""
-        known = {f.name for f in fields(self)}
-        for key in changes:
-            if key not in known:
-                raise ContactError(f"{key}: not a foot parameter (known: {', '.join(sorted(known))})")
-        return replace(self, **changes)
+        return replaced(self, "foot", changes)
 
     @property
     def omega(self) -> float:

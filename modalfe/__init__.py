@@ -1,7 +1,8 @@
 """modalfe: finite-element and modal design of piezoelectric and vibrotactile haptic actuators.
 
-``import modalfe`` is light: gmsh, scikit-fem assembly and plotting load inside the functions
-that need them.
+The Python API mirrors the CLI: ``load_scene``, ``solve_modes``, ``forced_response``, ``reduce``,
+``simulate_contact``, ``simulate_finger``, ``sweep``. ``import modalfe`` is light: gmsh, the
+assembly, pyvista, matplotlib and dask load inside the functions that need them.
 """
 
 from modalfe.errors import ContactError, MeshError, ModalfeError, SceneError, SolverError
@@ -17,5 +18,40 @@ def solve_modes(scene, **kwargs):
     return _solve_modes(scene, **kwargs)
 
 
-__all__ = ["ContactError", "MeshError", "ModalfeError", "SceneError", "SolverError", "load_scene",
-           "solve_modes"]
+def forced_response(scene, **kwargs):
+    """Working-mode figures per volt (reduced model, FRF, admittance); see ``modalfe.forced_report``."""
+    from modalfe.forced_report import forced_figures
+
+    return forced_figures(scene, **kwargs)
+
+
+def reduce(scene, mode, modes, **kwargs):
+    """Reduced modal model of one mode; see ``modalfe.forced.reduce``."""
+    from modalfe.forced import reduce as _reduce
+
+    return _reduce(scene, mode, modes, **kwargs)
+
+
+def simulate_contact(*args, **kwargs):
+    """Foot contact and friction at periodic steady state; see ``modalfe.contact.foot``."""
+    from modalfe.contact import simulate_contact as _simulate
+
+    return _simulate(*args, **kwargs)
+
+
+def simulate_finger(*args, **kwargs):
+    """Finger bed-spring model; see ``modalfe.contact.finger``."""
+    from modalfe.contact import simulate_finger as _simulate
+
+    return _simulate(*args, **kwargs)
+
+
+def sweep(*args, **kwargs):
+    """Resumable parameter sweep on dask; see ``modalfe.sweep.sweep``."""
+    from modalfe.sweep import sweep as _sweep
+
+    return _sweep(*args, **kwargs)
+
+
+__all__ = ["ContactError", "MeshError", "ModalfeError", "SceneError", "SolverError", "forced_response",
+           "load_scene", "reduce", "simulate_contact", "simulate_finger", "solve_modes", "sweep"]

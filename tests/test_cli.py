@@ -52,3 +52,15 @@ def test_bad_input_is_one_line_and_exit_2(capsys):
 def test_overrides_are_toml_literals():
     assert parse_overrides(["a=1e-3", "b=[1, 2]", "c=PZT-5A", 'd="x"']) == {
         "a": 1e-3, "b": [1, 2], "c": "PZT-5A", "d": "x"}
+
+
+def test_import_is_light_and_the_api_mirrors_the_cli():
+    import subprocess
+    import sys
+
+    code = ("import sys, modalfe; heavy = [m for m in ('gmsh', 'pyvista', 'matplotlib', 'dask', 'skfem') "
+            "if m in sys.modules]; print(heavy); "
+            "assert all(hasattr(modalfe, f) for f in ('load_scene', 'solve_modes', 'forced_response', 'reduce', "
+            "'simulate_contact', 'simulate_finger', 'sweep'))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "[]"

@@ -108,3 +108,12 @@ def _superlu(A: sp.csr_matrix):
 
     lu = splu(A.tocsc(), permc_spec="MMD_AT_PLUS_A", options={"SymmetricMode": True})
     return lu.solve
+
+
+def condition_estimate(A, solve) -> float:
+    """1-norm condition number estimate ||A||_1 ||A^-1||_1 (Higham & Tisseur 2000 block estimator),
+    with ``solve`` applying A^-1 (an existing factorization: no second one is made)."""
+    from scipy.sparse.linalg import LinearOperator, onenormest
+
+    inverse = LinearOperator(A.shape, matvec=solve, rmatvec=solve, dtype=float)  # A symmetric
+    return float(onenormest(A) * onenormest(inverse))

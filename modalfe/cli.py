@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import logging
+import math
 import sys
 
 from modalfe.errors import ModalfeError, SceneError
@@ -50,7 +51,8 @@ def _modes(args) -> int:
     modes = solve_modes(scene, near=args.near, count=args.count, band=band, circuit=args.circuit,
                         error_estimate=not args.no_error_estimate)
     rows = [{"index": m.index, "frequency_hz": m.frequency, "label": m.label,
-             "error_estimate": None if m.error_estimate != m.error_estimate else m.error_estimate,
+             "error_estimate": None if not math.isfinite(m.error_estimate) else m.error_estimate,
+             "error_unresolved": m.error_estimate == float("inf"),
              "wavelength_m": None if m.wavelength != m.wavelength else m.wavelength} for m in modes]
     if args.json:
         print(json.dumps({"scene": scene.name, "circuit": modes.circuit, "fidelity": modes.fidelity,
@@ -60,7 +62,8 @@ def _modes(args) -> int:
     print(f"{scene.name}: {modes.dofs} DOFs, {modes.circuit} circuit, {modes.fidelity} fidelity")
     print(f"{'#':>3} {'f [Hz]':>12} {'label':<14} {'err est':>8}")
     for r in rows:
-        err = f"{100 * r['error_estimate']:.3f}%" if r["error_estimate"] is not None else "n/a"
+        err = ("unresolved" if r["error_unresolved"] else "n/a" if r["error_estimate"] is None
+               else f"{100 * r['error_estimate']:.3f}%")
         print(f"{r['index']:>3} {r['frequency_hz']:>12.2f} {r['label']:<14} {err:>8}")
     return 0
 

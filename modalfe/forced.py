@@ -298,6 +298,7 @@ class HarmonicResponse:
     displacement: dict[str, np.ndarray]
     admittance: np.ndarray
     damping_description: str
+    dissipated: np.ndarray | None = None  # time-averaged power lost in the damping per volt^2 [W/V^2]
 
     def velocity(self, output: str) -> np.ndarray:
         return 2j * np.pi * self.frequency[:, None] * self.displacement[output]
@@ -327,6 +328,7 @@ def harmonic_response(scene, modes, frequency, *, outputs, damping: Damping,
     freqs = np.atleast_1d(np.asarray(frequency, dtype=float))
     disp = {name: np.zeros((len(freqs), 3), dtype=complex) for name in probes}
     Y = np.zeros(len(freqs), dtype=complex)
+    dissipated = np.zeros(len(freqs))
     for i, f in enumerate(freqs):
         w = 2 * np.pi * f
         x = splu((A - w**2 * B + 1j * w * C).tocsc(), permc_spec="MMD_AT_PLUS_A",
@@ -337,7 +339,8 @@ def harmonic_response(scene, modes, frequency, *, outputs, damping: Damping,
         for name, P in probes.items():
             disp[name][i] = P @ full
         Y[i] = 1j * w * (F @ x + C_b)
+        dissipated[i] = 0.5 * w**2 * float(np.real(np.conj(x) @ (C @ x)))
     description = damping.describe()
     if damping.zeta is not None or damping.Q is not None:
         description += f"; full model: Rayleigh beta = {beta:.3g} s (gives it at {reference_omega / 2 / np.pi:.0f} Hz)"
-    return HarmonicResponse(freqs, disp, Y, description)
+    return HarmonicResponse(freqs, disp, Y, description, dissipated)

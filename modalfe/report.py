@@ -36,7 +36,12 @@ class ReportRow:
     assumptions: list[str] = field(default_factory=list)
 
     def to_json(self) -> dict:
-        return asdict(self)
+        """Plain JSON: an unresolved (infinite) error estimate becomes null with ``error_unresolved``."""
+        out = asdict(self)
+        out["error_unresolved"] = self.error_estimate is not None and math.isinf(self.error_estimate)
+        if out["error_unresolved"]:
+            out["error_estimate"] = None
+        return out
 
 
 def select(modes, selector: str, near: float):
@@ -167,7 +172,8 @@ def format_rows(rows: list[ReportRow]) -> str:
     """A plain-text table: one line per working mode, then its targets and notes."""
     lines = [f"{'scene':<15} {'mode':<12} {'f [Hz]':>10} {'err est':>8} {'DOFs':>7} {'fidelity':>8} {'s':>6}"]
     for r in rows:
-        err = f"{100 * r.error_estimate:.2f}%" if r.error_estimate is not None else "n/a"
+        err = "n/a" if r.error_estimate is None else "unresolved" if math.isinf(r.error_estimate) else \
+            f"{100 * r.error_estimate:.2f}%"
         lines.append(f"{r.scene:<15} {r.mode:<12} {r.frequency_hz:>10.1f} {err:>8} {r.dofs:>7} "
                      f"{r.fidelity:>8} {r.seconds:>6.1f}")
         if r.wavelength_m is not None:

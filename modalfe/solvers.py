@@ -73,13 +73,18 @@ def solve_modes(
     ratio = refinement_ratio(fine.model.mesh, coarse.model.mesh, scene)
     estimates = {}
     for mode in fine:
+        if mode.frequency < 1e-6 * max(m.frequency for m in fine):
+            continue  # a rigid-body mode: no relative error to speak of
         same = [m for m in coarse if m.label == mode.label]
-        if not same:
+        partner = min(same, key=lambda m: abs(m.frequency - mode.frequency)) if same else None
+        if partner is None or abs(partner.frequency - mode.frequency) > 0.1 * mode.frequency:
+            # the coarse level does not resolve this mode: the fine one is not converged either
+            log.warning("mode %s at %.6g Hz has no partner on the coarse mesh: error unknown, refine the mesh",
+                        mode.label, mode.frequency)
+            estimates[mode.index] = float("inf")
             continue
-        partner = min(same, key=lambda m: abs(m.frequency - mode.frequency))
-        if mode.frequency > 0 and abs(partner.frequency - mode.frequency) < 0.1 * mode.frequency:
-            estimates[mode.index] = abs(partner.frequency - mode.frequency) / (
-                (ratio**CONVERGENCE_ORDER - 1) * mode.frequency)
+        estimates[mode.index] = abs(partner.frequency - mode.frequency) / (
+            (ratio**CONVERGENCE_ORDER - 1) * mode.frequency)
     timings = dict(fine.timings, error_estimate=time.perf_counter() - start)
     result = fine.with_error_estimates(estimates)
     return Modes(result.modes, result.model, result.circuit, result.fidelity, result.dofs, timings)

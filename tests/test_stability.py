@@ -1,6 +1,7 @@
 """Numerical stability: scaling of the potential unknowns, units, continuity, random valid scenes."""
 
 import numpy as np
+import pytest
 import scipy.sparse as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -77,3 +78,48 @@ def test_random_valid_plates_have_spd_matrices_and_positive_frequencies(length, 
     assert x @ (M @ x) > 0 and x @ (K @ x) > 0  # positive (semi)definite in a random direction
     modes = solve_modes(scene, near=1000.0, count=3, error_estimate=False)
     assert np.all(modes.frequencies > 0)
+
+
+def test_forced_response_balances_energy():
+    from modalfe.forced import Damping, harmonic_response
+
+    scene = load_scene("ciliary_beam", **{"mesh.elements_per_wavelength": 4.0})
+    modes = solve_modes(scene, near=22e3, count=4, error_estimate=False)
+    mode = modes.labelled("bending-z 6")
+    f = mode.frequency * np.array([0.9, 0.99, 1.0, 1.01, 1.1])
+    response = harmonic_response(scene, modes, f, outputs=[("tip", (0.1, 0.0025, 0.005))],
+                                 damping=Damping(zeta=0.025), reference_omega=mode.omega)
+    supplied = 0.5 * np.real(response.admittance)  # time-averaged electrical input per volt^2
+    # lossless piezoelectricity: every watt supplied is dissipated by the damping, to solver round-off
+    np.testing.assert_allclose(supplied, response.dissipated, rtol=1e-8)
+    assert np.all(response.dissipated > 0)
+
+
+def test_very_coarse_and_very_fine_meshes_are_sound_or_say_why():
+    from modalfe.errors import SolverError
+
+    limit = 21.54e3  # extrapolated mode 6 (studies/convergence.py)
+    fine = solve_modes(load_scene("ciliary_beam", **{"mesh.elements_per_wavelength": 12.0}), near=22e3, count=6,
+                       error_estimate=False).labelled("bending-z 6")
+    assert limit < fine.frequency < 1.005 * limit  # conforming elements converge from above
+    coarse = solve_modes(load_scene("ciliary_beam", **{"mesh.elements_per_wavelength": 2.0}), near=24e3, count=8,
+                         error_estimate=True).labelled("bending-z 6")
+    # two elements per wavelength: 20 % high, and the error estimate says it is not to be trusted
+    assert coarse.frequency > limit and coarse.error_estimate > 0.05
+    with pytest.raises(SolverError) as info:  # 1.5 elements per wavelength no longer shows mode 6
+        solve_modes(load_scene("ciliary_beam", **{"mesh.elements_per_wavelength": 1.5}), near=22e3, count=8,
+                    error_estimate=False).labelled("bending-z 6")
+    assert "bending-z 6" in str(info.value)
+
+
+def test_elongated_elements_still_give_the_thin_plate_answer():
+    from modalfe.analytic import kirchhoff_plate_ss
+    from modalfe.verification_cases import diaphragm_plate_scene
+
+    a, b, h = 0.04, 0.03, 0.5e-3
+    scene = diaphragm_plate_scene(a, b, h, max_size=0.004)  # elements 4 mm wide, 0.25 mm thick: 16:1
+    modes = solve_modes(scene, near=1e3, count=4, error_estimate=False)
+    f11 = kirchhoff_plate_ss(1, 1, a=a, b=b, h=h, E=123e9, nu=0.3, rho=8250.0)
+    # the (1,1) mode of a thin SS plate: Kirchhoff is within 0.1 % of 3-D here (tests/test_verification.py);
+    # 16:1 quadratic elements add at most ~1 %
+    assert min(modes.frequencies, key=lambda f: abs(f - f11)) == pytest.approx(f11, rel=0.02)

@@ -92,6 +92,16 @@ class Model:
         T = sp.hstack(cols, format="csr")
         return Constraints(T, scale, tuple(floating))
 
+    def shifted_matrix(self, frequency: float, *, scale: float | None = None) -> sp.csr_matrix:
+        """K - omega^2 M on the short-circuit free unknowns, the potentials scaled by ``scale``
+        (default: ``potential_scale()``; 1.0 leaves them in volts), for conditioning checks."""
+        T = self.constraints("short").T
+        A = T.T @ (self.K - (2 * np.pi * frequency) ** 2 * self.M) @ T
+        n_u_free = self.n_u - len(self.clamped)
+        ratio = (self.potential_scale() if scale is None else scale) / self.potential_scale()
+        rescale = sp.diags(np.r_[np.ones(n_u_free), np.full(A.shape[0] - n_u_free, ratio)])
+        return (rescale @ A @ rescale).tocsr()
+
     def prescribed_potential(self, volts: float) -> np.ndarray:
         """Full DOF vector that is ``volts`` [V] on every driven electrode and zero elsewhere: with the
         short-circuit constraints (driven electrodes eliminated) x = T x_free + x_volts."""

@@ -45,3 +45,15 @@ def k31_bar_scene(max_size: float):
         "electrodes": {"top": "drive", "bottom": "ground"},
         "analysis": {"near": 47e3, "count": 8}, "mesh": reference_mesh(max_size, 2),
     })
+
+
+def free_plate_scene(**extra):
+    """A free 40 x 10 x 1 mm Cu-Be plate meshed with 1.25 mm elements (even divisions across y)."""
+    data = {
+        "name": "plate", "kind": "plate",
+        "parts": [{"name": "plate", "material": "CuBe", "origin": [0, 0, 0], "size": [0.04, 0.01, 0.001]}],
+        "analysis": {"near": 5000.0, "count": 6},
+        "mesh": {"max_size": 1.25e-3},
+    }
+    data.update(extra)
+    return scene_from_dict(data)

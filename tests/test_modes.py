@@ -7,21 +7,11 @@ from modalfe.coupling import antiresonance, k_eff
 from modalfe.errors import SolverError
 from modalfe.scene import load_scene, scene_from_dict
 from modalfe.solvers import solve_modes
-
-
-def _plate(**extra):
-    data = {
-        "name": "plate", "kind": "plate",
-        "parts": [{"name": "plate", "material": "CuBe", "origin": [0, 0, 0], "size": [0.04, 0.01, 0.001]}],
-        "analysis": {"near": 5000.0, "count": 6},
-        "mesh": {"max_size": 1.25e-3},
-    }
-    data.update(extra)
-    return scene_from_dict(data)
+from modalfe.verification_cases import free_plate_scene
 
 
 def test_free_plate_has_six_rigid_body_modes_set_apart():
-    modes = solve_modes(_plate(), band=(0.0, 3000.0), error_estimate=False)
+    modes = solve_modes(free_plate_scene(), band=(0.0, 3000.0), error_estimate=False)
     rigid = [m for m in modes if m.frequency < 1.0]
     flexible = [m for m in modes if m.frequency >= 1.0]
     assert len(rigid) == 6  # three translations and three rotations of a free body
@@ -31,8 +21,8 @@ def test_free_plate_has_six_rigid_body_modes_set_apart():
 
 
 def test_symmetric_half_model_equals_the_whole_for_symmetric_modes():
-    whole = solve_modes(_plate(), near=20e3, count=10, error_estimate=False)
-    half = solve_modes(_plate(symmetry=["y"]), near=20e3, count=5, error_estimate=False)
+    whole = solve_modes(free_plate_scene(), near=20e3, count=10, error_estimate=False)
+    half = solve_modes(free_plate_scene(symmetry=["y"]), near=20e3, count=5, error_estimate=False)
     for mode in (m for m in half if m.frequency > 1.0):
         # same nodes on both sides (y divisions 8 and 4): the half model is the same discrete
         # problem restricted to symmetric fields, so frequencies agree to solver precision
@@ -80,19 +70,19 @@ def test_open_circuit_raises_the_frequency_of_a_coupled_mode():
 
 
 def test_error_estimate_accompanies_every_frequency():
-    modes = solve_modes(_plate(), near=20e3, count=4, error_estimate=True)
+    modes = solve_modes(free_plate_scene(), near=20e3, count=4, error_estimate=True)
     for m in modes:
         assert np.isfinite(m.error_estimate) and 0 <= m.error_estimate < 0.05
 
 
 def test_a_band_with_no_modes_is_an_error():
     with pytest.raises(SolverError) as info:
-        solve_modes(_plate(), band=(500.0, 600.0), error_estimate=False)
+        solve_modes(free_plate_scene(), band=(500.0, 600.0), error_estimate=False)
     assert "no modes in the band" in str(info.value)
 
 
 def test_missing_label_is_an_error_naming_what_was_found():
-    modes = solve_modes(_plate(), near=20e3, count=3, error_estimate=False)
+    modes = solve_modes(free_plate_scene(), near=20e3, count=3, error_estimate=False)
     with pytest.raises(SolverError) as info:
         modes.labelled("(7,7)")
     assert "(7,7)" in str(info.value)

@@ -34,7 +34,7 @@ def _report(args) -> int:
     from modalfe.report import format_rows, run_report
 
     rows = run_report(args.scene, progress=not args.json, error_estimate=not args.no_error_estimate,
-                      overrides=parse_overrides(args.set))
+                      overrides=parse_overrides(args.set), fidelity=args.fidelity, tol=args.tol)
     if args.json:
         print(json.dumps([r.to_json() for r in rows], indent=2))
     else:
@@ -49,23 +49,35 @@ def _modes(args) -> int:
     scene = load_scene(args.scene, **parse_overrides(args.set))
     band = tuple(args.band) if args.band else None
     modes = solve_modes(scene, near=args.near, count=args.count, band=band, circuit=args.circuit,
-                        error_estimate=not args.no_error_estimate)
+                        error_estimate=not args.no_error_estimate, fidelity=args.fidelity, tol=args.tol)
     rows = [{"index": m.index, "frequency_hz": m.frequency, "label": m.label,
              "error_estimate": None if not math.isfinite(m.error_estimate) else m.error_estimate,
              "error_unresolved": m.error_estimate == float("inf"),
+             "model_error": None if not math.isfinite(m.model_error) else m.model_error,
              "wavelength_m": None if m.wavelength != m.wavelength else m.wavelength} for m in modes]
     if args.json:
         print(json.dumps({"scene": scene.name, "circuit": modes.circuit, "fidelity": modes.fidelity,
-                          "dofs": modes.dofs, "modes": rows,
+                          "fidelity_note": modes.fidelity_note, "dofs": modes.dofs, "modes": rows,
                           "timings": {k: v for k, v in modes.timings.items()}}, indent=2))
         return 0
     print(f"{scene.name}: {modes.dofs} DOFs, {modes.circuit} circuit, {modes.fidelity} fidelity")
+    if modes.fidelity_note:
+        print(modes.fidelity_note)
     print(f"{'#':>3} {'f [Hz]':>12} {'label':<14} {'err est':>8}")
     for r in rows:
         err = ("unresolved" if r["error_unresolved"] else "n/a" if r["error_estimate"] is None
                else f"{100 * r['error_estimate']:.3f}%")
         print(f"{r['index']:>3} {r['frequency_hz']:>12.2f} {r['label']:<14} {err:>8}")
     return 0
+
+
+def _fidelity_options(p: argparse.ArgumentParser) -> None:
+    from modalfe.solvers import DEFAULT_TOL, FIDELITIES
+
+    p.add_argument("--fidelity", choices=FIDELITIES, default="auto",
+                   help="model: 1-D beam, 2-D plate, 3-D solid, or auto: the cheapest meeting --tol (default)")
+    p.add_argument("--tol", type=float, default=DEFAULT_TOL,
+                   help=f"relative frequency error asked of --fidelity auto (default {DEFAULT_TOL:g})")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -77,7 +89,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--scene", action="append", help="only this built-in scene (repeatable)")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene parameter")
     p.add_argument("--json", action="store_true", help="machine-readable rows")
-    p.add_argument("--no-error-estimate", action="store_true", help="skip the coarse-mesh solve")
+    p.add_argument("--no-error-estimate", action="store_true",
+                   help="skip the coarse-mesh solve (solid and reduced fidelities; auto always estimates)")
+    _fidelity_options(p)
     p.set_defaults(func=_report)
 
     p = sub.add_parser("modes", help="eigenmodes of a built-in scene or a TOML scene file")
@@ -88,7 +102,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--circuit", choices=("short", "open"), help="electrodes grounded or driven one floating")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene parameter")
     p.add_argument("--json", action="store_true")
-    p.add_argument("--no-error-estimate", action="store_true", help="skip the coarse-mesh solve")
+    p.add_argument("--no-error-estimate", action="store_true",
+                   help="skip the coarse-mesh solve (solid and reduced fidelities; auto always estimates)")
+    _fidelity_options(p)
     p.set_defaults(func=_modes)
 
     from modalfe import cli_forced

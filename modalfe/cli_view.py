@@ -39,7 +39,7 @@ def _modes(args):
 def _show(args) -> int:
     from modalfe.errors import SolverError
     from modalfe.render import animate_mode, render_mode
-    from modalfe.report import select
+    from modalfe.results import select
 
     scene, modes = _modes(args)
     if args.mode is None:

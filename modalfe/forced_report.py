@@ -61,7 +61,7 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
                    outputs=None, span: float = 0.02, points: int = 41, full: bool = False) -> ForcedFigures:
     """Reduce the working mode and derive the device figures; ``full`` adds the direct FE FRF."""
     from modalfe.forced import Damping, harmonic_response, reduce
-    from modalfe.report import select
+    from modalfe.results import select
     from modalfe.solvers import solve_modes
 
     if not scene.working_modes and selector is None:

@@ -86,7 +86,7 @@ def place_feet(scene, *, selector: str, near: float, contact_stiffness: float,
                part: str = "plate") -> FootPlacement:
     """Put the scene's feet on in-phase antinodes of the working mode (nearest to where they are),
     then re-solve with the feet free and with ``contact_stiffness`` [N/m] under each foot."""
-    from modalfe.report import select
+    from modalfe.results import select
     from modalfe.solvers import solve_modes
 
     feet = tuple(scene.params.get("feet", _default_feet(scene)))

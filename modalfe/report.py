@@ -3,13 +3,13 @@
 from __future__ import annotations
 
 import math
-import re
 import time
 from dataclasses import asdict, dataclass, field
 
 from modalfe.errors import SolverError
+from modalfe.results import select
+from modalfe.solvers import DEFAULT_TOL
 
-_FAMILY = re.compile(r"^\((\d+|n),(\d+|n)\)$")
 _MAX_COUNT = 80  # modes searched around a target before a working mode is declared missing
 
 
@@ -33,6 +33,7 @@ class ReportRow:
     antiresonance_hz: float | None = None
     k_eff: float | None = None
     notes: list[str] = field(default_factory=list)
+    fidelity_note: str = ""
     assumptions: list[str] = field(default_factory=list)
 
     def to_json(self) -> dict:
@@ -44,27 +45,11 @@ class ReportRow:
         return out
 
 
-def select(modes, selector: str, near: float):
-    """The mode matching ``selector`` nearest ``near`` [Hz]: an exact label, or a plate family
-    where ``n`` stands for any count, e.g. ``(0,n)``."""
-    m = _FAMILY.match(selector)
-    if m and "n" in selector:
-        a, b = m.groups()
-
-        def fits(label: str) -> bool:
-            g = _FAMILY.match(label)
-            return bool(g) and all(want == "n" or want == got for want, got in zip((a, b), g.groups()))
-
-        found = [mode for mode in modes if fits(mode.label)]
-        if not found:
-            raise SolverError(f"no mode of the family {selector} among {[x.label for x in modes]}")
-        return min(found, key=lambda mode: abs(mode.frequency - near))
-    return modes.labelled(selector, near=near)
-
-
-def device_report(scene, *, error_estimate: bool = True) -> list[ReportRow]:
+def device_report(scene, *, error_estimate: bool = True, fidelity: str = "auto",
+                  tol: float = DEFAULT_TOL) -> list[ReportRow]:
     """Rows for each working mode of ``scene``; solves once per frequency window, and once more in
-    open circuit where the scene has a driven electrode (antiresonance and k_eff)."""
+    open circuit where the scene has a driven electrode (antiresonance and k_eff), at the fidelity
+    that answered. With ``fidelity="auto"`` the working modes of the window must meet ``tol``."""
     from modalfe.coupling import antiresonance, k_eff
     from modalfe.solvers import solve_modes
 
@@ -75,10 +60,13 @@ def device_report(scene, *, error_estimate: bool = True) -> list[ReportRow]:
     for wm in scene.working_modes:
         key = "band" if band is not None else wm.near
         count = max(scene.analysis.count, 10)
+        window = scene.working_modes if band is not None else [w for w in scene.working_modes if w.near == wm.near]
+        options = {"error_estimate": error_estimate, "fidelity": fidelity, "tol": tol,
+                   "check": tuple((w.selector, w.near) for w in window)}
         while True:
             if key not in solved:
-                solved[key] = (solve_modes(scene, error_estimate=error_estimate) if band is not None
-                               else solve_modes(scene, near=wm.near, count=count, error_estimate=error_estimate))
+                solved[key] = (solve_modes(scene, **options) if band is not None
+                               else solve_modes(scene, near=wm.near, count=count, **options))
             modes = solved[key]
             try:
                 mode = select(modes, wm.selector, wm.near)
@@ -96,13 +84,14 @@ def device_report(scene, *, error_estimate: bool = True) -> list[ReportRow]:
                             "source": t.source, "deviation": deviation})
         fa = coupling = None
         if "drive" in scene.electrodes.values():
-            open_modes = solve_modes(scene, near=mode.frequency, count=6, circuit="open", error_estimate=False)
+            open_modes = solve_modes(scene, near=mode.frequency, count=6, circuit="open", error_estimate=False,
+                                     fidelity=modes.fidelity)
             fa = antiresonance(mode, open_modes).frequency
             coupling = k_eff(mode.frequency, fa)
         rows.append(ReportRow(
             scene=scene.name, mode=mode.label, frequency_hz=mode.frequency, targets=targets,
             error_estimate=None if math.isnan(mode.error_estimate) else mode.error_estimate,
-            dofs=modes.dofs, fidelity=modes.fidelity, seconds=0.0,
+            dofs=modes.dofs, fidelity=modes.fidelity, fidelity_note=modes.fidelity_note, seconds=0.0,
             wavelength_m=None if math.isnan(mode.wavelength) else mode.wavelength,
             antiresonance_hz=fa, k_eff=coupling, notes=device_notes(scene, modes, mode),
             assumptions=list(scene.assumptions),
@@ -122,7 +111,8 @@ def device_notes(scene, modes, mode) -> list[str]:
         f_thin = kirchhoff_frequency(scene.material(main.material).C, scene.material(main.material).rho,
                                      main.size[2], mode.wavelength)
         notes.append(f"Kirchhoff thin-plate theory at this wavelength: {f_thin:.0f} Hz "
-                     f"({100 * (f_thin / mode.frequency - 1):+.1f}% vs the 3-D solid; thickness / wavelength "
+                     f"({100 * (f_thin / mode.frequency - 1):+.1f}% vs the {modes.fidelity} model; "
+                     f"thickness / wavelength "
                      f"{main.size[2] / mode.wavelength:.2f})")
     if scene.analysis.band is not None:
         rigid = [m for m in modes if m.label in ("sway-x", "sway-y", "heave", "roll", "pitch", "yaw")]
@@ -146,8 +136,8 @@ def kirchhoff_frequency(C, rho: float, thickness: float, wavelength: float) -> f
 
 
 def run_report(names: list[str] | None = None, *, progress: bool = True, error_estimate: bool = True,
-               overrides: dict | None = None) -> list[ReportRow]:
-    """Report rows for the named built-in scenes (all four by default)."""
+               overrides: dict | None = None, fidelity: str = "auto", tol: float = DEFAULT_TOL) -> list[ReportRow]:
+    """Report rows for the named built-in scenes (all of them by default), each at ``fidelity``."""
     from modalfe.scene import load_scene
     from modalfe.scenes import BUILTIN
 
@@ -161,7 +151,7 @@ def run_report(names: list[str] | None = None, *, progress: bool = True, error_e
     for name in iterator:
         scene = load_scene(name, **(overrides or {}))
         try:
-            rows.extend(device_report(scene, error_estimate=error_estimate))
+            rows.extend(device_report(scene, error_estimate=error_estimate, fidelity=fidelity, tol=tol))
         except SolverError as exc:
             rows.append(ReportRow(scene=name, mode="FAILED", frequency_hz=float("nan"), targets=[],
                                   error_estimate=None, dofs=0, fidelity="solid", seconds=0.0, notes=[str(exc)]))
@@ -178,6 +168,8 @@ def format_rows(rows: list[ReportRow]) -> str:
                      f"{r.fidelity:>8} {r.seconds:>6.1f}")
         if r.wavelength_m is not None:
             lines.append(f"{'':<15} wavelength along x {1e3 * r.wavelength_m:.2f} mm")
+        if r.fidelity_note:
+            lines.append(f"{'':<15} {r.fidelity_note}")
         if r.k_eff is not None:
             lines.append(f"{'':<15} antiresonance {r.antiresonance_hz:.1f} Hz, k_eff {r.k_eff:.4f}")
         for t in r.targets:

@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from modalfe.errors import SolverError
+
+_FAMILY = re.compile(r"^\((\d+|n),(\d+|n)\)$")
 
 
 @dataclass(frozen=True, eq=False)
@@ -16,8 +19,11 @@ class Mode:
     frequency : [Hz]
     label : shape label, e.g. ``(0,6)``, ``bending-z 6``, ``heave``
     shape : full DOF vector (u then phi), mass-normalised (u^T M u = 1 [kg])
-    error_estimate : estimated relative discretization error of ``frequency`` (NaN if not estimated)
+    error_estimate : estimated relative error of ``frequency`` (NaN if not estimated): discretization,
+        plus the model error for a beam or plate model
     wavelength : bending wavelength along the long axis [m] for plate modes, else NaN
+    model_error : estimated relative error of a beam or plate model against the 3-D solid (NaN for the
+        solid itself, or when not cross-checked)
     """
 
     index: int
@@ -26,6 +32,7 @@ class Mode:
     shape: np.ndarray
     error_estimate: float = float("nan")
     wavelength: float = float("nan")
+    model_error: float = float("nan")
 
     @property
     def omega(self) -> float:
@@ -37,8 +44,9 @@ class Mode:
 class Modes:
     """Modes of one scene, sorted by frequency, with the model that produced them.
 
-    circuit : ``short`` or ``open``; fidelity : ``solid``; dofs : free unknowns solved for;
-    timings : seconds per stage (mesh, assembly, factorization, eigensolve, error_estimate)
+    circuit : ``short`` or ``open``; fidelity : ``beam``, ``plate`` or ``solid``; dofs : free unknowns
+    solved for; timings : seconds per stage (mesh, assembly, factorization, eigensolve, error_estimate,
+    cross_check); fidelity_note : which fidelity answered and why (``auto``)
     """
 
     modes: tuple[Mode, ...]
@@ -47,6 +55,7 @@ class Modes:
     fidelity: str
     dofs: int
     timings: dict[str, float] = field(default_factory=dict)
+    fidelity_note: str = ""
 
     def __len__(self) -> int:
         return len(self.modes)
@@ -78,3 +87,21 @@ class Modes:
     def with_error_estimates(self, estimates: dict[int, float]) -> Modes:
         modes = tuple(replace(m, error_estimate=estimates.get(m.index, m.error_estimate)) for m in self.modes)
         return replace(self, modes=modes)
+
+
+def select(modes, selector: str, near: float):
+    """The mode matching ``selector`` nearest ``near`` [Hz]: an exact label, or a plate family
+    where ``n`` stands for any count, e.g. ``(0,n)``."""
+    m = _FAMILY.match(selector)
+    if m and "n" in selector:
+        a, b = m.groups()
+
+        def fits(label: str) -> bool:
+            g = _FAMILY.match(label)
+            return bool(g) and all(want == "n" or want == got for want, got in zip((a, b), g.groups()))
+
+        found = [mode for mode in modes if fits(mode.label)]
+        if not found:
+            raise SolverError(f"no mode of the family {selector} among {[x.label for x in modes]}")
+        return min(found, key=lambda mode: abs(mode.frequency - near))
+    return modes.labelled(selector, near=near)

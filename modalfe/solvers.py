@@ -8,6 +8,7 @@ add eigenvalues at infinity, which shift-invert maps to zero and never returns.
 from __future__ import annotations
 
 import logging
+import math
 import time
 from collections import OrderedDict
 from dataclasses import replace
@@ -30,6 +31,11 @@ COARSE_FACTOR = 1.5  # coarse level of the Richardson estimate: elements 1.5x la
 CONVERGENCE_ORDER = 2.0
 
 
+FIDELITIES = ("auto", "beam", "plate", "solid")
+# relative frequency error asked of ``fidelity="auto"``: below the seeds' 2-7 % model-to-measurement gaps
+DEFAULT_TOL = 0.02
+
+
 def solve_modes(
     scene,
     *,
@@ -41,16 +47,26 @@ def solve_modes(
     size_factor: float = 1.0,
     solver: str = "auto",
     frame=None,
+    fidelity: str = "solid",
+    tol: float = DEFAULT_TOL,
+    check: tuple[tuple[str, float], ...] | None = None,
 ) -> Modes:
     """Modes of ``scene``: ``count`` nearest ``near`` [Hz], or all in ``band`` [Hz].
 
     Defaults come from ``scene.analysis``. With ``error_estimate`` the scene is solved again on a
     mesh 1.5x coarser in every direction (thickness layers too: 3 -> 2 by default) and each
     frequency gets a Richardson estimate of its relative error.
+    ``fidelity``: ``solid`` (3-D), ``beam`` or ``plate`` (reduced models), or ``auto``: the cheapest
+    whose estimated error meets ``tol`` on the modes ``check`` names as (selector, near Hz) pairs
+    (all modes when None); see ``modalfe.fidelity``.
     ``frame`` (3, 3) rotates the whole device (mesh and materials), for invariance checks.
     """
     from modalfe.scene import Analysis
 
+    if fidelity not in FIDELITIES:
+        raise SolverError(f"fidelity: must be one of {FIDELITIES}, got '{fidelity}'")
+    if not (math.isfinite(tol) and tol > 0):
+        raise SolverError(f"tol: must be a positive relative error, got {tol}")
     a = scene.analysis
     if near is not None or band is not None:
         a = Analysis(near=near, count=count or a.count, band=band, circuit=circuit or a.circuit)
@@ -61,33 +77,61 @@ def solve_modes(
     # the mesh resolves the frequencies asked for, whichever is higher: the scene's or this call's
     scene = replace(scene, analysis=a) if a.band != scene.analysis.band or (a.near or 0) > (scene.analysis.near or 0) \
         else scene
-    fine = _solve(scene, a, size_factor=size_factor, solver=solver, frame=frame)
+    if fidelity != "solid":
+        if frame is not None:
+            raise SolverError("frame: rotating the device is supported at solid fidelity only")
+        from modalfe.fidelity import solve_at_fidelity
+
+        return solve_at_fidelity(scene, a, fidelity=fidelity, tol=tol, check=check, size_factor=size_factor,
+                                 solver=solver, error_estimate=error_estimate)
+    fine = solve_level(scene, a, size_factor=size_factor, solver=solver, frame=frame)
     if not error_estimate:
         return fine
     start = time.perf_counter()
-    coarse_analysis = Analysis(near=a.near, count=a.count + 4, band=a.band, circuit=a.circuit) \
-        if a.band is None else Analysis(band=(a.band[0] * 0.9, a.band[1] * 1.1), circuit=a.circuit)
-    coarse_layers = max(1, round(scene.mesh.min_layers / COARSE_FACTOR))
-    coarse = _solve(scene, coarse_analysis, size_factor=size_factor * COARSE_FACTOR, solver=solver, frame=frame,
-                    min_layers=coarse_layers)
+    coarse = solve_level(scene, coarser(a), size_factor=size_factor * COARSE_FACTOR, solver=solver, frame=frame,
+                    min_layers=max(1, round(scene.mesh.min_layers / COARSE_FACTOR)))
     ratio = refinement_ratio(fine.model.mesh, coarse.model.mesh, scene)
+    result = fine.with_error_estimates(richardson(fine, coarse, ratio))
+    return replace(result, timings=dict(fine.timings, error_estimate=time.perf_counter() - start))
+
+
+def coarser(a):
+    """The analysis of a coarser level: a few more modes (or a wider band) so that every mode of the
+    fine level finds its partner."""
+    from modalfe.scene import Analysis
+
+    if a.band is None:
+        return Analysis(near=a.near, count=a.count + 4, circuit=a.circuit)
+    return Analysis(band=(a.band[0] * 0.9, a.band[1] * 1.1), circuit=a.circuit)
+
+
+def partner(mode: Mode, candidates: Modes) -> Mode | None:
+    """The mode of ``candidates`` with the same label nearest in frequency, if within 10 %."""
+    same = [m for m in candidates if m.label == mode.label]
+    if not same:
+        return None
+    best = min(same, key=lambda m: abs(m.frequency - mode.frequency))
+    return best if abs(best.frequency - mode.frequency) <= 0.1 * mode.frequency else None
+
+
+def richardson(fine: Modes, coarse: Modes, ratio: float) -> dict[int, float]:
+    """Relative error estimate of each fine mode from its coarse partner, for an error ~ h^order
+    (order CONVERGENCE_ORDER): |f_h - f_coarse| / ((ratio^order - 1) f_h); inf where a mode has no
+    partner (the coarse level does not resolve it, so the fine one is not converged either)."""
     estimates = {}
+    top = max(m.frequency for m in fine)
     for mode in fine:
-        if mode.frequency < 1e-6 * max(m.frequency for m in fine):
+        if mode.frequency < 1e-6 * top:
             continue  # a rigid-body mode: no relative error to speak of
-        same = [m for m in coarse if m.label == mode.label]
-        partner = min(same, key=lambda m: abs(m.frequency - mode.frequency)) if same else None
-        if partner is None or abs(partner.frequency - mode.frequency) > 0.1 * mode.frequency:
-            # the coarse level does not resolve this mode: the fine one is not converged either
-            log.warning("mode %s at %.6g Hz has no partner on the coarse mesh: error unknown, refine the mesh",
+        other = partner(mode, coarse)
+        if other is None:
+            log.info("mode %s at %.6g Hz has no partner on the coarse mesh: error unknown, refine the mesh",
                         mode.label, mode.frequency)
             estimates[mode.index] = float("inf")
             continue
-        estimates[mode.index] = abs(partner.frequency - mode.frequency) / (
+        estimates[mode.index] = abs(other.frequency - mode.frequency) / (
             (ratio**CONVERGENCE_ORDER - 1) * mode.frequency)
-    timings = dict(fine.timings, error_estimate=time.perf_counter() - start)
-    result = fine.with_error_estimates(estimates)
-    return Modes(result.modes, result.model, result.circuit, result.fidelity, result.dofs, timings)
+    return estimates
 
 
 def static_response(scene, volts: float, *, solver: str = "auto") -> np.ndarray:
@@ -136,13 +180,13 @@ _MODELS: OrderedDict = OrderedDict()
 _MODELS_KEPT = 3  # a fine and a coarse model of the scene in use, plus one
 
 
-def _solve(scene, analysis, *, size_factor: float, solver: str, frame=None, min_layers=None) -> Modes:
+def solve_level(scene, analysis, *, size_factor: float, solver: str, frame=None, min_layers=None) -> Modes:
     model, t_mesh, t_assembly = assembled_model(scene, size_factor=size_factor, frame=frame, min_layers=min_layers)
     constraints = model.constraints(analysis.circuit)
     T = constraints.T
     A = (T.T @ model.K @ T).tocsr()
     B = (T.T @ model.M @ T).tocsr()
-    values, vectors, t_fact, t_eig, used = _eigen(A, B, analysis, solver)
+    values, vectors, t_fact, t_eig, used = eigenpairs(A, B, analysis, solver)
     shapes = T @ vectors
     modes = []
     for i in range(len(values)):
@@ -155,7 +199,7 @@ def _solve(scene, analysis, *, size_factor: float, solver: str, frame=None, min_
     return Modes(tuple(modes), model, analysis.circuit, "solid", A.shape[0], timings)
 
 
-def _eigen(A, B, analysis, solver):
+def eigenpairs(A, B, analysis, solver: str = "auto"):
     """Eigenpairs of A x = lam B x near the target; returns sorted (lam, X, t_fact, t_eig, solver)."""
     two_pi = 2 * np.pi
     if analysis.band is not None:

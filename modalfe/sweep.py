@@ -59,7 +59,7 @@ def evaluate_point(scene_ref: str, params: dict, base: dict, selector: str, near
                    extra: Callable | None = None) -> dict:
     """Solve one point: the labelled working mode and its ``count`` nearest candidates (shapes sampled)."""
     from modalfe.forced import probes
-    from modalfe.report import select
+    from modalfe.results import select
     from modalfe.scene import load_scene
     from modalfe.solvers import solve_modes
 

@@ -57,3 +57,15 @@ def free_plate_scene(**extra):
     }
     data.update(extra)
     return scene_from_dict(data)
+
+
+def clamped_bar_scene(nu: float, max_size: float):
+    """A 40 x 4 x 4 mm cantilever of E = 100 GPa, rho = 8000 kg/m^3 and Poisson ratio ``nu`` (up to
+    nearly incompressible), meshed with elements of ``max_size`` [m], for the stability suite."""
+    return scene_from_dict({
+        "name": "bar", "units": "mm", "kind": "beam",
+        "materials": {"m": {"E": 100e9, "nu": nu, "rho": 8000.0}},
+        "parts": [{"name": "bar", "material": "m", "origin": [0, 0, 0], "size": [40, 4, 4]}],
+        "faces": {"clamp": ["bar.xmin"]}, "clamps": {"clamp": "xyz"},
+        "analysis": {"near": 1500.0, "count": 2}, "mesh": reference_mesh(max_size, 1),
+    })

@@ -13,7 +13,7 @@ import argparse
 import math
 from pathlib import Path
 
-from modalfe.report import select
+from modalfe.results import select
 from modalfe.scene import load_scene
 from modalfe.solvers import solve_modes
 

@@ -13,7 +13,7 @@ import time
 from pathlib import Path
 
 from modalfe.render import render_mode
-from modalfe.report import select
+from modalfe.results import select
 from modalfe.scene import load_scene
 from modalfe.scenes import BUILTIN
 from modalfe.solvers import solve_modes

@@ -94,6 +94,54 @@ def continuity(quick):
     return jump < a.error_estimate, f"jump {jump:.2e} vs estimate {a.error_estimate:.2e}"
 
 
+@case("sheets 0.3 / 0.1 / 0.03 mm on a 100 mm beam (1:333-1:3333)")
+def thin_sheets(quick):
+    from modalfe.scene import load_scene
+    from modalfe.solvers import solve_modes
+
+    f = [solve_modes(load_scene("ciliary_beam", sheet_thickness=t), near=22e3, count=4,
+                     error_estimate=False).labelled("bending-z 6").frequency for t in (0.3e-3, 0.1e-3, 0.03e-3)]
+    ratio = (f[1] - f[2]) / (f[0] - f[1])  # 0.35 where the sheets act in proportion to their thickness
+    return abs(ratio - 0.35) < 0.05, f"{f[0]:.0f} / {f[1]:.0f} / {f[2]:.0f} Hz, step ratio {ratio:.3f} (linear: 0.35)"
+
+
+@case("nu 0.3 / 0.49 / 0.499: the estimate bounds the error")
+def incompressible(quick):
+    from modalfe.solvers import solve_modes
+    from modalfe.verification_cases import clamped_bar_scene
+
+    def mode(nu, size, estimate=True):
+        return solve_modes(clamped_bar_scene(nu, size), error_estimate=estimate).labelled("bending-z 1")
+
+    ok, parts = True, []
+    for nu in (0.3, 0.499) if quick else (0.3, 0.49, 0.499):
+        coarse = mode(nu, 2e-3)
+        if quick:
+            parts.append(f"nu {nu}: estimate {coarse.error_estimate:.2%}")
+            continue
+        f1, f2 = mode(nu, 1e-3, False).frequency, mode(nu, 0.5e-3, False).frequency
+        error = abs(coarse.frequency / (f2 + (f2 - f1) / 3) - 1)
+        ok &= error <= coarse.error_estimate
+        parts.append(f"nu {nu}: error {error:.2%} <= estimate {coarse.error_estimate:.2%}")
+    return ok, "; ".join(parts)
+
+
+@case("flat tetrahedra vs hexahedra (glass plate, 66 kHz)")
+def tetrahedra(quick):
+    from modalfe.results import select
+    from modalfe.scene import load_scene
+    from modalfe.solvers import solve_modes
+
+    if quick:
+        return True, "skipped (--quick)"
+    hexa = select(solve_modes(load_scene("glass_plate"), near=66e3, count=8), "(0,n)", 66e3)
+    tets = select(solve_modes(load_scene("glass_plate", **{"mesh.element": "tet"}), near=66e3, count=8,
+                              error_estimate=False), "(0,n)", 66e3)
+    gap = abs(tets.frequency / hexa.frequency - 1)
+    return gap <= hexa.error_estimate and tets.label == hexa.label, \
+        f"tet {tets.frequency:.0f} Hz vs hex {hexa.frequency:.0f} Hz: {gap:.2%} <= estimate {hexa.error_estimate:.2%}"
+
+
 @case("forced response energy balance")
 def energy(quick):
     from modalfe.forced import Damping, harmonic_response
@@ -125,12 +173,31 @@ def contact(quick):
     return not bad, f"worst momentum-balance error {worst:.1e}" + (f"; off: {', '.join(bad)}" if bad else "")
 
 
+@case("contact vs brute force (RK23, 1e-7 s) across kn, W, Fn")
+def brute_force(quick):
+    from modalfe.contact.foot import FootParameters, brute_force_steady_state, steady_state
+
+    cases = [(1e7, 1e-6, 3.0)] if quick else [(1e5, 3e-6, 0.1), (1e7, 1e-7, 0.1), (1e7, 1e-6, 3.0), (1e7, 3e-6, 30.0),
+                                              (1e9, 1e-7, 0.1), (1e7, 1e-6, 30.0)]
+    worst_beta = worst_rt = 0.0
+    for kn, w, fn in cases:
+        p = FootParameters().with_(kn=kn)
+        orbit = steady_state(w, preload=fn, speed=0.01, parameters=p)
+        ref = brute_force_steady_state(w, preload=fn, speed=0.01, parameters=p, start="quasi-static",
+                                       max_periods=3000)
+        worst_beta = max(worst_beta, abs(orbit.flight_ratio - ref.flight_ratio))
+        worst_rt = max(worst_rt, abs(orbit.friction_mean / ref.friction_mean - 1))
+    return worst_beta <= 0.2 and worst_rt <= 5e-3, \
+        f"{len(cases)} cases: worst beta {worst_beta:.1e} pp, <Rt> {worst_rt:.1e} (targets 0.2 pp, 0.5 %)"
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true")
     args = parser.parse_args()
     logging.basicConfig(level=logging.ERROR)
-    for run in (conditioning, singular_shift, rigid, empty_band, coarse, continuity, energy, contact):
+    for run in (conditioning, singular_shift, rigid, empty_band, coarse, continuity, thin_sheets, incompressible,
+                tetrahedra, energy, contact, brute_force):
         run(args.quick)
     width = max(len(r[0]) for r in ROWS)
     for name, outcome, numbers in ROWS:

@@ -111,3 +111,47 @@ def test_elongated_elements_still_give_the_thin_plate_answer():
     # the (1,1) mode of a thin SS plate: Kirchhoff is within 0.1 % of 3-D here (tests/test_verification.py);
     # 16:1 quadratic elements add at most ~1 %
     assert min(modes.frequencies, key=lambda f: abs(f - f11)) == pytest.approx(f11, rel=0.02)
+
+
+def test_sheets_down_to_1_to_3000_of_the_beam_length_change_the_frequency_smoothly():
+    # 0.3, 0.1 and 0.03 mm sheets on the 100 mm beam: thickness ratios 1:333 to 1:3333
+    f = [solve_modes(load_scene("ciliary_beam", sheet_thickness=t), near=22e3, count=4,
+                     error_estimate=False).labelled("bending-z 6").frequency for t in (0.3e-3, 0.1e-3, 0.03e-3)]
+    assert f[0] > f[1] > f[2]  # thinner sheets, less stiffness and mass added
+    # for t << h the sheets change the frequency in proportion to t: the step ratio is (0.1 - 0.03) / (0.3 - 0.1)
+    # = 0.35; the next term is O(t / h) <= 6 % at t = 0.3 mm on h = 5 mm, so the ratio lies within 0.35 +- 0.05
+    assert (f[1] - f[2]) / (f[0] - f[1]) == pytest.approx(0.35, abs=0.05)
+
+
+def test_nearly_incompressible_material_is_flagged_by_a_larger_error_estimate():
+    from modalfe.verification_cases import clamped_bar_scene
+
+    estimates = [solve_modes(clamped_bar_scene(nu, 2e-3)).labelled("bending-z 1").error_estimate for nu in (0.3, 0.499)]
+    # quadratic hexahedra lock mildly as nu -> 1/2 (slower convergence): the estimate must say so, finitely
+    assert np.isfinite(estimates).all() and estimates[1] > 3 * estimates[0]
+
+
+@pytest.mark.slow
+def test_nearly_incompressible_error_estimate_bounds_the_error():
+    from modalfe.verification_cases import clamped_bar_scene
+
+    for nu in (0.3, 0.49, 0.499):
+        coarse = solve_modes(clamped_bar_scene(nu, 2e-3)).labelled("bending-z 1")
+        f1, f2 = (solve_modes(clamped_bar_scene(nu, h), error_estimate=False).labelled("bending-z 1").frequency
+                  for h in (1e-3, 0.5e-3))
+        reference = f2 + (f2 - f1) / 3  # Richardson at order 2 (the estimate's own assumption), ratio 2
+        # the stated bound holds: the coarse level's estimate is at least its error against the reference
+        assert abs(coarse.frequency / reference - 1) <= coarse.error_estimate
+
+
+@pytest.mark.slow
+def test_tetrahedra_of_the_thin_glass_plate_agree_with_hexahedra_within_the_estimate():
+    from modalfe.results import select
+
+    hexa = select(solve_modes(load_scene("glass_plate"), near=66e3, count=8), "(0,n)", 66e3)
+    tets = select(solve_modes(load_scene("glass_plate", **{"mesh.element": "tet"}), near=66e3, count=8,
+                              error_estimate=False), "(0,n)", 66e3)
+    # flat tetrahedra (1.9 mm plate, ~2.5 mm elements) against structured hexahedra: same mode, and the
+    # difference inside the hexahedral mesh's stated error
+    assert tets.label == hexa.label
+    assert abs(tets.frequency / hexa.frequency - 1) <= hexa.error_estimate

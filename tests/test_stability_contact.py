@@ -6,15 +6,10 @@ import numpy as np
 import pytest
 
 from modalfe.contact import simulate_contact
-from modalfe.contact.foot import FootParameters
+from modalfe.contact.foot import BALANCE_TOL, FootParameters, steady_state
 
 BASE = FootParameters()
-CASES = [
-    pytest.param(*case, marks=pytest.mark.xfail(strict=True, reason=(
-        "no periodic orbit: the 400-period average misses the momentum balance by 5.7 % (open in #10)")))
-    if case == (1e9, 1e-8, 1.0) else case
-    for case in itertools.product([1e4, 1e6, 1e9], [1e-12, 1e-8, 1e-6, 1e-4], [1e-3, 1.0, 1e3])
-]
+CASES = list(itertools.product([1e4, 1e6, 1e9], [1e-12, 1e-8, 1e-6, 1e-4], [1e-3, 1.0, 1e3]))
 
 
 @pytest.mark.parametrize("kn,amplitude,preload", CASES)
@@ -26,13 +21,43 @@ def test_contact_over_extreme_ranges_is_finite_bounded_and_balanced(kn, amplitud
     assert np.isfinite([beta, friction, normal]).all()
     assert 0.0 <= beta <= 100.0
     assert -1e-12 <= friction <= BASE.mu0 * weight * (1 + 1e-8)  # Coulomb bound of eq. (16), to round-off
-    # momentum balance over a period: <Rn> = (Fn + m g) / n; exact (1e-6) on a periodic orbit, a
-    # 400-period time average (1 %) where the motion has no orbit of up to 8 periods (said in the log)
-    tolerance = 1e-6 if curve.periodic[0] else 1e-2
+    # momentum balance over a period: <Rn> = (Fn + m g) / n; exact (1e-6) on a periodic orbit; a time
+    # average (no orbit of up to 8 periods) runs until it is within BALANCE_TOL (1 %), said in the log
+    tolerance = 1e-6 if curve.periodic[0] else BALANCE_TOL
     assert normal == pytest.approx(weight / params.n, rel=tolerance)
+
+
+def test_a_chaotic_time_average_states_an_uncertainty_that_covers_a_longer_average():
+    # kn 1e9, W 10 nm, Fn 1 N: the foot rattles with no periodic orbit of up to 8 periods
+    params = BASE.with_(kn=1e9)
+    short = steady_state(1e-8, preload=1.0, parameters=params)
+    long = steady_state(1e-8, preload=1.0, parameters=params, march_periods=1600)
+    assert not short.periodic and short.balance_error <= BALANCE_TOL
+    assert 0 < short.friction_uncertainty < 0.5
+    # a standard error must cover a four-times longer average within three of itself (~99.7 %)
+    combined = np.hypot(short.friction_uncertainty, long.friction_uncertainty) * long.friction_mean
+    assert abs(short.friction_mean - long.friction_mean) <= 3 * combined
 
 
 def test_zero_sliding_speed_gives_no_sliding_friction():
     curve = simulate_contact([1e-6, 1e-5], preload=3.0, speed=0.0)
     # Coulomb-Orowan (eqs 14-17): the tangential force builds with kt V (t - t_c); at V = 0 it stays ~0
     assert np.all(np.abs(curve.friction_force) < 1e-3 * BASE.mu0 * 3.0)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("kn,amplitude,preload", [
+    (1e5, 3e-6, 0.1), (1e7, 1e-7, 0.1), (1e7, 1e-6, 3.0), (1e7, 3e-6, 30.0), (1e9, 1e-7, 0.1), (1e7, 1e-6, 30.0),
+])
+def test_matches_the_brute_force_reference_across_stiffness_amplitude_and_preload(kn, amplitude, preload):
+    from modalfe.contact.foot import brute_force_steady_state
+
+    params = BASE.with_(kn=kn)
+    orbit = steady_state(amplitude, preload=preload, speed=0.01, parameters=params)
+    ref = brute_force_steady_state(amplitude, preload=preload, speed=0.01, parameters=params, start="quasi-static",
+                                   max_periods=3000)
+    assert orbit.periodic and ref.converged
+    # the issue's exactness targets (0.2 pp, 0.5 %); both sides agree to ~1e-5 on these cases
+    # (studies/stability.py), so the bounds cannot be met by chance yet leave room for RK23's own error
+    assert orbit.flight_ratio == pytest.approx(ref.flight_ratio, abs=0.2)
+    assert orbit.friction_mean == pytest.approx(ref.friction_mean, rel=5e-3)

@@ -536,7 +536,8 @@ class ContactOrbit:
     contacts_per_period : touchdowns per drive period (0 in permanent contact);
     periodic : True for an exact periodic orbit (shooting) of ``periods`` drive periods (1, or k for a
     subharmonic orbit), False for a time average over ``periods`` periods; residual : scaled shooting
-    residual.
+    residual.  ``balance_error`` states how far a time average is from converged, and
+    ``friction_uncertainty`` the relative standard error of its <Rt> (batch means; 0 on an orbit).
     """
 
     amplitude: float
@@ -552,6 +553,13 @@ class ContactOrbit:
     periods: int
     pieces: tuple[_Piece, ...]
     touchdowns: tuple[float, ...]
+    friction_uncertainty: float = 0.0
+
+    @property
+    def balance_error(self) -> float:
+        """|<Rn> / (load per foot) - 1|: zero on a periodic orbit (momentum balance over a period),
+        and for a time average the size of its unfinished transient, M (v_end - v_start) / (span P)."""
+        return abs(self.normal_mean * self.parameters.n / self.parameters.total_load(self.preload) - 1)
 
     @property
     def friction_force(self) -> float:
@@ -694,6 +702,11 @@ def landed_window(advance: Callable, span: float, periodic: bool) -> tuple[list,
     return [q for q in window if q.t0 < start.t0 + span * (1 - 1e-9)], True
 
 
+BALANCE_TOL = 1e-2  # accepted momentum-balance error of a time average (chaotic motion)
+MAX_AVERAGE_GROWTH = 16  # a time average runs over at most 16 x march_periods periods
+BATCHES = 8  # batch means for the uncertainty of a time average
+
+
 def steady_state(amplitude: float, *, preload: float = FN, speed: float = SPEED,
                  parameters: FootParameters | None = None, max_subharmonic: int = 8,
                  march_periods: int = 400) -> ContactOrbit:
@@ -702,7 +715,8 @@ def steady_state(amplitude: float, *, preload: float = FN, speed: float = SPEED,
     preload : Fn [N]; speed : sliding speed V [m/s]; parameters : FootParameters (defaults: seed 000
     appendix).  When the period-1 orbit is unstable, orbits of period k T (k <= ``max_subharmonic``)
     are sought from the state reached after ``march_periods`` periods; failing that, the result is a
-    time average over ``march_periods`` further periods (``periodic = False``).
+    time average (``periodic = False``) over ``march_periods`` further periods, four times as many
+    while its momentum balance is off by more than BALANCE_TOL (up to MAX_AVERAGE_GROWTH times).
     """
     p = parameters if parameters is not None else FootParameters()
     W = require("amplitude", amplitude, nonnegative=True)
@@ -736,17 +750,48 @@ def steady_state(amplitude: float, *, preload: float = FN, speed: float = SPEED,
             return _advance(dyn, t0, t1, float(x[0]), float(x[1]))[0]
         return _advance(dyn, t0, t1, piece.arc.u0, piece.arc.v0, contact=True)[0]
 
-    pieces, landed = landed_window(advance, (periods or march_periods) * T, bool(periods))
-    span = pieces[-1].t1 - pieces[0].t0
-    touchdowns = {q.arc.t0 for q in pieces if q.contact} if landed else set()
-    flight, int_rn, int_rt = _integrate(dyn, p, V, pieces, touchdowns)
+    window = periods or march_periods
+    while True:
+        with np.errstate(over="ignore", invalid="ignore"):  # the unused sensitivity of a long march
+            pieces, landed = landed_window(advance, window * T, bool(periods))
+        span = pieces[-1].t1 - pieces[0].t0
+        touchdowns = {q.arc.t0 for q in pieces if q.contact} if landed else set()
+        flight, int_rn, int_rt = _integrate(dyn, p, V, pieces, touchdowns)
+        balance = abs(int_rn / span / dyn.P - 1)
+        if periods or balance <= BALANCE_TOL or window >= MAX_AVERAGE_GROWTH * march_periods:
+            break
+        window *= 4
+    uncertainty = 0.0 if periods else _batch_uncertainty(dyn, p, V, pieces, touchdowns)
+    if not periods and max(balance, uncertainty) > BALANCE_TOL:
+        log.warning("time average over %d periods: momentum balance off by %.2g, <Rt> uncertain by %.2g "
+                    "(standard error of %d batch means)", window, balance, uncertainty, BATCHES)
     n_periods = span / T
     return ContactOrbit(
         amplitude=W, preload=Fn, speed=V, parameters=p,
         flight_ratio=100.0 * flight / span, normal_mean=int_rn / span, friction_mean=int_rt / span,
         contacts_per_period=len(touchdowns) / (periods or n_periods), periodic=bool(periods), residual=sol.residual,
         periods=round(n_periods),
-        pieces=tuple(pieces), touchdowns=tuple(sorted(touchdowns)))
+        pieces=tuple(pieces), touchdowns=tuple(sorted(touchdowns)), friction_uncertainty=uncertainty)
+
+
+def _batch_uncertainty(dyn: _Dynamics, p: FootParameters, speed: float, pieces: Sequence[_Piece],
+                       touchdowns: set) -> float:
+    """Relative standard error of a time average of Rt by batch means: the window cut into BATCHES
+    consecutive stretches of pieces, std(means) / sqrt(BATCHES) / mean (Law & Kelton, Simulation
+    Modeling and Analysis, 2000, sec. 9.5.3)."""
+    starts = np.array([q.t0 for q in pieces])
+    bounds = np.searchsorted(starts, np.linspace(starts[0], pieces[-1].t1, BATCHES + 1)[1:-1])
+    means = []
+    for group in np.split(np.arange(len(pieces)), bounds):
+        if len(group) == 0:
+            continue
+        chosen = [pieces[i] for i in group]
+        _, _, int_rt = _integrate(dyn, p, speed, chosen, touchdowns)
+        means.append(int_rt / (chosen[-1].t1 - chosen[0].t0))
+    mean = float(np.mean(means))
+    if len(means) < 2 or mean == 0:
+        return 0.0
+    return float(np.std(means, ddof=1) / math.sqrt(len(means)) / abs(mean))
 
 
 # ----------------------------------------------------------------------------------------------

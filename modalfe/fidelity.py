@@ -5,7 +5,8 @@ Every frequency of a reduced model (``modalfe.beam``, ``modalfe.plate``) carries
 - discretization: Richardson from two mesh levels (element sizes x1 and x1.5), as for the solid;
 - model: distance from the 3-D solid, found by a cheap cross-check, the solid on two coarse levels
   (element sizes x1.5 and x2.25 of the default, thickness layers scaled alike) extrapolated to zero
-  element size; the extrapolation's own uncertainty (the size of its correction) is added.
+  element size at the assumed convergence order; the extrapolation's own uncertainty is added: how far
+  the extrapolated value moves over the orders observed on the seed devices (``OBSERVED_ORDERS``).
 A mode's ``error_estimate`` is the sum of the two, ``model_error`` the second.
 
 ``auto`` tries the reduced model that suits the scene's kind (beam or plate) and answers with it when
@@ -13,8 +14,9 @@ the estimated error of the modes asked about is within ``tol``; otherwise the 3-
 reusing the cross-check's finer coarse level for its own error estimate. ``Modes.fidelity_note`` says
 which fidelity answered and why.
 
-Reduced models solve the whole device; where the scene declares mirror symmetry, the modes
-antisymmetric about those planes are dropped so that every fidelity returns the same family.
+Where the scene declares mirror symmetry the plate model solves the symmetric part, as the solid does;
+the beam model solves the whole beam and the modes antisymmetric about those planes are dropped, so that
+every fidelity returns the same family.
 """
 
 from __future__ import annotations
@@ -33,6 +35,7 @@ from modalfe.results import Modes, select
 from modalfe.solvers import (
     COARSE_FACTOR,
     CONVERGENCE_ORDER,
+    OBSERVED_ORDERS,
     coarser,
     partner,
     refinement_ratio,
@@ -42,7 +45,8 @@ from modalfe.solvers import (
 
 log = logging.getLogger(__name__)
 
-REDUCED = {"beam": ("modalfe.beam", "solve_beam_modes"), "plate": ("modalfe.plate", "solve_plate_modes")}
+# fidelity -> (module, solve function, whether it solves the scene's symmetric part itself)
+REDUCED = {"beam": ("modalfe.beam", "solve_beam_modes", False), "plate": ("modalfe.plate", "solve_plate_modes", True)}
 CHECK_FACTORS = (COARSE_FACTOR, COARSE_FACTOR**2)  # the cross-check's two solid levels
 
 
@@ -66,16 +70,19 @@ def solve_reduced(scene, analysis, fidelity: str, *, size_factor: float = 1.0, s
     if fidelity not in reduced_fidelities(scene):
         raise SceneError(f"fidelity: '{fidelity}' does not apply to a {scene.kind} scene "
                          f"(use {[*reduced_fidelities(scene), 'solid', 'auto']})")
-    module, name = REDUCED[fidelity]
-    solve = getattr(importlib.import_module(module), name)
-    fine = _same_family(solve(scene, _widened(analysis, scene), size_factor=size_factor, solver=solver),
-                        scene, analysis)
+    module, name, symmetric = REDUCED[fidelity]
+    solve_whole = getattr(importlib.import_module(module), name)
+
+    def solve(a, factor):
+        if symmetric:
+            return solve_whole(scene, a, size_factor=factor, solver=solver)
+        return _same_family(solve_whole(scene, _widened(a, scene), size_factor=factor, solver=solver), scene, a)
+
+    fine = solve(analysis, size_factor)
     if not error_estimate:
         return fine
     start = time.perf_counter()
-    coarse_analysis = coarser(analysis)
-    coarse = _same_family(solve(scene, _widened(coarse_analysis, scene), size_factor=size_factor * COARSE_FACTOR,
-                                solver=solver), scene, coarse_analysis)
+    coarse = solve(coarser(analysis), size_factor * COARSE_FACTOR)
     result = fine.with_error_estimates(richardson(fine, coarse, COARSE_FACTOR))
     return replace(result, timings=dict(fine.timings, error_estimate=time.perf_counter() - start))
 
@@ -129,7 +136,6 @@ def with_model_errors(reduced: Modes, solid_1: Modes, solid_2: Modes, scene) -> 
     """``reduced`` with each mode's model error against the solid extrapolated from two coarse levels,
     and its error estimate raised by it (inf where the solid has no partner mode)."""
     ratio = refinement_ratio(solid_1.model.mesh, solid_2.model.mesh, scene)
-    factor = ratio**CONVERGENCE_ORDER - 1
     top = max(m.frequency for m in reduced)
     modes = []
     for mode in reduced:
@@ -141,8 +147,10 @@ def with_model_errors(reduced: Modes, solid_1: Modes, solid_2: Modes, scene) -> 
         if far is None:
             error = math.inf
         else:
-            extrapolated = near.frequency + (near.frequency - far.frequency) / factor
-            uncertainty = abs(near.frequency - extrapolated) / extrapolated
+            step = near.frequency - far.frequency
+            extrapolated = near.frequency + step / (ratio**CONVERGENCE_ORDER - 1)
+            uncertainty = max(abs(step / (ratio**p - 1) - step / (ratio**CONVERGENCE_ORDER - 1))
+                              for p in OBSERVED_ORDERS) / extrapolated
             error = abs(mode.frequency - extrapolated) / extrapolated + uncertainty
         discretization = 0.0 if math.isnan(mode.error_estimate) else mode.error_estimate
         modes.append(replace(mode, model_error=error, error_estimate=discretization + error))

@@ -116,7 +116,10 @@ def probe(model, point: np.ndarray) -> sp.csr_matrix:
 
 def probes(model, points: np.ndarray) -> sp.csr_matrix:
     """(3 n, n_full) matrix, rows component-major (all ux, then uy, then uz), for ``points`` (3, n) [m].
-    A point in the mirrored half of a symmetric model reads its mirror image, that component negated."""
+    A point in the mirrored half of a symmetric model reads its mirror image, that component negated.
+    A beam or plate model (whole device) gives its own ``displacement_probes``."""
+    if hasattr(model, "displacement_probes"):
+        return model.displacement_probes(np.asarray(points, dtype=float).T)
     scene = model.scene
     lo, hi = scene.full_assembly().bounds
     p = np.array(points, dtype=float)

@@ -27,39 +27,13 @@ log = logging.getLogger(__name__)
 _CHUNK = 1500  # elements per batch: bounds the memory of the batched element matrices
 
 
-@dataclass(frozen=True, eq=False)
-class Model:
-    """Assembled matrices of one scene on one mesh (full DOF set, no constraint applied).
-
-    K, M : (n, n) with n = n_u + n_phi; u DOFs first (skfem vector numbering), then phi
-    phi_dofs : skfem scalar DOF index of each phi unknown
-    electrodes : electrode face group -> indices into the phi unknowns
-    clamped : u DOF indices fixed to zero
-    """
-
-    scene: object
-    mesh: object
-    u_basis: object
-    K: sp.csr_matrix
-    M: sp.csr_matrix
-    n_u: int
-    phi_dofs: np.ndarray
-    electrodes: dict[str, np.ndarray]
-    clamped: np.ndarray
-    timings: dict[str, float] = field(default_factory=dict)
-    frame: np.ndarray | None = None
-
-    @property
-    def n_phi(self) -> int:
-        return len(self.phi_dofs)
+class PiezoUnknowns:
+    """Circuit handling shared by the 3-D model and the reduced ones: needs ``scene``, ``K``, ``n_u``,
+    ``n_phi``, ``electrodes`` (face group -> indices into the phi unknowns) and ``clamped``."""
 
     @property
     def ndofs(self) -> int:
         return self.n_u + self.n_phi
-
-    def nodal_displacement(self, x: np.ndarray) -> np.ndarray:
-        """Displacement (3, n_vertices) at the mesh vertices from a full DOF vector."""
-        return np.asarray(x[: self.n_u])[self.u_basis.nodal_dofs]
 
     def constraints(self, circuit: str) -> Constraints:
         """The map from free unknowns to the full DOF vector for a ``short`` or ``open`` circuit.
@@ -92,16 +66,6 @@ class Model:
         T = sp.hstack(cols, format="csr")
         return Constraints(T, scale, tuple(floating))
 
-    def shifted_matrix(self, frequency: float, *, scale: float | None = None) -> sp.csr_matrix:
-        """K - omega^2 M on the short-circuit free unknowns, the potentials scaled by ``scale``
-        (default: ``potential_scale()``; 1.0 leaves them in volts), for conditioning checks."""
-        T = self.constraints("short").T
-        A = T.T @ (self.K - (2 * np.pi * frequency) ** 2 * self.M) @ T
-        n_u_free = self.n_u - len(self.clamped)
-        ratio = (self.potential_scale() if scale is None else scale) / self.potential_scale()
-        rescale = sp.diags(np.r_[np.ones(n_u_free), np.full(A.shape[0] - n_u_free, ratio)])
-        return (rescale @ A @ rescale).tocsr()
-
     def prescribed_potential(self, volts: float) -> np.ndarray:
         """Full DOF vector that is ``volts`` [V] on every driven electrode and zero elsewhere: with the
         short-circuit constraints (driven electrodes eliminated) x = T x_free + x_volts."""
@@ -117,6 +81,47 @@ class Model:
             return 1.0
         d = self.K.diagonal()
         return float(np.sqrt(np.mean(np.abs(d[: self.n_u])) / np.mean(np.abs(d[self.n_u :]))))
+
+
+@dataclass(frozen=True, eq=False)
+class Model(PiezoUnknowns):
+    """Assembled matrices of one scene on one mesh (full DOF set, no constraint applied).
+
+    K, M : (n, n) with n = n_u + n_phi; u DOFs first (skfem vector numbering), then phi
+    phi_dofs : skfem scalar DOF index of each phi unknown
+    electrodes : electrode face group -> indices into the phi unknowns
+    clamped : u DOF indices fixed to zero
+    """
+
+    scene: object
+    mesh: object
+    u_basis: object
+    K: sp.csr_matrix
+    M: sp.csr_matrix
+    n_u: int
+    phi_dofs: np.ndarray
+    electrodes: dict[str, np.ndarray]
+    clamped: np.ndarray
+    timings: dict[str, float] = field(default_factory=dict)
+    frame: np.ndarray | None = None
+
+    @property
+    def n_phi(self) -> int:
+        return len(self.phi_dofs)
+
+    def nodal_displacement(self, x: np.ndarray) -> np.ndarray:
+        """Displacement (3, n_vertices) at the mesh vertices from a full DOF vector."""
+        return np.asarray(x[: self.n_u])[self.u_basis.nodal_dofs]
+
+    def shifted_matrix(self, frequency: float, *, scale: float | None = None) -> sp.csr_matrix:
+        """K - omega^2 M on the short-circuit free unknowns, the potentials scaled by ``scale``
+        (default: ``potential_scale()``; 1.0 leaves them in volts), for conditioning checks."""
+        T = self.constraints("short").T
+        A = T.T @ (self.K - (2 * np.pi * frequency) ** 2 * self.M) @ T
+        n_u_free = self.n_u - len(self.clamped)
+        ratio = (self.potential_scale() if scale is None else scale) / self.potential_scale()
+        rescale = sp.diags(np.r_[np.ones(n_u_free), np.full(A.shape[0] - n_u_free, ratio)])
+        return (rescale @ A @ rescale).tocsr()
 
 
 @dataclass(frozen=True, eq=False)

@@ -29,6 +29,7 @@ COARSE_FACTOR = 1.5  # coarse level of the Richardson estimate: elements 1.5x la
 # studies/convergence.py observes orders 1.5-2.1 on the seed devices' working modes. The estimate
 # assumes order 2, which keeps it at or above the error found by four-level refinement there.
 CONVERGENCE_ORDER = 2.0
+OBSERVED_ORDERS = (1.5, 2.1)  # the range studies/convergence.py observes on the seed devices' working modes
 
 
 FIDELITIES = ("auto", "beam", "plate", "solid")

@@ -5,6 +5,14 @@ The Python API mirrors the CLI: ``load_scene``, ``solve_modes``, ``forced_respon
 assembly, pyvista, matplotlib and dask load inside the functions that need them.
 """
 
+import os
+
+# numpy's OpenBLAS threads spin while they wait; on a small machine shared with MKL PARDISO's threads and other
+# processes, the small dense operations here (the labels' interpolation) then ran up to 100x slower (measured:
+# the Cu-Be plate's report row 6 s with one BLAS thread, 30-40 s with two under load). modalfe's heavy work is
+# sparse (PARDISO has its own threads), so one BLAS thread costs nothing. Takes effect if numpy loads after this.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
 from modalfe.errors import ContactError, MeshError, ModalfeError, SceneError, SolverError
 from modalfe.scene import load_scene
 

@@ -48,9 +48,11 @@ class ReportRow:
 def device_report(scene, *, error_estimate: bool = True, fidelity: str = "auto",
                   tol: float = DEFAULT_TOL) -> list[ReportRow]:
     """Rows for each working mode of ``scene``; solves once per frequency window, and once more in
-    open circuit where the scene has a driven electrode (antiresonance and k_eff), at the fidelity
-    that answered. With ``fidelity="auto"`` the working modes of the window must meet ``tol``."""
+    open circuit where the scene has a driven electrode (antiresonance and k_eff): at the solid when it
+    answered, else from the solid's fa / fr at the cross-check level (``coupling_check_level``). With
+    ``fidelity="auto"`` the working modes of the window must meet ``tol``."""
     from modalfe.coupling import antiresonance, k_eff
+    from modalfe.fidelity import coupling_check_level
     from modalfe.solvers import solve_modes
 
     rows = []
@@ -83,17 +85,23 @@ def device_report(scene, *, error_estimate: bool = True, fidelity: str = "auto",
             targets.append({"name": t.name, "value": t.value, "unit": t.unit, "kind": t.kind,
                             "source": t.source, "deviation": deviation})
         fa = coupling = None
-        if "drive" in scene.electrodes.values():
-            open_modes = solve_modes(scene, near=mode.frequency, count=6, circuit="open", error_estimate=False,
-                                     fidelity=modes.fidelity)
+        notes = device_notes(scene, modes, mode)
+        if "drive" in scene.electrodes.values() and modes.fidelity == "solid":
+            open_modes = solve_modes(scene, near=mode.frequency, count=6, circuit="open", error_estimate=False)
             fa = antiresonance(mode, open_modes).frequency
             coupling = k_eff(mode.frequency, fa)
+        elif "drive" in scene.electrodes.values():
+            fr_solid, fa_solid = coupling_check_level(modes, mode)
+            fa, coupling = mode.frequency * fa_solid / fr_solid, k_eff(fr_solid, fa_solid)
+            notes.append(f"k_eff and fa / fr from the 3-D solid at the cross-check's coarse level "
+                         f"({fr_solid:.0f} / {fa_solid:.0f} Hz): the {modes.fidelity} model's piezo layers misplace "
+                         f"k_eff by 10-15 % on the seed devices")
         rows.append(ReportRow(
             scene=scene.name, mode=mode.label, frequency_hz=mode.frequency, targets=targets,
             error_estimate=None if math.isnan(mode.error_estimate) else mode.error_estimate,
             dofs=modes.dofs, fidelity=modes.fidelity, fidelity_note=modes.fidelity_note, seconds=0.0,
             wavelength_m=None if math.isnan(mode.wavelength) else mode.wavelength,
-            antiresonance_hz=fa, k_eff=coupling, notes=device_notes(scene, modes, mode),
+            antiresonance_hz=fa, k_eff=coupling, notes=notes,
             assumptions=list(scene.assumptions),
         ))
     seconds = time.perf_counter() - start

@@ -46,7 +46,8 @@ class Modes:
 
     circuit : ``short`` or ``open``; fidelity : ``beam``, ``plate`` or ``solid``; dofs : free unknowns
     solved for; timings : seconds per stage (mesh, assembly, factorization, eigensolve, error_estimate,
-    cross_check); fidelity_note : which fidelity answered and why (``auto``)
+    cross_check); fidelity_note : which fidelity answered and why (``auto``); cross_check : the 3-D solid
+    levels (finer coarse level first) that a reduced model's model error was measured against, else empty
     """
 
     modes: tuple[Mode, ...]
@@ -56,6 +57,7 @@ class Modes:
     dofs: int
     timings: dict[str, float] = field(default_factory=dict)
     fidelity_note: str = ""
+    cross_check: tuple[Modes, ...] = ()
 
     def __len__(self) -> int:
         return len(self.modes)

@@ -33,7 +33,7 @@ import itertools
 import logging
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
@@ -311,17 +311,8 @@ class BeamModel(LayeredModel):
     clamped : u DOF indices fixed to zero; reference : beam axis (y_r, z_r) [m]
     """
 
-    scene: object
-    mesh: object
-    basis: object
-    sections: tuple[Section, ...]
-    reference: tuple[float, float]
-    K: sp.csr_matrix
-    M: sp.csr_matrix
-    n_u: int
-    electrodes: dict[str, np.ndarray]
-    clamped: np.ndarray
-    timings: dict[str, float] = field(default_factory=dict)
+    sections: tuple[Section, ...] = ()
+    reference: tuple[float, float] = (0.0, 0.0)
 
     @property
     def element_size(self) -> float:
@@ -435,8 +426,8 @@ def assemble_beam(scene, *, size_factor: float = 1.0) -> BeamModel:
         M = sp.block_diag([M, sp.csr_matrix((n_phi, n_phi))], format="csr")
     clamped = _clamped_dofs(scene, basis, mesh)
     timings = {"mesh": t_mesh, "assembly": time.perf_counter() - t0 - t_mesh}
-    return BeamModel(scene, mesh, basis, sections, reference, K.tocsr(), M.tocsr(), n_u, electrodes, clamped,
-                     timings)
+    return BeamModel(scene, mesh, basis, K.tocsr(), M.tocsr(), n_u, electrodes, clamped, timings,
+                     sections=sections, reference=reference)
 
 
 def _piezo_blocks(scene, sections, reference, basis, n_u):

@@ -31,7 +31,7 @@ from __future__ import annotations
 import itertools
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
@@ -278,16 +278,7 @@ class PlateModel(LayeredModel):
     scalar Q2 DOF of ``basis``), then one potential per electrode; ``element_of_cell`` maps the stack grid.
     """
 
-    scene: object
-    mesh: object
-    basis: object
-    stacks: Stacks
-    K: sp.csr_matrix
-    M: sp.csr_matrix
-    n_u: int
-    electrodes: dict[str, np.ndarray]
-    clamped: np.ndarray
-    timings: dict[str, float] = field(default_factory=dict)
+    stacks: Stacks | None = None
 
     @property
     def element_size(self) -> float:
@@ -431,8 +422,8 @@ def assemble_plate(scene, *, size_factor: float = 1.0) -> PlateModel:
         M = sp.block_diag([M, sp.csr_matrix((n_phi, n_phi))], format="csr")
     clamped = _clamped_dofs(scene, basis, mesh)
     timings = {"mesh": t_mesh, "assembly": time.perf_counter() - t0 - t_mesh}
-    return PlateModel(scene, mesh, basis, stacks, K.tocsr(), M.tocsr(), n_u,
-                      {g: np.array([i]) for g, i in index.items()}, clamped, timings)
+    return PlateModel(scene, mesh, basis, K.tocsr(), M.tocsr(), n_u, {g: np.array([i]) for g, i in index.items()},
+                      clamped, timings, stacks=stacks)
 
 
 def _face_loads(scene):

@@ -7,6 +7,7 @@ with one potential unknown per electrode face group, so every later stage treats
 from __future__ import annotations
 
 import functools
+from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
@@ -16,11 +17,23 @@ from modalfe.model import PiezoUnknowns
 from modalfe.results import Mode, Modes
 
 
+@dataclass(frozen=True, eq=False)
 class LayeredModel(PiezoUnknowns):
-    """Methods of an assembled reduced model with attributes ``scene``, ``K``, ``M`` (full DOF set, u DOFs
-    first then one potential per electrode), ``n_u``, ``electrodes`` (group -> index array into the phi
-    unknowns), ``clamped`` (u DOF indices fixed to zero), and methods ``displacement_probes(points)`` and
-    ``surface_points()``; the circuit handling is the 3-D model's (every potential is an electrode's)."""
+    """An assembled reduced model (full DOF set, no constraint applied): K, M with u DOFs first then one
+    potential per electrode, ``electrodes`` (group -> index array into the phi unknowns), ``clamped`` (u DOF
+    indices fixed to zero), ``basis`` the scalar scikit-fem basis of every field. Subclasses give
+    ``displacement_probes(points)`` and ``surface_points()``; the circuit handling is the 3-D model's (every
+    potential is an electrode's)."""
+
+    scene: object
+    mesh: object
+    basis: object
+    K: sp.csr_matrix
+    M: sp.csr_matrix
+    n_u: int
+    electrodes: dict[str, np.ndarray]
+    clamped: np.ndarray
+    timings: dict[str, float] = field(default_factory=dict)
 
     @property
     def n_phi(self) -> int:

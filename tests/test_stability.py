@@ -83,6 +83,30 @@ def test_forced_response_balances_energy():
     assert np.all(response.dissipated > 0)
 
 
+@settings(max_examples=4, deadline=None)
+@given(length=st.floats(0.015, 0.04), width=st.floats(0.002, 0.006), thickness=st.floats(0.0005, 0.002),
+       zeta=st.floats(0.002, 0.05), detuning=st.floats(0.8, 1.2), poling=st.sampled_from([1, -1]))
+def test_random_piezo_bars_balance_energy_in_forced_response(length, width, thickness, zeta, detuning, poling):
+    from modalfe.forced import Damping, harmonic_response
+
+    scene = scene_from_dict({
+        "name": "random-bar", "kind": "beam",
+        "parts": [{"name": "bar", "material": "PZT-5A", "origin": [0, 0, 0], "size": [length, width, thickness],
+                   "poling": poling}],
+        "faces": {"top": ["bar.zmax"], "bottom": ["bar.zmin"]},
+        "electrodes": {"top": "drive", "bottom": "ground"},
+        "analysis": {"near": 1.0, "count": 4}, "mesh": {"elements_per_wavelength": 3.0},
+    })
+    fr = 1 / (2 * length * np.sqrt(7750.0 * 16.4e-12))  # k31 bar estimate (PZT-5A rho, s11E)
+    modes = solve_modes(scene, near=fr, count=4, error_estimate=False)
+    f = np.array([detuning * fr])
+    response = harmonic_response(scene, modes, f, outputs=[("end", (length, 0.5 * width, thickness))],
+                                 damping=Damping(zeta=zeta), reference_omega=2 * np.pi * fr)
+    # whatever the size, poling and damping: the electrical power in equals the power the damping takes out
+    np.testing.assert_allclose(0.5 * np.real(response.admittance), response.dissipated, rtol=1e-7)
+    assert np.all(response.dissipated > 0)
+
+
 def test_very_coarse_and_very_fine_meshes_are_sound_or_say_why():
     from modalfe.errors import SolverError
 

@@ -7,6 +7,7 @@ import math
 
 import pytest
 
+from modalfe.linalg import available_solvers
 from tests.test_tile_study import load_study
 
 FIDELITY = load_study("benchmark_fidelity")  # first: benchmark_solvers imports it by name
@@ -32,11 +33,8 @@ def test_fidelity_benchmark_quick(tmp_path):
     assert (tmp_path / "benchmark_fidelity.png").stat().st_size > 0
 
 
+@pytest.mark.skipif("pardiso" not in available_solvers(), reason="PARDISO (MKL) not available: nothing to compare")
 def test_solver_benchmark_quick(tmp_path):
-    from modalfe.linalg import available_solvers
-
-    if "pardiso" not in available_solvers():
-        pytest.skip("PARDISO (MKL) not available: nothing to compare")
     result = SOLVERS.main(["--quick", "--out", str(tmp_path)])
     assert len(result.rows) == len(SOLVERS.QUICK_FACTORS)
     for superlu, pardiso in result.rows:

@@ -1,7 +1,7 @@
 """Device builders: keyword-only parametric factories returning a box ``Assembly``.
 
-``BUILDERS`` registers every device by name; ``geometries.occ`` turns an assembly into a gmsh
-OCC model with physical groups named by part and by face role.
+``BUILDERS`` registers every device by name; ``geometries.gmsh_model`` turns an assembly into a
+gmsh model (structured grid or OCC parts) with physical groups named by part and by face role.
 """
 
 from geometries.boxes import boxes

@@ -34,7 +34,7 @@ def _report(args) -> int:
     from modalfe.report import format_rows, run_report
 
     rows = run_report(args.scene, progress=not args.json, error_estimate=not args.no_error_estimate,
-                      overrides=parse_overrides(args.set), fidelity=args.fidelity, tol=args.tol)
+                      overrides=parse_overrides(args.set), fidelity=args.fidelity, tol=args.tol, jobs=args.jobs)
     if args.json:
         print(json.dumps([r.to_json() for r in rows], indent=2))
     else:
@@ -71,6 +71,17 @@ def _modes(args) -> int:
     return 0
 
 
+def _positive_int(text: str) -> int:
+    """argparse type: an integer >= 1."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a positive integer, got '{text}'") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be a positive integer, got {value}")
+    return value
+
+
 def _fidelity_options(p: argparse.ArgumentParser) -> None:
     from modalfe.solvers import DEFAULT_TOL, FIDELITIES
 
@@ -91,6 +102,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help="machine-readable rows")
     p.add_argument("--no-error-estimate", action="store_true",
                    help="skip the coarse-mesh solve (solid and reduced fidelities; auto always estimates)")
+    p.add_argument("--jobs", type=_positive_int,
+                   help="devices solved at once, one process each (default: one per core)")
     _fidelity_options(p)
     p.set_defaults(func=_report)
 

@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import functools
 import math
+import multiprocessing
+import os
 import time
 from dataclasses import asdict, dataclass, field
 
@@ -144,26 +147,72 @@ def kirchhoff_frequency(C, rho: float, thickness: float, wavelength: float) -> f
 
 
 def run_report(names: list[str] | None = None, *, progress: bool = True, error_estimate: bool = True,
-               overrides: dict | None = None, fidelity: str = "auto", tol: float = DEFAULT_TOL) -> list[ReportRow]:
-    """Report rows for the named built-in scenes (all of them by default), each at ``fidelity``."""
+               overrides: dict | None = None, fidelity: str = "auto", tol: float = DEFAULT_TOL,
+               jobs: int | None = None) -> list[ReportRow]:
+    """Report rows for the named built-in scenes (all of them by default), each at ``fidelity``;
+    the devices are solved ``jobs`` at a time in separate processes (default: one per core)."""
     from modalfe.scene import load_scene
     from modalfe.scenes import BUILTIN
 
+    if jobs is not None and not (isinstance(jobs, int) and jobs >= 1):
+        raise ValueError(f"jobs: must be a positive integer, got {jobs!r}")
     names = names or list(BUILTIN)
-    rows = []
-    iterator = names
+    for name in names:
+        load_scene(name, **(overrides or {}))  # a bad name or override fails here, before any solve
+    jobs = min(jobs or os.cpu_count() or 1, len(names))
+    task = functools.partial(device_rows, overrides=overrides or {}, error_estimate=error_estimate,
+                             fidelity=fidelity, tol=tol)
+    bar = None
     if progress:
         from tqdm import tqdm
 
-        iterator = tqdm(names, desc="modalfe report", unit="device", leave=False)
-    for name in iterator:
-        scene = load_scene(name, **(overrides or {}))
-        try:
-            rows.extend(device_report(scene, error_estimate=error_estimate, fidelity=fidelity, tol=tol))
-        except SolverError as exc:
-            rows.append(ReportRow(scene=name, mode="FAILED", frequency_hz=float("nan"), targets=[],
-                                  error_estimate=None, dofs=0, fidelity="solid", seconds=0.0, notes=[str(exc)]))
-    return rows
+        bar = tqdm(total=len(names), desc="modalfe report", unit="device", leave=False)
+    if jobs == 1:
+        results = {}
+        for name in names:
+            results[name] = task(name)
+            if bar is not None:
+                bar.update()
+    else:
+        results = _in_processes(task, names, jobs, bar)
+    if bar is not None:
+        bar.close()
+    return [row for name in names for row in results[name]]
+
+
+def _in_processes(task, names: list[str], jobs: int, bar) -> dict[str, list[ReportRow]]:
+    """``task`` of every name in ``jobs`` fresh processes, each with one MKL thread (two
+    multithreaded PARDISO solves on two cores wait on each other)."""
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
+    saved = os.environ.get("MKL_NUM_THREADS")
+    os.environ["MKL_NUM_THREADS"] = "1"  # inherited by the workers, read when they load MKL
+    try:
+        with ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context("spawn")) as pool:
+            futures = {pool.submit(task, name): name for name in names}
+            results = {}
+            for future in as_completed(futures):
+                results[futures[future]] = future.result()
+                if bar is not None:
+                    bar.update()
+    finally:
+        if saved is None:
+            os.environ.pop("MKL_NUM_THREADS")
+        else:
+            os.environ["MKL_NUM_THREADS"] = saved
+    return results
+
+
+def device_rows(name: str, *, overrides: dict, error_estimate: bool, fidelity: str, tol: float) -> list[ReportRow]:
+    """The report rows of one built-in scene; a solver failure becomes one FAILED row."""
+    from modalfe.scene import load_scene
+
+    scene = load_scene(name, **overrides)
+    try:
+        return device_report(scene, error_estimate=error_estimate, fidelity=fidelity, tol=tol)
+    except SolverError as exc:
+        return [ReportRow(scene=name, mode="FAILED", frequency_hz=float("nan"), targets=[],
+                          error_estimate=None, dofs=0, fidelity="solid", seconds=0.0, notes=[str(exc)])]
 
 
 def format_rows(rows: list[ReportRow]) -> str:

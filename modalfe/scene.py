@@ -62,7 +62,8 @@ class Drive:
 
 @dataclass(frozen=True)
 class MeshSettings:
-    """Element size from elements per wavelength at ``max_frequency`` [Hz]; ``element`` hex or tet."""
+    """Element size from elements per wavelength at ``max_frequency`` [Hz]; ``element`` hex or tet;
+    ``clamp_grading`` geometric element layers toward faces clamped in x, y and z (hex only, 0: none)."""
 
     elements_per_wavelength: float = 6.0
     max_frequency: float = 0.0
@@ -71,6 +72,7 @@ class MeshSettings:
     min_size: float = 0.0
     max_size: float = math.inf
     min_layers: int = 3
+    clamp_grading: int = 0
 
 
 @dataclass(frozen=True)
@@ -241,6 +243,8 @@ class Scene:
             raise SceneError(f"mesh.order: must be 1 or 2, got {m.order}")
         if not m.elements_per_wavelength > 0:
             raise SceneError(f"mesh.elements_per_wavelength: must be positive, got {m.elements_per_wavelength}")
+        if isinstance(m.clamp_grading, bool) or not (isinstance(m.clamp_grading, int) and 0 <= m.clamp_grading <= 12):
+            raise SceneError(f"mesh.clamp_grading: must be an integer from 0 to 12, got {m.clamp_grading!r}")
 
     @property
     def max_frequency(self) -> float:

@@ -90,7 +90,7 @@ def solve_modes(
         return fine
     start = time.perf_counter()
     coarse = solve_level(scene, coarser(a), size_factor=size_factor * COARSE_FACTOR, solver=solver, frame=frame,
-                    min_layers=max(1, round(scene.mesh.min_layers / COARSE_FACTOR)))
+                         min_layers=max(1, round(scene.mesh.min_layers / COARSE_FACTOR)))
     ratio = refinement_ratio(fine.model.mesh, coarse.model.mesh, scene)
     result = fine.with_error_estimates(richardson(fine, coarse, ratio))
     return replace(result, timings=dict(fine.timings, error_estimate=time.perf_counter() - start))
@@ -163,7 +163,9 @@ def assembled_model(scene, *, size_factor: float = 1.0, frame=None, min_layers: 
     t0 = time.perf_counter()
     sizes = {k: v * size_factor for k, v in element_sizes(scene).items()}
     layers = scene.mesh.min_layers if min_layers is None else min_layers
-    dm = build_mesh(scene.assembly(), size=sizes, element=scene.mesh.element, min_layers=layers)
+    fully_clamped = tuple(sorted(g for g, components in scene.clamps.items() if set(components) == set("xyz")))
+    dm = build_mesh(scene.assembly(), size=sizes, element=scene.mesh.element, min_layers=layers,
+                    graded_faces=fully_clamped, grading_layers=scene.mesh.clamp_grading)
     t_mesh = (time.perf_counter() - t0) if dm.seconds else 0.0
     key = repr((dm.key, scene.params, scene.materials, scene.springs, scene.masses, scene.electrodes,
                 scene.clamps, scene.mesh.order, None if frame is None else np.asarray(frame).tobytes()))

@@ -64,3 +64,11 @@ def test_import_is_light_and_the_api_mirrors_the_cli():
             "'simulate_contact', 'simulate_finger', 'sweep'))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "[]"
+
+
+def test_report_jobs_must_be_a_positive_integer(capsys):
+    for bad in ("0", "two"):
+        with pytest.raises(SystemExit) as info:
+            main(["report", "--jobs", bad])
+        assert info.value.code == 2
+        assert "--jobs" in capsys.readouterr().err

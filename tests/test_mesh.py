@@ -115,3 +115,31 @@ def test_a_gmsh_failure_is_a_one_line_mesh_error(monkeypatch):
         build_mesh(BUILDERS["ciliary_beam"](), size=4e-3, use_cache=False)
     assert "gmsh failed" in str(info.value) and "\n" not in str(info.value)
     assert not gmsh.isInitialized()  # gmsh is finalized even when it fails
+
+
+def test_clamp_grading_adds_geometric_layers_toward_the_clamp():
+    assembly = BUILDERS["ciliary_beam"]()
+    plain = build_mesh(assembly, size=4e-3, use_cache=False)
+    graded = build_mesh(assembly, size=4e-3, graded_faces=("clamp",), grading_layers=4, use_cache=False)
+    x_plain, x_graded = (np.unique(np.round(dm.mesh.p[0], 12)) for dm in (plain, graded))
+    # grid planes at h r^k from the clamp face x = 0 (h = 4 mm, r = 0.4, k = 1..4): 0.10, 0.26, 0.64, 1.6 mm
+    np.testing.assert_allclose(x_graded[1:5], 4e-3 * 0.4 ** np.arange(4, 0, -1), rtol=1e-9)
+    assert len(x_graded) == len(x_plain) + 4  # the rest of [0, 63 mm] still needs 16 elements of <= 4 mm
+    assert np.diff(x_graded).max() <= 4e-3 + 1e-12
+    # y and z are untouched: the clamped face's normal is x
+    for k in (1, 2):
+        np.testing.assert_array_equal(np.unique(np.round(graded.mesh.p[k], 12)),
+                                      np.unique(np.round(plain.mesh.p[k], 12)))
+    assert graded.key != plain.key  # the cache tells the two meshes apart
+
+
+def test_clamp_grading_needs_a_known_face_group_and_a_small_integer():
+    from modalfe.errors import SceneError
+
+    with pytest.raises(MeshError) as info:
+        build_mesh(BUILDERS["ciliary_beam"](), size=4e-3, graded_faces=("root",), grading_layers=4, use_cache=False)
+    assert "graded_faces" in str(info.value) and "root" in str(info.value)
+    for bad in (-1, 2.5, True, 13):
+        with pytest.raises(SceneError) as info:
+            load_scene("ciliary_beam", **{"mesh.clamp_grading": bad})
+        assert "mesh.clamp_grading" in str(info.value)

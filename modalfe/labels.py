@@ -139,16 +139,15 @@ def beam_label(points: np.ndarray, u: np.ndarray, stations: int = 60) -> str:
     which = np.clip(np.digitize(x, edges) - 1, 0, stations - 1)
     yc, zc = points[1].mean(), points[2].mean()
     radius = np.sqrt(((points[1] - yc) ** 2 + (points[2] - zc) ** 2).mean())
-    curves = {name: np.zeros(stations) for name in ("axial", "bending-y", "bending-z", "torsion")}
-    for s in range(stations):
-        sel = which == s
-        if not np.any(sel):
-            continue
-        dy, dz = points[1, sel] - yc, points[2, sel] - zc
-        curves["axial"][s] = u[0, sel].mean()
-        curves["bending-y"][s] = u[1, sel].mean()
-        curves["bending-z"][s] = u[2, sel].mean()
-        curves["torsion"][s] = (dy * u[2, sel] - dz * u[1, sel]).mean() / radius
+    count = np.bincount(which, minlength=stations)
+    filled = np.maximum(count, 1)  # an empty station keeps 0
+
+    def station_mean(values: np.ndarray) -> np.ndarray:
+        return np.bincount(which, weights=values, minlength=stations) / filled
+
+    dy, dz = points[1] - yc, points[2] - zc
+    curves = {"axial": station_mean(u[0]), "bending-y": station_mean(u[1]), "bending-z": station_mean(u[2]),
+              "torsion": station_mean(dy * u[2] - dz * u[1]) / radius}
     kind = max(curves, key=lambda k: np.sum(curves[k] ** 2))
     curve = curves[kind]
     order = len(_sign_changes(curve, _SMALL * np.abs(curve).max())) + 1

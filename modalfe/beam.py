@@ -30,7 +30,6 @@ via ``modalfe.analytic.piezo_compliance_form``). One potential unknown per elect
 from __future__ import annotations
 
 import itertools
-import logging
 import math
 import time
 from dataclasses import dataclass
@@ -39,10 +38,16 @@ import numpy as np
 import scipy.sparse as sp
 
 from modalfe.errors import SceneError
-from modalfe.reduced import LayeredModel, capacitance_matrix, electrode_layers, solve_layered, thin_layer_constants
+from modalfe.reduced import (
+    LayeredModel,
+    capacitance_matrix,
+    electrode_layers,
+    element_size,
+    flexural_wavenumber,
+    solve_layered,
+    thin_layer_constants,
+)
 from modalfe.results import Modes
-
-log = logging.getLogger(__name__)
 
 SLENDERNESS = 5.0  # length / largest section size below which a 1-D model is refused
 SURFACE_SAMPLES = 241  # x-samples of each surface line for labels (60 label stations, 4 samples each)
@@ -76,27 +81,21 @@ class Layer:
 class Section:
     """Properties of one segment x0..x1 [m].
 
-    EA [N]; y_n, z_n : modulus-weighted centroid (neutral axis) [m]; EI_y = int E (z - z_n)^2 dA (bending
-    in the xz plane, deflection w), EI_z = int E (y - y_n)^2 dA, EI_yz product [N m^2]; GJ [N m^2];
-    kGA_z, kGA_y : shear stiffness in the xz and xy planes [N]; rhoA [kg/m]; stiffness (6, 6) on q'
-    (axial-bending-torsion, about the reference axis), shear (2, 2) = diag(kGA_z, kGA_y), mass (6, 6) on q.
+    EI_y = int E (z - z_n)^2 dA (bending in the xz plane, deflection w), EI_z = int E (y - y_n)^2 dA [N m^2]
+    about the modulus-weighted centroid (y_n, z_n); GJ [N m^2]; kGA_z, kGA_y : shear stiffness in the xz and
+    xy planes [N]; stiffness (6, 6) on q' (axial-bending-torsion, about the reference axis; EA = stiffness[0, 0]
+    [N]), mass (6, 6) on q (rhoA = mass[0, 0] [kg/m]).
     """
 
     x0: float
     x1: float
     layers: tuple[Layer, ...]
-    EA: float
-    y_n: float
-    z_n: float
     EI_y: float
     EI_z: float
-    EI_yz: float
     GJ: float
     kGA_z: float
     kGA_y: float
-    rhoA: float
     stiffness: np.ndarray
-    shear: np.ndarray
     mass: np.ndarray
 
     @property
@@ -177,15 +176,13 @@ def section_properties(x0: float, x1: float, layers: tuple[Layer, ...], yr: floa
     about_n = [_moments(la, y_n, z_n) for la in layers]
     EI_y = sum(la.E * m[4] for la, m in zip(layers, about_n))
     EI_z = sum(la.E * m[3] for la, m in zip(layers, about_n))
-    EI_yz = sum(la.E * m[5] for la, m in zip(layers, about_n))
     nu = sum(la.E * la.area * la.nu for la in layers) / EA
     kappa = cowper_shear_coefficient_rectangle(nu)
     kGA_z = kappa * sum(la.G_xz * la.area for la in layers)
     kGA_y = kappa * sum(la.G_xy * la.area for la in layers)
     GJ = _torsion_stiffness(layers)
     stiffness[3, 3] += GJ
-    return Section(x0, x1, layers, EA, y_n, z_n, EI_y, EI_z, EI_yz, GJ, kGA_z, kGA_y, float(mass[0, 0]),
-                   stiffness, np.diag([kGA_z, kGA_y]), mass)
+    return Section(x0, x1, layers, EI_y, EI_z, GJ, kGA_z, kGA_y, stiffness, mass)
 
 
 def _torsion_stiffness(layers: tuple[Layer, ...]) -> float:
@@ -292,12 +289,11 @@ def bending_wavenumber(section: Section, frequency: float) -> float:
     axial and torsion waves. Bending: EI kGA k^4 - w^2 (rhoA EI + rhoI kGA) k^2 + rhoA w^2 (rhoI w^2 - kGA) = 0
     (from the Timoshenko equations, Han, Benaroya & Wei, J. Sound Vib. 225 (1999) 935-988)."""
     w2 = (2 * np.pi * frequency) ** 2
-    rhoA = section.rhoA
-    ks = [math.sqrt(w2 * rhoA / section.EA), math.sqrt(w2 * section.mass[3, 3] / section.GJ)]
+    rhoA, EA = float(section.mass[0, 0]), float(section.stiffness[0, 0])
+    ks = [math.sqrt(w2 * rhoA / EA), math.sqrt(w2 * section.mass[3, 3] / section.GJ)]
     for EI, kGA, rhoI in ((section.EI_y, section.kGA_z, section.mass[4, 4]),
                           (section.EI_z, section.kGA_y, section.mass[5, 5])):
-        a, b, c = EI * kGA, w2 * (rhoA * EI + rhoI * kGA), rhoA * w2 * (rhoI * w2 - kGA)
-        ks.append(math.sqrt((b + math.sqrt(b * b - 4 * a * c)) / (2 * a)))
+        ks.append(flexural_wavenumber(w2, EI, kGA, rhoA, rhoI))
     return max(ks)
 
 
@@ -313,11 +309,6 @@ class BeamModel(LayeredModel):
 
     sections: tuple[Section, ...] = ()
     reference: tuple[float, float] = (0.0, 0.0)
-
-    @property
-    def element_size(self) -> float:
-        """Mean element length [m] (for refinement ratios)."""
-        return float(np.ptp(self.mesh.p[0]) / self.mesh.t.shape[1])
 
     def displacement_probes(self, points: np.ndarray) -> sp.csr_matrix:
         """(3 n, ndofs) matrix giving (ux, uy, uz) [m] at ``points`` (n, 3) [m] from a full DOF vector,
@@ -346,23 +337,16 @@ class BeamModel(LayeredModel):
         return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
                              shape=(3 * n, self.ndofs))
 
-    def surface_points(self, samples: int = SURFACE_SAMPLES) -> np.ndarray:
+    def surface_points(self) -> np.ndarray:
         """(m, 3) points [m] on four lines along the surface: top and bottom (at each section's mid-width)
-        and the two sides (at mid-height), ``samples`` along x each."""
-        xs = np.linspace(self.mesh.p[0].min(), self.mesh.p[0].max(), samples)
+        and the two sides (at mid-height), ``SURFACE_SAMPLES`` along x each."""
+        xs = np.linspace(self.mesh.p[0].min(), self.mesh.p[0].max(), SURFACE_SAMPLES)
         ends = np.array([s.x1 for s in self.sections])
         which = np.minimum(np.searchsorted(ends, xs), len(self.sections) - 1)
         b = np.array([self.sections[i].bounds for i in which])  # y0, y1, z0, z1
         yc, zc = 0.5 * (b[:, 0] + b[:, 1]), 0.5 * (b[:, 2] + b[:, 3])
         lines = [(yc, b[:, 3]), (yc, b[:, 2]), (b[:, 0], zc), (b[:, 1], zc)]
         return np.vstack([np.column_stack([xs, y, z]) for y, z in lines])
-
-
-def element_size(sections: tuple[Section, ...], scene, size_factor: float = 1.0) -> float:
-    """Element length [m]: the shortest wavelength at ``scene.max_frequency`` over the sections, divided
-    by ``scene.mesh.elements_per_wavelength``, times ``size_factor``, at most ``scene.mesh.max_size``."""
-    k = max(bending_wavenumber(s, scene.max_frequency) for s in sections)
-    return min(2 * np.pi / k / scene.mesh.elements_per_wavelength, scene.mesh.max_size) * size_factor
 
 
 def beam_mesh(sections: tuple[Section, ...], size: float):
@@ -384,7 +368,7 @@ def assemble_beam(scene, *, size_factor: float = 1.0) -> BeamModel:
 
     t0 = time.perf_counter()
     sections, reference = beam_sections(scene)
-    mesh, owner = beam_mesh(sections, element_size(sections, scene, size_factor))
+    mesh, owner = beam_mesh(sections, element_size(sections, scene, bending_wavenumber, size_factor))
     t_mesh = time.perf_counter() - t0
     element = ElementLineP2()
     basis = Basis(mesh, element, intorder=4)
@@ -415,7 +399,7 @@ def assemble_beam(scene, *, size_factor: float = 1.0) -> BeamModel:
         reduced = Basis(mesh, element, intorder=2, elements=elements)  # 2-point Gauss: shear only
         S_dd, S_mm = dd.assemble(full), mass.assemble(full)
         R_dd, R_d0, R_mm = dd.assemble(reduced), d0.assemble(reduced), mass.assemble(reduced)
-        D = s.shear
+        D = np.diag([s.kGA_z, s.kGA_y])
         K = K + sp.kron(S_dd, s.stiffness) + sp.kron(R_dd, Q1.T @ D @ Q1) + sp.kron(R_d0, Q1.T @ D @ Q0) \
             + sp.kron(R_d0.T, Q0.T @ D @ Q1) + sp.kron(R_mm, Q0.T @ D @ Q0)
         M = M + sp.kron(S_mm, s.mass)

@@ -24,6 +24,7 @@ if TYPE_CHECKING:
 # ---------------------------------------------------------------------------------------------
 # seed 003 numbers, each with its place in the paper
 
+BRASS_NU = 0.34  # Poisson ratio of brass-seed003 (modalfe.materials: ASM Handbook vol. 2), kept in the E trend
 SEED_VOLTS = 100.0  # V peak, sec. 4.1 and sec. 5
 SEED_ZETA = 0.025  # sec. 4.1
 SEED_F6 = 24221.0  # Hz, sec. 4.2: 6th-order natural frequency (Euler-Bernoulli theory)
@@ -127,10 +128,11 @@ def amplitude_peaks(x: np.ndarray, amplitude: np.ndarray, *, relative: float = 0
 
 
 def line_response(modes: Modes, frequency: float, *, volts: float = SEED_VOLTS, zeta: float = SEED_ZETA,
-                  samples: int = 401) -> LineResponse:
+                  samples: int = 401, static: np.ndarray | None = None) -> LineResponse:
     """Normal displacement along the top centre line driven by ``volts`` [V] at ``frequency`` [Hz], by
     modal superposition of every mode in ``modes`` plus the static residual (seed 003 eq. (21), with the
-    bimorph's distributed moment in place of the seed's point force at x0)."""
+    bimorph's distributed moment in place of the seed's point force at x0). ``static``: the static
+    response to ``volts`` from ``static_drive`` (computed here when None)."""
     from modalfe.forced import probes
     from modalfe.superposition import modal_receptance, voltage_load
 
@@ -138,19 +140,28 @@ def line_response(modes: Modes, frequency: float, *, volts: float = SEED_VOLTS, 
     length = float(model.scene.full_assembly().bounds[1][0])
     points = line_points(length, samples)
     P = probes(model, points)[2 * samples:]
-    w = modal_receptance(modes, voltage_load(model, volts), P, [frequency], zeta)[0]
+    w = modal_receptance(modes, voltage_load(model, volts), P, [frequency], zeta, static=static)[0]
     return LineResponse(float(frequency), points[0], w, volts, zeta)
 
 
 def frequency_response(modes: Modes, frequency, x: float, *, volts: float = SEED_VOLTS,
-                       zeta: float = SEED_ZETA) -> np.ndarray:
+                       zeta: float = SEED_ZETA, static: np.ndarray | None = None) -> np.ndarray:
     """Complex normal displacement [m] at ``x`` [m] on the top centre line for each drive frequency [Hz]
-    (seed 003 eq. (22), Fig. 8), by modal superposition with the static residual."""
+    (seed 003 eq. (22), Fig. 8), by modal superposition with the static residual (``static`` as in
+    ``line_response``)."""
     from modalfe.forced import probes
     from modalfe.superposition import modal_receptance, voltage_load
 
     P = probes(modes.model, np.array([[x], [_TOP_Y], [_TOP_Z]]))[2:]
-    return modal_receptance(modes, voltage_load(modes.model, volts), P, frequency, zeta)[:, 0]
+    return modal_receptance(modes, voltage_load(modes.model, volts), P, frequency, zeta, static=static)[:, 0]
+
+
+def static_drive(modes: Modes, volts: float = SEED_VOLTS) -> np.ndarray:
+    """Full DOF static response K_c^-1 f to ``volts`` [V] on ``modes.model``: pass it as ``static`` to
+    ``line_response`` and ``frequency_response`` at the same ``volts`` to factorize K_c once."""
+    from modalfe.superposition import static_response, voltage_load
+
+    return static_response(modes.model, voltage_load(modes.model, volts))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -194,7 +205,7 @@ def variant_scene(parameter: str, value: float, *, coarse: bool = False, setting
         settings["sheet_thickness"] = value
     elif parameter == "beam_modulus":
         brass = material("brass-seed003")
-        settings.update({"beam_material": "beam", "materials.beam.E": value, "materials.beam.nu": 0.34,
+        settings.update({"beam_material": "beam", "materials.beam.E": value, "materials.beam.nu": BRASS_NU,
                          "materials.beam.rho": brass.rho,
                          "materials.beam.source": f"{brass.source}; E set to {value:g} Pa for the trend"})
     elif parameter == "e31":
@@ -224,17 +235,47 @@ class TrendPoint:
     amplitude: float
 
 
+def changes_scene(parameter: str, value: float, settings: dict | None = None) -> bool:
+    """False when ``variant_scene(parameter, value, settings=settings)`` is the study scene with
+    ``settings`` itself: ``volts`` and ``zeta`` (no scene), or the study scene's own sheet thickness
+    (the ``ciliary_beam`` geometry's default), beam modulus (``brass-seed003``: the same elastic
+    constants and density) or e31 = e32 (``SEED_PIEZO``'s) with ``settings`` not replacing that part."""
+    from geometries import BUILDERS
+    from modalfe.materials import isotropic, material
+
+    settings = settings or {}
+    if parameter in ("volts", "zeta"):
+        return False
+    if parameter == "sheet_thickness":
+        import inspect
+
+        default = inspect.signature(BUILDERS["ciliary_beam"]).parameters["sheet_thickness"].default
+        return value != settings.get("sheet_thickness", default)
+    if parameter == "beam_modulus":
+        brass = material("brass-seed003")
+        same = np.array_equal(isotropic("beam", E=value, nu=BRASS_NU, rho=brass.rho, source="").C, brass.C)
+        return not (same and settings.get("beam_material", "brass-seed003") == "brass-seed003")
+    if parameter == "e31":
+        e = np.asarray(material(SEED_PIEZO).e)
+        return not (value == e[2, 0] == e[2, 1] and settings.get("sheet_material", SEED_PIEZO) == SEED_PIEZO)
+    raise SceneError(f"parameter: must be one of {sorted(SEED_TRENDS)}, got '{parameter}'")
+
+
 def trend(parameter: str, values=None, *, coarse: bool = False, fidelity: str = "beam",
-          settings: dict | None = None) -> list[TrendPoint]:
+          settings: dict | None = None, base: Modes | None = None) -> list[TrendPoint]:
     """Mode-6 amplitude at resonance for each value of a seed 003 trend parameter (Figs. 7, 9), at
-    ``fidelity`` (``beam`` or ``solid``) with the scene ``settings`` of ``variant_scene``."""
+    ``fidelity`` (``beam`` or ``solid``) with the scene ``settings`` of ``variant_scene``.
+
+    ``base``: the modes of ``study_scene(coarse=coarse, **settings)`` at ``fidelity`` if already solved;
+    every value that does not change the scene (``changes_scene``) uses them instead of a new solve
+    (without ``base`` such values share one solve)."""
     if parameter not in SEED_TRENDS:
         raise SceneError(f"parameter: must be one of {sorted(SEED_TRENDS)}, got '{parameter}'")
     values = SEED_TRENDS[parameter][0] if values is None else values
-    shared = None  # volts and zeta change no scene: one solve serves every value
+    shared = base  # the study scene's modes serve every value that changes no scene
     out = []
     for v in values:
-        if parameter in ("volts", "zeta"):
+        if not changes_scene(parameter, v, settings):
             shared = shared or solve(variant_scene(parameter, v, coarse=coarse, settings=settings), fidelity=fidelity)
             modes = shared
         else:

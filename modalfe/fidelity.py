@@ -36,6 +36,7 @@ from modalfe.solvers import (
     COARSE_FACTOR,
     CONVERGENCE_ORDER,
     OBSERVED_ORDERS,
+    coarse_level,
     coarser,
     partner,
     refinement_ratio,
@@ -97,7 +98,7 @@ def solve_auto(scene, analysis, *, tol: float, check=None, size_factor: float = 
             a = analysis
             for factor in CHECK_FACTORS:
                 a = coarser(a)
-                levels.append(solve_level(scene, a, solver=solver, **check_level(scene, factor, size_factor)))
+                levels.append(solve_level(scene, a, solver=solver, **coarse_level(scene, factor, size_factor)))
         return levels
 
     for fidelity in reduced_fidelities(scene):
@@ -128,11 +129,6 @@ def solve_auto(scene, analysis, *, tol: float, check=None, size_factor: float = 
     if worst > tol:
         note += f"; its {why} exceeds tol {tol:.2%}: refine (--set mesh.elements_per_wavelength=...)"
     return replace(solid, fidelity_note=note)
-
-
-def check_level(scene, factor: float, size_factor: float = 1.0) -> dict:
-    """Mesh of a cross-check level: elements ``factor`` times the default, thickness layers scaled alike."""
-    return {"size_factor": size_factor * factor, "min_layers": max(1, round(scene.mesh.min_layers / factor))}
 
 
 def with_model_errors(reduced: Modes, solid_1: Modes, solid_2: Modes, scene) -> Modes:
@@ -227,5 +223,5 @@ def coupling_check_level(modes: Modes, mode, *, size_factor: float = 1.0, solver
         raise SolverError(f"no 3-D partner of {mode.label} at {mode.frequency:.6g} Hz in the cross-check")
     scene = modes.model.scene
     open_ = solve_level(scene, Analysis(near=short.frequency, count=6, circuit="open"), solver=solver,
-                        **check_level(scene, CHECK_FACTORS[0], size_factor))
+                        **coarse_level(scene, CHECK_FACTORS[0], size_factor))
     return short.frequency, select(open_, short.label, short.frequency).frequency

@@ -37,7 +37,15 @@ import numpy as np
 import scipy.sparse as sp
 
 from modalfe.errors import SceneError
-from modalfe.reduced import LayeredModel, capacitance_matrix, electrode_layers, solve_layered, thin_layer_constants
+from modalfe.reduced import (
+    LayeredModel,
+    capacitance_matrix,
+    electrode_layers,
+    element_size,
+    flexural_wavenumber,
+    solve_layered,
+    thin_layer_constants,
+)
 from modalfe.results import Modes
 
 SLENDERNESS = 5.0  # smaller in-plane side / mean section thickness below which a plate model is refused
@@ -265,8 +273,7 @@ def bending_wavenumber(section: Section, frequency: float) -> float:
         I1, I2 = section.mass[k, 3 + k], section.mass[3 + k, 3 + k]
         I2_n = I2 - I1 * I1 / I0
         As = section.stiffness[6 + k, 6 + k]
-        a, b, c = D_n * As, w2 * (I0 * D_n + I2_n * As), I0 * w2 * (I2_n * w2 - As)
-        ks += [math.sqrt((b + math.sqrt(b * b - 4 * a * c)) / (2 * a)), math.sqrt(w2 * I0 / A)]
+        ks += [flexural_wavenumber(w2, D_n, As, I0, I2_n), math.sqrt(w2 * I0 / A)]
     return max(ks)
 
 
@@ -275,15 +282,10 @@ class PlateModel(LayeredModel):
     """Assembled plate (full DOF set, no constraint applied), with the 3-D model's interface.
 
     K, M : (n, n), n = n_u + n_phi; u DOFs node-major (5 i + component, order u, v, w, beta_x, beta_y; i the
-    scalar Q2 DOF of ``basis``), then one potential per electrode; ``element_of_cell`` maps the stack grid.
+    scalar Q2 DOF of ``basis``), then one potential per electrode; ``stacks`` the cell grid and sections.
     """
 
     stacks: Stacks | None = None
-
-    @property
-    def element_size(self) -> float:
-        """Mean element side [m] (for refinement ratios)."""
-        return float(np.sqrt(np.ptp(self.mesh.p[0]) * np.ptp(self.mesh.p[1]) / self.mesh.t.shape[1]))
 
     def displacement_probes(self, points: np.ndarray) -> sp.csr_matrix:
         """(3 n, ndofs) matrix giving (ux, uy, uz) [m] at ``points`` (n, 3) [m] from a full DOF vector, rows
@@ -334,13 +336,6 @@ class PlateModel(LayeredModel):
         return np.vstack([np.column_stack([x, y, np.full(x.size, z)]) for z in (widest.hi[2], widest.lo[2])])
 
 
-def element_size(stacks: Stacks, scene, size_factor: float = 1.0) -> float:
-    """Element side [m]: the shortest wavelength at ``scene.max_frequency`` over the sections, divided by
-    ``scene.mesh.elements_per_wavelength``, at most ``scene.mesh.max_size``, times ``size_factor``."""
-    k = max(bending_wavenumber(s, scene.max_frequency) for s in stacks.sections)
-    return min(2 * np.pi / k / scene.mesh.elements_per_wavelength, scene.mesh.max_size) * size_factor
-
-
 def _subdivided(breaks: np.ndarray, size: float) -> np.ndarray:
     out = [breaks[:1]]
     for a, b in itertools.pairwise(breaks):
@@ -367,7 +362,7 @@ def assemble_plate(scene, *, size_factor: float = 1.0) -> PlateModel:
 
     t0 = time.perf_counter()
     stacks = plate_stacks(scene)
-    mesh, ci, cj = plate_mesh(stacks, element_size(stacks, scene, size_factor))
+    mesh, ci, cj = plate_mesh(stacks, element_size(stacks.sections, scene, bending_wavenumber, size_factor))
     t_mesh = time.perf_counter() - t0
     element = ElementQuad2()
     basis = Basis(mesh, element, intorder=4)
@@ -375,27 +370,32 @@ def assemble_plate(scene, *, size_factor: float = 1.0) -> PlateModel:
     derivative = (lambda f: f, lambda f: f.grad[0], lambda f: f.grad[1])  # value, d/dx, d/dy
     E = _strain_maps()
     section_of_element = stacks.cell_section[ci, cj]
-    K = sp.csr_matrix((n_u, n_u))
-    M = sp.csr_matrix((n_u, n_u))
+    K_terms, M_terms = [], []
     for k, s in enumerate(stacks.sections):
         sub = Basis(mesh, element, intorder=4, elements=np.flatnonzero(section_of_element == k))
+        forms = {}  # (a, b) -> int derivative[a](v) derivative[b](u); the (b, a) form is its transpose
         for a in range(3):
             for b in range(3):
                 block = E[a].T @ s.stiffness @ E[b]
                 if not np.any(block):
                     continue
-                S = BilinearForm(lambda u, v, _, a=a, b=b: derivative[a](v) * derivative[b](u)).assemble(sub)
-                K = K + sp.kron(S, block)
-        S00 = BilinearForm(lambda u, v, _: u * v).assemble(sub)
-        M = M + sp.kron(S00, s.mass)
+                if (b, a) in forms:
+                    forms[a, b] = forms[b, a].T
+                else:
+                    forms[a, b] = BilinearForm(lambda u, v, _, a=a, b=b: derivative[a](v) * derivative[b](u)
+                                               ).assemble(sub)
+                K_terms.append(sp.kron(forms[a, b], block, format="coo"))
+        S00 = forms[0, 0] if (0, 0) in forms else BilinearForm(lambda u, v, _: u * v).assemble(sub)
+        M_terms.append(sp.kron(S00, s.mass, format="coo"))
     for group, stiffness, inertia in _face_loads(scene):
         sub, zeta = _face_basis(scene, group, mesh, basis, stacks, element, ci, cj)
         P = _displacement_map(zeta - stacks.reference)
         S00 = BilinearForm(lambda u, v, _: u * v).assemble(sub)
         if stiffness is not None:
-            K = K + sp.kron(S00, P.T @ np.diag(stiffness) @ P)
+            K_terms.append(sp.kron(S00, P.T @ np.diag(stiffness) @ P, format="coo"))
         if inertia is not None:
-            M = M + sp.kron(S00, inertia * P.T @ P)
+            M_terms.append(sp.kron(S00, inertia * P.T @ P, format="coo"))
+    K, M = _summed(K_terms, n_u), _summed(M_terms, n_u)
     index, piezo = electrode_layers(scene, scene.assembly())
     n_phi = len(index)
     if n_phi:
@@ -424,6 +424,18 @@ def assemble_plate(scene, *, size_factor: float = 1.0) -> PlateModel:
     timings = {"mesh": t_mesh, "assembly": time.perf_counter() - t0 - t_mesh}
     return PlateModel(scene, mesh, basis, K.tocsr(), M.tocsr(), n_u, {g: np.array([i]) for g, i in index.items()},
                       clamped, timings, stacks=stacks)
+
+
+def _summed(terms, n: int) -> sp.csr_matrix:
+    """Sum of the sparse (n, n) ``terms`` in one COO-to-CSR conversion (duplicates added, zeros dropped)."""
+    coo = [t.tocoo() for t in terms]
+    if not coo:
+        return sp.csr_matrix((n, n))
+    S = sp.coo_matrix((np.concatenate([t.data for t in coo]),
+                       (np.concatenate([t.row for t in coo]), np.concatenate([t.col for t in coo]))),
+                      shape=(n, n)).tocsr()
+    S.eliminate_zeros()
+    return S
 
 
 def _face_loads(scene):

@@ -1,12 +1,14 @@
 """What the reduced-dimension models (``modalfe.beam``, ``modalfe.plate``) share: the electrode and
-circuit handling of their laminated piezo layers, the surface sampling that labels their modes, and the
-shift-invert solve. Their matrices have the 3-D model's block form [[K_uu, K_uphi], [K_uphi^T, -K_phiphi]]
-with one potential unknown per electrode face group, so every later stage treats them alike.
+circuit handling of their laminated piezo layers, the element size from the flexural wavenumber, the surface
+sampling that labels their modes, and the shift-invert solve. Their matrices have the 3-D model's block form
+[[K_uu, K_uphi], [K_uphi^T, -K_phiphi]] with one potential unknown per electrode face group, so every later
+stage treats them alike.
 """
 
 from __future__ import annotations
 
 import functools
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -39,10 +41,6 @@ class LayeredModel(PiezoUnknowns):
     def n_phi(self) -> int:
         return len(self.electrodes)
 
-    @property
-    def phi_dofs(self) -> np.ndarray:
-        return np.arange(self.n_phi)
-
     @functools.cached_property
     def _surface(self) -> tuple[np.ndarray, sp.csr_matrix]:
         points = self.surface_points()
@@ -52,6 +50,25 @@ class LayeredModel(PiezoUnknowns):
         """(points (3, m) [m], displacement (3, m) [m]) of the full DOF vector ``x`` at ``surface_points``."""
         points, probes = self._surface
         return points, (probes @ np.asarray(x)).reshape(3, -1)
+
+
+def flexural_wavenumber(w2: float, EI: float, kGA: float, rhoA: float, rhoI: float) -> float:
+    """Propagating root k [rad/m] of the shear-deformable (Timoshenko beam, Mindlin plate) flexural dispersion
+
+        EI kGA k^4 - w^2 (rhoA EI + rhoI kGA) k^2 + rhoA w^2 (rhoI w^2 - kGA) = 0
+
+    at w^2 = ``w2`` [rad^2/s^2]: bending stiffness EI, shear stiffness kGA, inertia rhoA and rotary inertia rhoI
+    per unit length (beam) or per unit area (plate: D, A_s, I0, I2)."""
+    a, b, c = EI * kGA, w2 * (rhoA * EI + rhoI * kGA), rhoA * w2 * (rhoI * w2 - kGA)
+    return math.sqrt((b + math.sqrt(b * b - 4 * a * c)) / (2 * a))
+
+
+def element_size(sections, scene, wavenumber, size_factor: float = 1.0) -> float:
+    """Element size [m]: the shortest wavelength at ``scene.max_frequency`` over the ``sections``
+    (``wavenumber(section, frequency)`` [rad/m]), divided by ``scene.mesh.elements_per_wavelength``, at most
+    ``scene.mesh.max_size``, times ``size_factor``."""
+    k = max(wavenumber(s, scene.max_frequency) for s in sections)
+    return min(2 * np.pi / k / scene.mesh.elements_per_wavelength, scene.mesh.max_size) * size_factor
 
 
 def electrode_layers(scene, assembly) -> tuple[dict[str, int], list[tuple]]:

@@ -29,7 +29,7 @@ COARSE_FACTOR = 1.5  # coarse level of the Richardson estimate: elements 1.5x la
 # studies/convergence.py observes orders 1.5-2.1 on the seed devices' working modes. The estimate
 # assumes order 2, which keeps it at or above the error found by four-level refinement there.
 CONVERGENCE_ORDER = 2.0
-OBSERVED_ORDERS = (1.5, 2.1)  # the range studies/convergence.py observes on the seed devices' working modes
+OBSERVED_ORDERS = (1.5, 2.1)  # that range: 1.55 / 2.13 / 1.58 for the three devices (docs/benchmarks.md)
 
 
 FIDELITIES = ("auto", "beam", "plate", "solid")
@@ -89,11 +89,16 @@ def solve_modes(
     if not error_estimate:
         return fine
     start = time.perf_counter()
-    coarse = solve_level(scene, coarser(a), size_factor=size_factor * COARSE_FACTOR, solver=solver, frame=frame,
-                         min_layers=max(1, round(scene.mesh.min_layers / COARSE_FACTOR)))
+    coarse = solve_level(scene, coarser(a), solver=solver, frame=frame,
+                         **coarse_level(scene, COARSE_FACTOR, size_factor))
     ratio = refinement_ratio(fine.model.mesh, coarse.model.mesh, scene)
     result = fine.with_error_estimates(richardson(fine, coarse, ratio))
     return replace(result, timings=dict(fine.timings, error_estimate=time.perf_counter() - start))
+
+
+def coarse_level(scene, factor: float, size_factor: float = 1.0) -> dict:
+    """Mesh of a coarser level: elements ``factor`` times larger, thickness layers scaled alike."""
+    return {"size_factor": size_factor * factor, "min_layers": max(1, round(scene.mesh.min_layers / factor))}
 
 
 def coarser(a):

@@ -34,12 +34,15 @@ def static_response(model, load: np.ndarray) -> np.ndarray:
     return T @ solve(T.T @ load)
 
 
-def modal_receptance(modes, load: np.ndarray, P, frequency, zeta, *, residual: bool = True) -> np.ndarray:
+def modal_receptance(modes, load: np.ndarray, P, frequency, zeta, *, residual: bool = True,
+                     static: np.ndarray | None = None) -> np.ndarray:
     """(n_f, n_out) complex response P x(omega) [output units per load unit] at ``frequency`` [Hz].
 
     ``modes``: a ``Modes`` whose shapes are full DOF vectors of ``modes.model``; ``load`` (ndofs,);
     ``P`` (n_out, ndofs) output rows (e.g. ``modalfe.forced.probes``); ``zeta`` a modal damping ratio,
-    scalar or one per mode; ``residual`` adds R (see the module docstring).
+    scalar or one per mode; ``residual`` adds R (see the module docstring); ``static``: K_c^-1 f of this
+    ``load`` from ``static_response(modes.model, load)``, to factorize K_c once for several calls
+    (computed here when None).
     """
     Phi = np.column_stack([m.shape for m in modes])
     omega_r = np.array([m.omega for m in modes])
@@ -52,6 +55,8 @@ def modal_receptance(modes, load: np.ndarray, P, frequency, zeta, *, residual: b
     denominator = omega_r[None, :] ** 2 - w[:, None] ** 2 + 2j * zeta[None, :] * omega_r[None, :] * w[:, None]
     response = (p[None, :] / denominator) @ out.T
     if residual:
-        R = P @ static_response(modes.model, load) - out @ (p / omega_r**2)
+        if static is None:
+            static = static_response(modes.model, load)
+        R = P @ static - out @ (p / omega_r**2)
         response = response + np.asarray(R)[None, :]
     return response

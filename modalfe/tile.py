@@ -44,7 +44,8 @@ FILTER_ORDERS = (10, 14)  # sec. 5.2, Fig. 14
 # rubber's loss, eta ~ 0.1 for a lightly filled SBR/natural rubber (Nashif, Jones & Henderson,
 # "Vibration Damping", Wiley 1985, rubber loss factors 0.05-0.3), zeta = eta / 2 = 0.05; the plate
 # modes of a bonded aluminium sandwich with a wooden edge frame, zeta = 0.01 (Q = 50), a typical
-# figure for built-up panels; both are CLI options of the study.
+# figure for built-up panels; both are keyword arguments of ``acceleration_frf`` and ``modal_damping``
+# (the study script uses these defaults).
 ZETA_SUSPENSION = 0.05
 ZETA_PLATE = 0.01
 DAMPING_SOURCE = ("assumption (seed 002 gives none): zeta 0.05 for the suspension modes (SBR loss factor "
@@ -176,16 +177,13 @@ class TileResponse:
     """Acceleration per unit actuator force by modal superposition.
 
     frequency : (n_f,) [Hz]; acceleration : point name -> (n_f,) complex normal (z) acceleration
-    [m/s^2 / N]; points : name -> (x, y, z) [m]; modes_used : frequencies [Hz] of the modes summed;
-    residual : whether the static contribution of the modes above the band was added;
-    damping : text stating the damping and its source.
+    [m/s^2 / N]; points : name -> (x, y, z) [m]; damping : text stating the damping and whether the
+    static contribution of the modes above the band (the residual) was added.
     """
 
     frequency: np.ndarray
     acceleration: dict[str, np.ndarray]
     points: dict[str, tuple[float, float, float]]
-    modes_used: np.ndarray
-    residual: bool
     damping: str
 
     def magnitude_db(self, name: str) -> np.ndarray:
@@ -216,7 +214,7 @@ def acceleration_frf(modes, force: np.ndarray, points: dict[str, tuple[float, fl
     text = (f"modal zeta {zeta_suspension:g} (suspension modes), {zeta_plate:g} (plate modes); "
             + ("static residual of the higher modes added" if residual else "no residual"))
     return TileResponse(f, {n: accel[:, i] for i, n in enumerate(names)},
-                        {n: tuple(map(float, points[n])) for n in names}, modes.frequencies, residual, text)
+                        {n: tuple(map(float, points[n])) for n in names}, text)
 
 
 def local_extrema(frequency: np.ndarray, magnitude: np.ndarray, *, kind: str = "min", prominence: float = 6.0,
@@ -303,13 +301,17 @@ def suspension_design(*, E: float, area: float = SEED_MOUNT_AREA, height: float 
     The shape-factor variant uses E_c = E (1 + 2 S^2), S = A / (perimeter h) of a square bonded
     block (Gent, "Engineering with Rubber", 3rd ed. 2012, ch. 3), which the seed leaves out.
     """
+    from modalfe.analytic import suspension_frequency, suspension_static_deflection
+
     for name, value in (("E", E), ("area", area), ("height", height), ("mass", mass)):
         if not (math.isfinite(value) and value > 0):
             raise SceneError(f"suspension.{name}: must be positive, got {value}")
     K = E * area / height
-    f0 = math.sqrt(mounts * K / mass) / (2 * math.pi)
+    f0 = suspension_frequency(E=E, area=area, height=height, mass=mass, mounts=mounts)
     S = area / (4 * math.sqrt(area) * height)
-    return SuspensionDesign(E, area, height, mass, load, mounts, K, f0, load / (mounts * K), load / K,
+    return SuspensionDesign(E, area, height, mass, load, mounts, K, f0,
+                            suspension_static_deflection(force=load / mounts, E=E, area=area, height=height),
+                            suspension_static_deflection(force=load, E=E, area=area, height=height),
                             f0 * math.sqrt(1 + 2 * S**2))
 
 
@@ -350,8 +352,7 @@ class InverseFilter:
 
     order : N (numerator and denominator degree); fs : sample rate [Hz]; sos : (N/2, 6) second-order
     sections; poles, zeros : roots in z; ripple_before, ripple_after : max - min of the magnitude
-    [dB] over the passband of H_d and of H_d H_c; gain_db : the flat level g the fit aims at [dB];
-    reflected : roots moved inside the unit circle by z -> 1 / conj(z) after the linear fit.
+    [dB] over the passband of H_d and of H_d H_c.
     """
 
     order: int
@@ -362,8 +363,6 @@ class InverseFilter:
     band: tuple[float, float]
     ripple_before: float
     ripple_after: float
-    gain_db: float
-    reflected: int = 0
 
     @property
     def stable(self) -> bool:
@@ -412,16 +411,19 @@ def _equation_error_fit(w: np.ndarray, H: np.ndarray, weight: np.ndarray, order:
     return b, a
 
 
-def _reflect_inside(roots: np.ndarray, limit: float = 0.999) -> tuple[np.ndarray, int]:
+R_MAX = 0.9995  # largest pole and zero radius the fit allows: keeps a section's gain finite
+
+
+def _reflect_inside(roots: np.ndarray) -> np.ndarray:
     """Roots outside the unit circle moved to 1 / conj(z) (same magnitude response up to a gain),
-    and all radii capped at ``limit``; returns (roots, how many were reflected)."""
+    and all radii capped at ``R_MAX``."""
     r = np.asarray(roots, dtype=complex).copy()
     outside = np.abs(r) > 1.0
     r[outside] = 1.0 / np.conj(r[outside])
     radius = np.abs(r)
-    big = radius > limit
-    r[big] = r[big] / radius[big] * limit
-    return r, int(outside.sum())
+    big = radius > R_MAX
+    r[big] = r[big] / radius[big] * R_MAX
+    return r
 
 
 def _pair_sections(roots: np.ndarray) -> np.ndarray:
@@ -435,9 +437,6 @@ def _pair_sections(roots: np.ndarray) -> np.ndarray:
     if len(real) % 2:
         polys.append(np.array([1.0, -real[-1], 0.0]))
     return np.array(polys)
-
-
-R_MAX = 0.9995  # largest pole and zero radius the refinement allows: keeps a section's gain finite
 
 
 def _to_params(c: np.ndarray) -> np.ndarray:
@@ -530,8 +529,8 @@ def design_inverse_filter(frequency: np.ndarray, response: np.ndarray, *, order:
     w = 2 * np.pi * grid[use] / fs
     Hmin, target_db, weight = Hmin[use], target_db[use], weight[use]
     b, a = _equation_error_fit(w, Hmin, weight, order)
-    zeros, n_zeros = _reflect_inside(np.roots(b))
-    poles, n_poles = _reflect_inside(np.roots(a))
+    zeros = _reflect_inside(np.roots(b))
+    poles = _reflect_inside(np.roots(a))
     num0, den0 = _pair_sections(zeros), _pair_sections(poles)
     sections = order // 2
     if len(num0) != sections or len(den0) != sections:  # a root at infinity: start from the stable fit's shape
@@ -561,7 +560,6 @@ def design_inverse_filter(frequency: np.ndarray, response: np.ndarray, *, order:
     sos = np.hstack([num, den])
     poles = np.concatenate([np.roots(d) for d in den])
     zeros = np.concatenate([np.roots(c) for c in num])
-    filt = InverseFilter(order, fs, sos, poles, zeros, band, ripple_db(f, mag, band), float("nan"), gain_db,
-                         n_zeros + n_poles)
+    filt = InverseFilter(order, fs, sos, poles, zeros, band, ripple_db(f, mag, band), float("nan"))
     after = ripple_db(f, mag * np.abs(filt.response(f)), band)
-    return InverseFilter(order, fs, sos, poles, zeros, band, filt.ripple_before, after, gain_db, n_zeros + n_poles)
+    return InverseFilter(order, fs, sos, poles, zeros, band, filt.ripple_before, after)

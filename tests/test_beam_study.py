@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from modalfe import beam_study as bs
-from modalfe.errors import SceneError
-from tests.test_tile_study import load_study
+from modalfe.errors import ModalfeError, SceneError
+from tests.helpers import assert_one_line_error, load_study
 
 STUDY = load_study("beam_study")
 
@@ -139,10 +139,7 @@ def test_study_prints_and_plots(study, tmp_path, capsys):
     (lambda: bs.match_antinodes(np.array([])), "antinodes"),
 ])
 def test_bad_input_gets_a_one_line_error(call, field):
-    with pytest.raises(Exception) as err:
-        call()
-    message = str(err.value)
-    assert message.startswith(field + ":") and "\n" not in message
+    assert_one_line_error(call, field, ModalfeError)
 
 
 def test_seed_numbers_not_in_the_scene_are_refused():

@@ -8,7 +8,7 @@ import math
 import pytest
 
 from modalfe.linalg import available_solvers
-from tests.test_tile_study import load_study
+from tests.helpers import load_study
 
 FIDELITY = load_study("benchmark_fidelity")  # first: benchmark_solvers imports it by name
 SOLVERS = load_study("benchmark_solvers")

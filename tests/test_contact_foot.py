@@ -14,6 +14,7 @@ from modalfe.contact.foot import (
     steady_state,
 )
 from modalfe.errors import ContactError
+from tests.helpers import assert_one_line_error, load_study
 
 P = FootParameters()
 
@@ -186,25 +187,12 @@ def test_voltage_input_through_amplitude_per_volt():
     (lambda: FootParameters().with_(stiffness=1.0), "stiffness"),
 ])
 def test_bad_input_is_a_one_line_error_naming_the_field(call, field):
-    with pytest.raises(ContactError) as err:
-        call()
-    message = str(err.value)
-    assert message.startswith(field + ":") and "\n" not in message
-
-
-def _load_study(name):
-    import importlib.util
-    from pathlib import Path
-
-    spec = importlib.util.spec_from_file_location(name, Path(__file__).parents[1] / "studies" / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    assert_one_line_error(call, field, ContactError)
 
 
 def test_identify_kt_study_runs(tmp_path):
     # The study behind KT finds it again (KT keeps three digits: 1e-3) and writes its figure.
-    study = _load_study("identify_kt")
+    study = load_study("identify_kt")
     assert study.identify(0.65e-6) == pytest.approx(P.kt, rel=1e-3)
     out = tmp_path / "kt.png"
     assert study.main(["--out", str(out)]) == 0
@@ -213,5 +201,5 @@ def test_identify_kt_study_runs(tmp_path):
 
 @pytest.mark.slow
 def test_benchmark_quick_runs(capsys):
-    assert _load_study("benchmark_contact").main(["--quick"]) == 0
+    assert load_study("benchmark_contact").main(["--quick"]) == 0
     assert "worst |beta difference|" in capsys.readouterr().out

@@ -1,27 +1,15 @@
 """Honeycomb tile study (seed 002, issue 8) at coarse resolution: suspension modes against the lumped
 model, the antiresonance of the actuator-driven response, the suspension design and the inverse filter."""
 
-import importlib.util
 import math
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 from modalfe import tile
-from modalfe.errors import SceneError
+from modalfe.errors import ModalfeError, SceneError
 from modalfe.labels import RIGID_NAMES
-
-
-def load_study(name):
-    """A script of studies/ as a module (studies/ is not a package)."""
-    spec = importlib.util.spec_from_file_location(name, Path(__file__).parents[1] / "studies" / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[name] = module  # dataclasses look their module up while the file runs
-    spec.loader.exec_module(module)
-    return module
-
+from tests.helpers import assert_one_line_error, load_study
 
 STUDY = load_study("tile_study")
 
@@ -142,10 +130,7 @@ def test_study_prints_and_plots(study, tmp_path, capsys):
     (lambda: tile.local_extrema(np.geomspace(10, 2000, 50), np.ones(50), kind="peak"), "kind"),
 ])
 def test_bad_input_gets_a_one_line_error(call, field):
-    with pytest.raises(Exception) as err:
-        call()
-    message = str(err.value)
-    assert message.startswith(field + ":") and "\n" not in message
+    assert_one_line_error(call, field, ModalfeError)
 
 
 def test_unknown_force_face_is_named(study):

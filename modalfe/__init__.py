@@ -20,22 +20,22 @@ __version__ = "0.1.0"
 
 
 def solve_modes(scene, **kwargs):
-    """Eigenmodes of a scene; see ``modalfe.solvers.solve_modes``."""
-    from modalfe.solvers import solve_modes as _solve_modes
+    """Eigenmodes of a scene; see ``modalfe.solve.solvers.solve_modes``."""
+    from modalfe.solve.solvers import solve_modes as _solve_modes
 
     return _solve_modes(scene, **kwargs)
 
 
 def forced_response(scene, **kwargs):
-    """Working-mode figures per volt (reduced model, FRF, admittance); see ``modalfe.forced_report``."""
-    from modalfe.forced_report import forced_figures
+    """Working-mode figures per volt (reduced model, FRF, admittance); see ``modalfe.response.figures``."""
+    from modalfe.response.figures import forced_figures
 
     return forced_figures(scene, **kwargs)
 
 
 def reduce(scene, mode, modes, **kwargs):
-    """Reduced modal model of one mode; see ``modalfe.forced.reduce``."""
-    from modalfe.forced import reduce as _reduce
+    """Reduced modal model of one mode; see ``modalfe.response.forced.reduce``."""
+    from modalfe.response.forced import reduce as _reduce
 
     return _reduce(scene, mode, modes, **kwargs)
 
@@ -55,8 +55,8 @@ def simulate_finger(*args, **kwargs):
 
 
 def sweep(*args, **kwargs):
-    """Resumable parameter sweep on dask; see ``modalfe.sweep.sweep``."""
-    from modalfe.sweep import sweep as _sweep
+    """Resumable parameter sweep on dask; see ``modalfe.sweeps.sweep.sweep``."""
+    from modalfe.sweeps.sweep import sweep as _sweep
 
     return _sweep(*args, **kwargs)
 

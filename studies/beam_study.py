@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from modalfe import beam_study as bs
+import beam_design as bs
 
 SOLID_REFINED = {"mesh.elements_per_wavelength": 8.0}  # the 3-D reference of the default run
 # the coarse run checks the 3-D trends that need at most one new solve per value (e31 and E enter the

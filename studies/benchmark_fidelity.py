@@ -1,7 +1,7 @@
 """Run time against accuracy for every device at each fidelity that applies (issue 6, item 3).
 
 For each device's working mode and each fidelity (solid always; beam or plate where the scene's kind
-allows, ``modalfe.fidelity.reduced_fidelities``) a refinement sweep over size factors records DOFs, wall
+allows, ``modalfe.solve.fidelity.reduced_fidelities``) a refinement sweep over size factors records DOFs, wall
 time per stage (mesh, assembly, factorization, eigen solve; ``other`` is the rest of the solve, mostly
 labelling the modes), peak memory and the relative error of the working mode against a converged 3-D
 reference.
@@ -13,8 +13,8 @@ How it is measured:
   interpreter and its libraries), beside the same figure read after the imports, before the solve;
 - solid levels refine uniformly: layers through the thickness are round(min_layers / size factor), at least 1;
 - reference: Richardson extrapolation of the two finest solid levels at the assumed order
-  ``modalfe.solvers.CONVERGENCE_ORDER``, refinement ratio from the main part's element counts (as
-  ``modalfe.solvers.refinement_ratio``); its uncertainty is how far it moves over ``OBSERVED_ORDERS``;
+  ``modalfe.solve.solvers.CONVERGENCE_ORDER``, refinement ratio from the main part's element counts (as
+  ``modalfe.solve.solvers.refinement_ratio``); its uncertainty is how far it moves over ``OBSERVED_ORDERS``;
 - exponents: least-squares slope of log(stage seconds) against log(DOFs) over each sweep.
 
     python studies/benchmark_fidelity.py [--quick] [--repeats 3] [--devices cube_plate ...] [--out DIR]
@@ -75,8 +75,8 @@ def measure(device: str, fidelity: str, size_factor: float, solver: str) -> dict
     working mode's frequency [Hz], main-part element count (solid) and RSS peaks [MB]."""
     import resource
 
-    from modalfe.results import select
-    from modalfe.solvers import solve_level
+    from modalfe.results.modes import select
+    from modalfe.solve.solvers import solve_level
 
     with tempfile.TemporaryDirectory(prefix="modalfe-bench-") as cache:
         os.environ["MODALFE_CACHE"] = cache
@@ -129,10 +129,10 @@ class Point:
 
 def tracked(previous: Point | None, run: dict) -> tuple[str, float]:
     """(label, frequency [Hz]) of the working mode at a finer level: the partner of the coarser level's
-    mode (same label, nearest in frequency, within 10 %: ``modalfe.solvers.partner``), else the
+    mode (same label, nearest in frequency, within 10 %: ``modalfe.solve.solvers.partner``), else the
     selector's pick (the coarsest level, or no partner: said)."""
-    from modalfe.results import Mode
-    from modalfe.solvers import partner
+    from modalfe.results.modes import Mode
+    from modalfe.solve.solvers import partner
 
     if previous is None:
         return run["mode"], run["frequency"]
@@ -168,7 +168,7 @@ def sweep(device: str, fidelity: str, factors, repeats: int, solver: str) -> lis
 def reference(solid: list[Point]) -> tuple[float, float]:
     """(f_ref [Hz], relative uncertainty): Richardson from the two finest solid levels at
     CONVERGENCE_ORDER, uncertainty = largest move of f_ref over OBSERVED_ORDERS."""
-    from modalfe.solvers import CONVERGENCE_ORDER, OBSERVED_ORDERS
+    from modalfe.solve.solvers import CONVERGENCE_ORDER, OBSERVED_ORDERS
 
     coarse, fine = sorted(solid, key=lambda p: p.dofs)[-2:]
     ratio = (fine.main_elements / coarse.main_elements) ** (1 / 3)
@@ -209,7 +209,7 @@ def write_csv(points: list[Point], path: Path) -> None:
 
 def plot(curves: dict[str, list[Point]], path: Path) -> None:
     """Total time vs relative error, log-log, one line per device and fidelity."""
-    from modalfe.plots import plot_time_vs_error
+    from modalfe.plot.figures import plot_time_vs_error
 
     curves = {k: [p for p in v if p.error > 0] for k, v in curves.items()}
     curves = {k: v for k, v in curves.items() if v}
@@ -231,7 +231,7 @@ class Benchmark:
 
 def run(devices, factors: dict, repeats: int, solver: str, out: Path) -> Benchmark:
     """Sweep every device and fidelity, write the CSV and the plot into ``out``."""
-    from modalfe.fidelity import reduced_fidelities
+    from modalfe.solve.fidelity import reduced_fidelities
     from modalfe.scene import load_scene
 
     curves, references = {}, {}

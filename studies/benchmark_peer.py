@@ -11,7 +11,7 @@ through the thickness refined alike; on the beam with ``mesh.clamp_grading`` = 4
 layers toward the clamp), NGSolve ``maxh`` (order-2 tetrahedra, straight-sided). The
 geometry, materials, poling and supports of the peer model are read from the same modalfe scene.
 Peer eigen solve: K and M are exported from NGSolve to scipy and solved with modalfe's own
-shift-invert path (``modalfe.solvers.eigenpairs``: PARDISO through ``modalfe.linalg.factorize`` and
+shift-invert path (``modalfe.solve.solvers.eigenpairs``: PARDISO through ``modalfe.solve.linalg.factorize`` and
 ARPACK), so the measured difference is the discretization, meshing and assembly, not the eigen
 solver. NGSolve assembles inside its ``TaskManager``, as usually run.
 
@@ -47,7 +47,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 if TYPE_CHECKING:
-    from geometries.parts import Assembly
+    from modalfe.geometry.parts import Assembly
     from modalfe.scene import Scene
 
 TARGET = 1e-3  # accuracy target: relative discretization error of the mode's frequency
@@ -69,7 +69,7 @@ class Case:
     clamp_refinement: float | None = None  # peer: maxh / this on the clamp face (modalfe grades it too)
 
 
-GRADING_LAYERS = 4  # beam case: element layers toward the clamp, sizes h 0.4^k (modalfe.mesh.graded_breaks)
+GRADING_LAYERS = 4  # beam case: element layers toward the clamp, sizes h 0.4^k (modalfe.models.mesh.graded_breaks)
 # beam case, the peer's refinement at the clamp: local maxh h / 4 on the clamp face (netgen grades away from
 # it); of h / 4 and h / 8 tried, h / 4 reached 0.1 % sooner (22k DOFs at h = 2 mm against 32k)
 PEER_CLAMP_REFINEMENT = 4.0
@@ -109,8 +109,8 @@ def layers(size_factor: float) -> int:
 
 def modalfe_solve(case: str, size_factor: float) -> dict:
     """One modalfe solve: DOFs, stage times [s] and the case's mode frequency [Hz]."""
-    from modalfe.results import select
-    from modalfe.solvers import solve_level
+    from modalfe.results.modes import select
+    from modalfe.solve.solvers import solve_level
 
     sc = scene(case)
     start = time.perf_counter()
@@ -123,12 +123,12 @@ def modalfe_solve(case: str, size_factor: float) -> dict:
 
 def _fresh_modalfe_caches(folder: Path) -> None:
     """Forget meshes and models (new cache ``folder``) so that a repeat meshes and assembles again."""
-    import modalfe.mesh
-    import modalfe.solvers
+    import modalfe.models.mesh
+    import modalfe.solve.solvers
 
     os.environ["MODALFE_CACHE"] = str(folder)
-    modalfe.mesh._memory_cache.clear()
-    modalfe.solvers._MODELS.clear()
+    modalfe.models.mesh._memory_cache.clear()
+    modalfe.solve.solvers._MODELS.clear()
 
 
 # ---- peer side (NGSolve) -----------------------------------------------------------------------
@@ -266,7 +266,7 @@ def peer_solve(case: str, maxh: float) -> dict:
     from netgen.occ import OCCGeometry
     from ngsolve import Mesh, SetNumThreads, TaskManager
 
-    from modalfe.solvers import eigenpairs
+    from modalfe.solve.solvers import eigenpairs
 
     sc = scene(case)
     SetNumThreads(int(os.environ.get("OMP_NUM_THREADS", "1")))

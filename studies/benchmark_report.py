@@ -20,9 +20,9 @@ import time
 
 def time_meshing(runs: int) -> dict[str, tuple[float, int]]:
     """Median seconds to mesh each built-in scene without the cache, and its element count."""
-    from modalfe.mesh import build_mesh, element_sizes
+    from modalfe.models.mesh import build_mesh, element_sizes
     from modalfe.scene import load_scene
-    from modalfe.scenes import BUILTIN
+    from modalfe.scene.builtin import BUILTIN
 
     out = {}
     for name in BUILTIN:
@@ -46,7 +46,7 @@ def time_report(runs: int) -> dict[str, list[float]]:
             env = dict(os.environ, MODALFE_CACHE=cache)
             for kind in ("cold", "warm"):
                 start = time.perf_counter()
-                done = subprocess.run([sys.executable, "-m", "modalfe.cli", "report", "--json"], env=env,
+                done = subprocess.run([sys.executable, "-m", "modalfe.cli.main", "report", "--json"], env=env,
                                       capture_output=True, text=True, check=True)
                 out[kind].append(time.perf_counter() - start)
                 if kind == "warm":

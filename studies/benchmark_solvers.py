@@ -1,8 +1,8 @@
 """SuperLU against PARDISO on the shift-invert matrices of the solid models (issue 6, item 4).
 
 For each device and size factor the solid model is assembled and constrained as ``solve_level`` does
-(``modalfe.solvers.assembled_model``, ``model.constraints(circuit)``), then, with each direct solver,
-``modalfe.solvers.eigenpairs`` runs one full eigen solve: factorization of A - sigma B (timed on its own)
+(``modalfe.solve.solvers.assembled_model``, ``model.constraints(circuit)``), then, with each direct solver,
+``modalfe.solve.solvers.eigenpairs`` runs one full eigen solve: factorization of A - sigma B (timed on its own)
 and the ARPACK shift-invert iterations. Medians over ``--repeats`` (solvers alternate within a repeat),
 the SuperLU / PARDISO time ratio per size, the power-law exponent of each solver's time against DOFs, and
 the largest relative difference between the two solvers' frequencies. Layers through the thickness scale
@@ -50,7 +50,7 @@ class Timing:
 
 def shift_invert_problem(device: str, size_factor: float):
     """(A, B, analysis) of the device's constrained solid model at ``size_factor``."""
-    from modalfe.solvers import assembled_model
+    from modalfe.solve.solvers import assembled_model
 
     scene = level_scene(device, size_factor)
     model, _, _ = assembled_model(scene, size_factor=size_factor)
@@ -60,7 +60,7 @@ def shift_invert_problem(device: str, size_factor: float):
 
 def time_solvers(device: str, size_factor: float, solvers: list[str], repeats: int) -> list[Timing]:
     """Each solver's median factorization and eigen-solve seconds on one matrix pair."""
-    from modalfe.solvers import eigenpairs
+    from modalfe.solve.solvers import eigenpairs
 
     A, B, analysis = shift_invert_problem(device, size_factor)
     runs = {name: [] for name in solvers}
@@ -136,7 +136,7 @@ class Comparison:
 
 def run(devices, factors, repeats: int, out: Path) -> Comparison | None:
     """Time both solvers on every matrix; None when PARDISO is not available here."""
-    from modalfe.linalg import available_solvers
+    from modalfe.solve.linalg import available_solvers
 
     if "pardiso" not in available_solvers():
         return None

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from modalfe.sweep import sweep
+from modalfe.sweeps.sweep import sweep
 
 
 def run(points: int, workers: int) -> float:

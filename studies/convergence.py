@@ -13,9 +13,9 @@ import argparse
 import math
 from pathlib import Path
 
-from modalfe.results import select
+from modalfe.results.modes import select
 from modalfe.scene import load_scene
-from modalfe.solvers import solve_modes
+from modalfe.solve.solvers import solve_modes
 
 CASES = {
     "cube_plate": ("(0,6)", 40.7e3),
@@ -37,7 +37,7 @@ def sequence(name: str, selector: str, near: float, levels: int) -> list[tuple[f
 
 
 def _plot(name: str, seq, extrapolated: float, order: float, path: Path) -> None:
-    from modalfe.plots import plot_convergence
+    from modalfe.plot.figures import plot_convergence
 
     path.parent.mkdir(parents=True, exist_ok=True)
     fig = plot_convergence([d for _, d, _ in seq], [abs(f / extrapolated - 1) for _, _, f in seq],

@@ -11,10 +11,10 @@ from __future__ import annotations
 import argparse
 import math
 
-from modalfe.control import quasi_linear_region, track_amplitude
-from modalfe.forced import Damping
-from modalfe.forced_report import forced_figures
-from modalfe.placement import place_feet
+from modalfe.response.control import quasi_linear_region, track_amplitude
+from modalfe.response.forced import Damping
+from modalfe.response.figures import forced_figures
+from modalfe.response.placement import place_feet
 from modalfe.scene import load_scene
 
 KN = 9.7e6  # N/m, foot contact stiffness, seed 000 appendix
@@ -79,8 +79,8 @@ def beam_acceleration_profile(quick: bool, volts: float = 100.0) -> None:
     """Half-period average acceleration (2 / pi) omega^2 |w| along the beam's top centre line."""
     import numpy as np
 
-    from modalfe.forced import probes
-    from modalfe.solvers import solve_modes
+    from modalfe.response.forced import probes
+    from modalfe.solve.solvers import solve_modes
 
     scene = _scene("ciliary_beam", quick)
     fig = forced_figures(scene)

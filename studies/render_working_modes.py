@@ -12,11 +12,11 @@ import statistics
 import time
 from pathlib import Path
 
-from modalfe.render import render_mode
-from modalfe.results import select
+from modalfe.plot.render import render_mode
+from modalfe.results.modes import select
 from modalfe.scene import load_scene
-from modalfe.scenes import BUILTIN
-from modalfe.solvers import solve_modes
+from modalfe.scene.builtin import BUILTIN
+from modalfe.solve.solvers import solve_modes
 
 
 def main() -> None:

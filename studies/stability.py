@@ -31,9 +31,9 @@ def case(name: str):
 
 @case("potential scaling: condition estimate")
 def conditioning(quick):
-    from modalfe.linalg import condition_estimate, factorize
+    from modalfe.solve.linalg import condition_estimate, factorize
     from modalfe.scene import load_scene
-    from modalfe.solvers import assembled_model
+    from modalfe.solve.solvers import assembled_model
 
     model, _, _ = assembled_model(load_scene("ciliary_beam", **{"mesh.elements_per_wavelength": 4.0}))
     a, b = model.shifted_matrix(20e3), model.shifted_matrix(20e3, scale=1.0)
@@ -44,7 +44,7 @@ def conditioning(quick):
 @case("shift exactly on an eigenvalue")
 def singular_shift(quick):
     from modalfe.scene import load_scene
-    from modalfe.solvers import solve_modes
+    from modalfe.solve.solvers import solve_modes
 
     scene = load_scene("ciliary_beam", **{"mesh.elements_per_wavelength": 4.0})
     f = solve_modes(scene, near=22e3, count=4, error_estimate=False).labelled("bending-z 6").frequency
@@ -54,8 +54,8 @@ def singular_shift(quick):
 
 @case("free-free plate: six rigid-body modes")
 def rigid(quick):
-    from modalfe.solvers import solve_modes
-    from modalfe.verification_cases import free_plate_scene
+    from modalfe.solve.solvers import solve_modes
+    from tests.oracles.cases import free_plate_scene
 
     modes = solve_modes(free_plate_scene(), band=(0.0, 3000.0), error_estimate=False)
     rigid = [m for m in modes if m.frequency < 1.0]
@@ -65,8 +65,8 @@ def rigid(quick):
 
 @case("band with no modes")
 def empty_band(quick):
-    from modalfe.solvers import solve_modes
-    from modalfe.verification_cases import free_plate_scene
+    from modalfe.solve.solvers import solve_modes
+    from tests.oracles.cases import free_plate_scene
 
     solve_modes(free_plate_scene(), band=(500.0, 600.0), error_estimate=False)
     return False, "no error raised"
@@ -75,7 +75,7 @@ def empty_band(quick):
 @case("coarse mesh (2 el./wavelength): estimate warns")
 def coarse(quick):
     from modalfe.scene import load_scene
-    from modalfe.solvers import solve_modes
+    from modalfe.solve.solvers import solve_modes
 
     mode = solve_modes(load_scene("ciliary_beam", **{"mesh.elements_per_wavelength": 2.0}), near=24e3, count=8,
                        error_estimate=True).labelled("bending-z 6")
@@ -85,7 +85,7 @@ def coarse(quick):
 @case("0.1 mm parameter step within the error estimate")
 def continuity(quick):
     from modalfe.scene import load_scene
-    from modalfe.solvers import solve_modes
+    from modalfe.solve.solvers import solve_modes
 
     a = solve_modes(load_scene("ciliary_beam"), near=22e3, count=4).labelled("bending-z 6")
     b = solve_modes(load_scene("ciliary_beam", x0=0.0681), near=22e3, count=4,
@@ -97,7 +97,7 @@ def continuity(quick):
 @case("sheets 0.3 / 0.1 / 0.03 mm on a 100 mm beam (1:333-1:3333)")
 def thin_sheets(quick):
     from modalfe.scene import load_scene
-    from modalfe.solvers import solve_modes
+    from modalfe.solve.solvers import solve_modes
 
     f = [solve_modes(load_scene("ciliary_beam", sheet_thickness=t), near=22e3, count=4,
                      error_estimate=False).labelled("bending-z 6").frequency for t in (0.3e-3, 0.1e-3, 0.03e-3)]
@@ -107,8 +107,8 @@ def thin_sheets(quick):
 
 @case("nu 0.3 / 0.49 / 0.499: the estimate bounds the error")
 def incompressible(quick):
-    from modalfe.solvers import solve_modes
-    from modalfe.verification_cases import clamped_bar_scene
+    from modalfe.solve.solvers import solve_modes
+    from tests.oracles.cases import clamped_bar_scene
 
     def mode(nu, size, estimate=True):
         return solve_modes(clamped_bar_scene(nu, size), error_estimate=estimate).labelled("bending-z 1")
@@ -128,9 +128,9 @@ def incompressible(quick):
 
 @case("flat tetrahedra vs hexahedra (glass plate, 66 kHz)")
 def tetrahedra(quick):
-    from modalfe.results import select
+    from modalfe.results.modes import select
     from modalfe.scene import load_scene
-    from modalfe.solvers import solve_modes
+    from modalfe.solve.solvers import solve_modes
 
     if quick:
         return True, "skipped (--quick)"
@@ -144,9 +144,9 @@ def tetrahedra(quick):
 
 @case("forced response energy balance")
 def energy(quick):
-    from modalfe.forced import Damping, harmonic_response
+    from modalfe.response.forced import Damping, harmonic_response
     from modalfe.scene import load_scene
-    from modalfe.solvers import solve_modes
+    from modalfe.solve.solvers import solve_modes
 
     scene = load_scene("ciliary_beam", **{"mesh.elements_per_wavelength": 4.0})
     modes = solve_modes(scene, near=22e3, count=4, error_estimate=False)

@@ -9,7 +9,7 @@ import argparse
 
 import numpy as np
 
-from modalfe.sweep import coupling_extra, sweep
+from modalfe.sweeps.sweep import coupling_extra, sweep
 
 
 def main() -> None:

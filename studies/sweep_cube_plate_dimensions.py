@@ -12,7 +12,7 @@ import argparse
 
 import numpy as np
 
-from modalfe.sweep import sweep
+from modalfe.sweeps.sweep import sweep
 
 TARGET = 40.7e3  # Hz, seed 001 measured
 

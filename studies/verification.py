@@ -19,13 +19,13 @@ import time
 
 import numpy as np
 
-from modalfe import analytic
-from modalfe.materials import MATERIALS
-from modalfe.solvers import solve_modes
-from modalfe.verification_cases import cantilever_scene, diaphragm_plate_scene, k31_bar_scene
+from tests.oracles import analytic
+from modalfe.scene.materials import MATERIALS
+from modalfe.solve.solvers import solve_modes
+from tests.oracles.cases import cantilever_scene, diaphragm_plate_scene, k31_bar_scene
 
-CUBE = {"E": 123e9, "nu": 0.30, "rho": 8250.0}  # modalfe.materials "CuBe" (seed 001)
-BRASS = {"E": 105e9, "nu": 0.34, "rho": 8500.0}  # modalfe.materials "brass-seed003" (seed 003)
+CUBE = {"E": 123e9, "nu": 0.30, "rho": 8250.0}  # modalfe.scene.materials "CuBe" (seed 001)
+BRASS = {"E": 105e9, "nu": 0.34, "rho": 8500.0}  # modalfe.scene.materials "brass-seed003" (seed 003)
 THIN = (0.040, 0.030, 0.5e-3)
 THICK = (0.020, 0.016, 2.0e-3)
 CONVERGENCE = (0.012, 0.010, 2.0e-3)

@@ -1,4 +1,4 @@
-"""Unit tests of the closed-form references in modalfe.analytic: tabulated values, limits between
+"""Unit tests of the closed-form references in tests.oracles.analytic: tabulated values, limits between
 theories, and independent numerical solutions of the same equations."""
 
 import math
@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 from scipy.linalg import eig
 
-from modalfe import analytic
-from modalfe.materials import EPS0, MATERIALS
+from tests.oracles import analytic
+from modalfe.scene.materials import EPS0, MATERIALS
 
 # ciliary beam of seed 003 made uniform: 100 x 5 x 5 mm brass (materials "brass-seed003")
 BRASS = {"E": 105e9, "nu": 0.34, "rho": 8500.0}

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from modalfe import beam_study as bs
+import beam_design as bs
 from modalfe.errors import ModalfeError, SceneError
 from tests.helpers import assert_one_line_error, load_study
 

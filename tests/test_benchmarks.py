@@ -7,7 +7,7 @@ import math
 
 import pytest
 
-from modalfe.linalg import available_solvers
+from modalfe.solve.linalg import available_solvers
 from tests.helpers import load_study
 
 FIDELITY = load_study("benchmark_fidelity")  # first: benchmark_solvers imports it by name

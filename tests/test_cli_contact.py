@@ -1,5 +1,5 @@
 """``modalfe friction``, ``finger`` and ``texture`` through a small argparse harness and through
-``modalfe.cli.main``."""
+``modalfe.cli.main.main``."""
 
 import argparse
 import json
@@ -7,7 +7,7 @@ import json
 import numpy as np
 import pytest
 
-from modalfe import cli_contact
+from modalfe.cli import contact as cli_contact
 from modalfe.errors import ContactError
 
 
@@ -77,7 +77,7 @@ def test_parse_values_rejects(text):
 ])
 def test_main_prints_one_line_errors(argv, field, capsys):
     # what a user sees: exit status 1 and one line on stderr naming the field, no traceback
-    from modalfe.cli import main
+    from modalfe.cli.main import main
 
     assert main([*argv, "--json"]) == 1
     err = capsys.readouterr().err.strip()
@@ -87,7 +87,7 @@ def test_main_prints_one_line_errors(argv, field, capsys):
 def test_friction_from_a_saved_reduced_model(tmp_path, capsys):
     # --rom: amplitude per volt = |FRF| of the reduced model at the drive frequency, its resonance by
     # default; a one-mode model built by hand so the expected amplitudes are known exactly.
-    forced = pytest.importorskip("modalfe.forced")
+    forced = pytest.importorskip("modalfe.response.forced")
     f, zeta, m = 40.0e3, 0.005, 0.02
     k = m * (2 * np.pi * f) ** 2
     rom = forced.ReducedModel(label="(0,6)", frequency=f, zeta=zeta, damping_description="zeta 0.005",

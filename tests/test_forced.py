@@ -4,11 +4,11 @@ and foot placement."""
 import numpy as np
 import pytest
 
-from modalfe.control import quasi_linear_region, track_amplitude
+from modalfe.response.control import quasi_linear_region, track_amplitude
 from modalfe.errors import SceneError
-from modalfe.forced import Damping, ReducedModel, harmonic_response, reduce
+from modalfe.response.forced import Damping, ReducedModel, harmonic_response, reduce
 from modalfe.scene import load_scene
-from modalfe.solvers import solve_modes
+from modalfe.solve.solvers import solve_modes
 
 OUTPUTS = [("tip", (0.1, 0.0025, 0.005)), ("x_47mm", (0.047, 0.0025, 0.005))]
 
@@ -95,7 +95,7 @@ def test_frequency_tuning_controller_reaches_its_target(beam):
 
 
 def test_feet_land_on_the_antinodes_of_the_working_mode():
-    from modalfe.placement import place_feet
+    from modalfe.response.placement import place_feet
 
     scene = load_scene("cube_plate", **{"mesh.elements_per_wavelength": 4.0})
     placement = place_feet(scene, selector="(0,6)", near=40.7e3, contact_stiffness=9.7e6)

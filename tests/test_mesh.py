@@ -4,11 +4,11 @@ import numpy as np
 import pytest
 from skfem import Basis, ElementHex1, ElementTetP1, Functional
 
-from geometries import BUILDERS
+from modalfe.geometry import BUILDERS
 from modalfe.errors import MeshError
-from modalfe.mesh import build_mesh, element_sizes
+from modalfe.models.mesh import build_mesh, element_sizes
 from modalfe.scene import load_scene
-from modalfe.scenes import BUILTIN
+from modalfe.scene.builtin import BUILTIN
 
 _volume = Functional(lambda w: 1.0 + 0.0 * w.x[0])
 
@@ -49,7 +49,7 @@ def test_bonded_parts_share_nodes(name):
 
 def test_face_groups_have_the_right_area():
     _, assembly, dm = _default_mesh("cube_plate")
-    from modalfe.model import face_area
+    from modalfe.models.solid import face_area
 
     ceramic_tops = sum(p.size[0] * p.size[1] for p in assembly.parts if p.region == "piezo")
     assert face_area(dm, "electrode_top") == pytest.approx(ceramic_tops, rel=1e-9)
@@ -61,7 +61,7 @@ def test_face_groups_have_the_right_area():
 
 def test_the_cache_returns_the_same_mesh_without_meshing(monkeypatch, tmp_path):
     monkeypatch.setenv("MODALFE_CACHE", str(tmp_path))
-    from modalfe import mesh as mesh_module
+    from modalfe.models import mesh as mesh_module
 
     assembly = BUILDERS["ciliary_beam"]()
     first = build_mesh(assembly, size=4e-3)

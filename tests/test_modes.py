@@ -3,11 +3,11 @@
 import numpy as np
 import pytest
 
-from modalfe.coupling import antiresonance, k_eff
+from modalfe.results.coupling import antiresonance, k_eff
 from modalfe.errors import SolverError
 from modalfe.scene import load_scene, scene_from_dict
-from modalfe.solvers import solve_modes
-from modalfe.verification_cases import free_plate_scene
+from modalfe.solve.solvers import solve_modes
+from tests.oracles.cases import free_plate_scene
 
 
 def test_free_plate_has_six_rigid_body_modes_set_apart():

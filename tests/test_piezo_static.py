@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-from modalfe.materials import MATERIALS
+from modalfe.scene.materials import MATERIALS
 from modalfe.scene import scene_from_dict
-from modalfe.solvers import static_response
+from modalfe.solve.solvers import static_response
 
 L, W, T = 0.02, 0.004, 0.001
 
@@ -28,7 +28,7 @@ def test_free_bar_strains_by_the_d_constants(poling):
     volts = 100.0
     scene = _bar(poling)
     x = static_response(scene, volts)
-    from modalfe.solvers import assembled_model
+    from modalfe.solve.solvers import assembled_model
 
     model, _, _ = assembled_model(scene)
     u = model.nodal_displacement(x)

@@ -1,5 +1,5 @@
-"""The reduced rungs of the fidelity ladder: the 1-D layered Timoshenko beam (``modalfe.beam``) and the
-2-D Reissner-Mindlin laminate plate (``modalfe.plate``) against the analytic theory they implement, then
+"""The reduced rungs of the fidelity ladder: the 1-D layered Timoshenko beam (``modalfe.models.beam``) and the
+2-D Reissner-Mindlin laminate plate (``modalfe.models.plate``) against the analytic theory they implement, then
 against the 3-D solid, and ``fidelity="auto"`` choosing between them.
 
 Against its own theory a reduced model differs only by discretization, so those tolerances are a few
@@ -14,15 +14,16 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from modalfe import analytic, load_scene
-from modalfe.materials import MATERIALS
-from modalfe.plate import Layer, shear_stiffness
+from modalfe import load_scene
+from tests.oracles import analytic
+from modalfe.scene.materials import MATERIALS
+from modalfe.models.plate import Layer, shear_stiffness
 from modalfe.scene import scene_from_dict
-from modalfe.solvers import solve_modes
-from modalfe.verification_cases import cantilever_scene, diaphragm_plate_scene, k31_bar_scene, reference_mesh
+from modalfe.solve.solvers import solve_modes
+from tests.oracles.cases import cantilever_scene, diaphragm_plate_scene, k31_bar_scene, reference_mesh
 
-CUBE = {"E": 123e9, "nu": 0.30, "rho": 8250.0}  # modalfe.materials "CuBe" (seed 001)
-BRASS = {"E": 105e9, "nu": 0.34, "rho": 8500.0}  # modalfe.materials "brass-seed003" (seed 003)
+CUBE = {"E": 123e9, "nu": 0.30, "rho": 8250.0}  # modalfe.scene.materials "CuBe" (seed 001)
+BRASS = {"E": 105e9, "nu": 0.34, "rho": 8500.0}  # modalfe.scene.materials "brass-seed003" (seed 003)
 THICK = (0.020, 0.016, 2.0e-3)  # h/a = 0.1: shear and rotary inertia matter (Kirchhoff is 4-16 % off)
 
 
@@ -159,7 +160,7 @@ def test_reduced_models_refuse_what_they_cannot_represent():
 
 
 def test_report_takes_k_eff_from_the_solid_when_the_plate_answers():
-    from modalfe.report import device_report
+    from modalfe.report.report import device_report
 
     scene = load_scene("cube_plate")
     (row,) = device_report(scene)

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from modalfe.scene import load_scene
-from modalfe.solvers import solve_modes
+from modalfe.solve.solvers import solve_modes
 
 pv = pytest.importorskip("pyvista")
 
@@ -16,7 +16,7 @@ def plate():
 
 
 def _image(modes, mode, **kwargs):
-    from modalfe.render import render_mode
+    from modalfe.plot.render import render_mode
 
     plotter = render_mode(modes, mode, window_size=(500, 350), **kwargs)
     image = plotter.screenshot(return_img=True)
@@ -58,7 +58,7 @@ def test_two_modes_give_different_pictures(plate):
 
 
 def test_animation_writes_a_gif(plate, tmp_path):
-    from modalfe.render import animate_mode
+    from modalfe.plot.render import animate_mode
 
     path = animate_mode(plate, plate.labelled("(0,6)"), str(tmp_path / "mode.gif"), frames=4,
                         window_size=(300, 200))
@@ -69,7 +69,7 @@ def test_animation_writes_a_gif(plate, tmp_path):
 def test_vtu_export_has_every_mode_and_the_parts(plate, tmp_path):
     import meshio
 
-    from modalfe.export import export_vtu
+    from modalfe.report.export import export_vtu
 
     path = export_vtu(plate, tmp_path / "plate.vtu")
     mesh = meshio.read(path)
@@ -82,7 +82,7 @@ def test_vtu_export_has_every_mode_and_the_parts(plate, tmp_path):
 
 
 def test_plots_return_figures(tmp_path):
-    from modalfe.plots import plot_admittance, plot_convergence, plot_frf, plot_sweep, plot_time_vs_error
+    from modalfe.plot.figures import plot_admittance, plot_convergence, plot_frf, plot_sweep, plot_time_vs_error
 
     f = np.linspace(39e3, 41e3, 11)
     response = 1 / (40e3**2 - f**2 + 1j * 40e3 * f / 100)

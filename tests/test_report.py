@@ -2,7 +2,7 @@
 
 import pytest
 
-from modalfe.report import run_report
+from modalfe.report.report import run_report
 
 
 @pytest.fixture(scope="module")

@@ -3,11 +3,11 @@
 import numpy as np
 import pytest
 
-from geometries import BUILDERS
+from modalfe.geometry import BUILDERS
 from modalfe.errors import MeshError, SceneError
-from modalfe.materials import MATERIALS, material
+from modalfe.scene.materials import MATERIALS, material
 from modalfe.scene import load_scene, scene_from_dict
-from modalfe.scenes import BUILTIN
+from modalfe.scene.builtin import BUILTIN
 
 BEAM_FILE = """
 name = "bimorph"
@@ -188,7 +188,7 @@ def test_unknown_scene_and_bad_toml(tmp_path):
 
 
 def test_empty_or_failed_mesh_is_a_mesh_error():
-    from modalfe.mesh import build_mesh
+    from modalfe.models.mesh import build_mesh
 
     assembly = BUILDERS["ciliary_beam"]()
     with pytest.raises(MeshError) as info:

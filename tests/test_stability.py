@@ -5,9 +5,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from modalfe.linalg import condition_estimate, factorize
+from modalfe.solve.linalg import condition_estimate, factorize
 from modalfe.scene import load_scene, scene_from_dict
-from modalfe.solvers import assembled_model, solve_modes
+from modalfe.solve.solvers import assembled_model, solve_modes
 
 
 def test_scaling_the_potentials_improves_the_conditioning():
@@ -69,7 +69,7 @@ def test_random_valid_plates_have_spd_matrices_and_positive_frequencies(length, 
 
 
 def test_forced_response_balances_energy():
-    from modalfe.forced import Damping, harmonic_response
+    from modalfe.response.forced import Damping, harmonic_response
 
     scene = load_scene("ciliary_beam", **{"mesh.elements_per_wavelength": 4.0})
     modes = solve_modes(scene, near=22e3, count=4, error_estimate=False)
@@ -87,7 +87,7 @@ def test_forced_response_balances_energy():
 @given(length=st.floats(0.015, 0.04), width=st.floats(0.002, 0.006), thickness=st.floats(0.0005, 0.002),
        zeta=st.floats(0.002, 0.05), detuning=st.floats(0.8, 1.2), poling=st.sampled_from([1, -1]))
 def test_random_piezo_bars_balance_energy_in_forced_response(length, width, thickness, zeta, detuning, poling):
-    from modalfe.forced import Damping, harmonic_response
+    from modalfe.response.forced import Damping, harmonic_response
 
     scene = scene_from_dict({
         "name": "random-bar", "kind": "beam",
@@ -125,8 +125,8 @@ def test_very_coarse_and_very_fine_meshes_are_sound_or_say_why():
 
 
 def test_elongated_elements_still_give_the_thin_plate_answer():
-    from modalfe.analytic import kirchhoff_plate_ss
-    from modalfe.verification_cases import diaphragm_plate_scene
+    from tests.oracles.analytic import kirchhoff_plate_ss
+    from tests.oracles.cases import diaphragm_plate_scene
 
     a, b, h = 0.04, 0.03, 0.5e-3
     scene = diaphragm_plate_scene(a, b, h, max_size=0.004)  # elements 4 mm wide, 0.25 mm thick: 16:1
@@ -148,7 +148,7 @@ def test_sheets_down_to_1_to_3000_of_the_beam_length_change_the_frequency_smooth
 
 
 def test_nearly_incompressible_material_is_flagged_by_a_larger_error_estimate():
-    from modalfe.verification_cases import clamped_bar_scene
+    from tests.oracles.cases import clamped_bar_scene
 
     estimates = [solve_modes(clamped_bar_scene(nu, 2e-3)).labelled("bending-z 1").error_estimate for nu in (0.3, 0.499)]
     # quadratic hexahedra lock mildly as nu -> 1/2 (slower convergence): the estimate must say so, finitely
@@ -157,7 +157,7 @@ def test_nearly_incompressible_material_is_flagged_by_a_larger_error_estimate():
 
 @pytest.mark.slow
 def test_nearly_incompressible_error_estimate_bounds_the_error():
-    from modalfe.verification_cases import clamped_bar_scene
+    from tests.oracles.cases import clamped_bar_scene
 
     for nu in (0.3, 0.49, 0.499):
         coarse = solve_modes(clamped_bar_scene(nu, 2e-3)).labelled("bending-z 1")
@@ -170,7 +170,7 @@ def test_nearly_incompressible_error_estimate_bounds_the_error():
 
 @pytest.mark.slow
 def test_tetrahedra_of_the_thin_glass_plate_agree_with_hexahedra_within_the_estimate():
-    from modalfe.results import select
+    from modalfe.results.modes import select
 
     hexa = select(solve_modes(load_scene("glass_plate"), near=66e3, count=8), "(0,n)", 66e3)
     tets = select(solve_modes(load_scene("glass_plate", **{"mesh.element": "tet"}), near=66e3, count=8,

@@ -10,14 +10,14 @@ import numpy as np
 import pytest
 
 from modalfe.errors import SceneError
-from modalfe.sweep import grid_values, mac, read_table, sweep, track
+from modalfe.sweeps.sweep import grid_values, mac, read_table, sweep, track
 
 ARGS = ["sweep", "ciliary_beam", "--param", "x0=0.05:0.08:6", "--workers", "2", "--json",
         "--set", "mesh.elements_per_wavelength=4.0"]
 
 
 def _run(out, env):
-    return subprocess.Popen([sys.executable, "-m", "modalfe.cli", *ARGS, "--out", str(out)], env=env,
+    return subprocess.Popen([sys.executable, "-m", "modalfe.cli.main", *ARGS, "--out", str(out)], env=env,
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
 
 

@@ -6,9 +6,9 @@ import math
 import numpy as np
 import pytest
 
-from modalfe import tile
+import tile_design as tile
 from modalfe.errors import ModalfeError, SceneError
-from modalfe.labels import RIGID_NAMES
+from modalfe.results.labels import RIGID_NAMES
 from tests.helpers import assert_one_line_error, load_study
 
 STUDY = load_study("tile_study")

@@ -15,18 +15,18 @@ import math
 import numpy as np
 import pytest
 
-from modalfe import analytic
-from modalfe.materials import MATERIALS
-from modalfe.solvers import solve_modes
-from modalfe.verification_cases import cantilever_scene, diaphragm_plate_scene, k31_bar_scene
+from tests.oracles import analytic
+from modalfe.scene.materials import MATERIALS
+from modalfe.solve.solvers import solve_modes
+from tests.oracles.cases import cantilever_scene, diaphragm_plate_scene, k31_bar_scene
 
 # ---------------------------------------------------------------------------------------------
 # scenes: every mesh is sized by max_size alone (one element per wavelength never binds), so
 # the element counts below are exact and refinement by size_factor is uniform
 
 
-CUBE = {"E": 123e9, "nu": 0.30, "rho": 8250.0}  # modalfe.materials "CuBe" (seed 001)
-BRASS = {"E": 105e9, "nu": 0.34, "rho": 8500.0}  # modalfe.materials "brass-seed003" (seed 003)
+CUBE = {"E": 123e9, "nu": 0.30, "rho": 8250.0}  # modalfe.scene.materials "CuBe" (seed 001)
+BRASS = {"E": 105e9, "nu": 0.34, "rho": 8500.0}  # modalfe.scene.materials "brass-seed003" (seed 003)
 THIN = (0.040, 0.030, 0.5e-3)  # h/a = 0.0125
 THICK = (0.020, 0.016, 2.0e-3)  # h/a = 0.1
 CONVERGENCE = (0.012, 0.010, 2.0e-3)  # 6 x 5 x 1 elements of 2 mm, then halved twice
@@ -124,7 +124,7 @@ def test_cantilever_matches_timoshenko_within_one_percent():
 
 def test_clamp_grading_halves_the_ciliary_beam_error_at_the_clamp():
     from modalfe.scene import load_scene
-    from modalfe.solvers import solve_level
+    from modalfe.solve.solvers import solve_level
 
     # reference 21,541 +- 1.5 Hz: bending-z 6 of the short-circuited ciliary beam on meshes graded
     # toward the clamp and the sheet ends, 102k and 167k DOFs (21,542.9 and 21,542.0 Hz) extrapolated

@@ -1,0 +1,75 @@
+"""``modalfe report`` and ``modalfe modes``: eigenfrequencies of the seed devices and of any scene."""
+
+from __future__ import annotations
+
+import json
+import math
+
+from modalfe.cli.options import fidelity_options, parse_overrides, positive_int
+
+
+def register(sub) -> None:
+    p = sub.add_parser("report", help="working modes of every seed device against the seeds' targets")
+    p.add_argument("--scene", action="append", help="only this built-in scene (repeatable)")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene parameter")
+    p.add_argument("--json", action="store_true", help="machine-readable rows")
+    p.add_argument("--no-error-estimate", action="store_true",
+                   help="skip the coarse-mesh solve (solid and reduced fidelities; auto always estimates)")
+    p.add_argument("--jobs", type=positive_int,
+                   help="devices solved at once, one process each (default: one per core)")
+    fidelity_options(p)
+    p.set_defaults(func=_report)
+
+    p = sub.add_parser("modes", help="eigenmodes of a built-in scene or a TOML scene file")
+    p.add_argument("scene", help="built-in scene name or path to a .toml scene file")
+    p.add_argument("--near", type=float, help="target frequency [Hz]")
+    p.add_argument("--count", type=int, help="number of modes nearest --near")
+    p.add_argument("--band", type=float, nargs=2, metavar=("F1", "F2"), help="all modes in [F1, F2] Hz")
+    p.add_argument("--circuit", choices=("short", "open"), help="electrodes grounded or driven one floating")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene parameter")
+    p.add_argument("--json", action="store_true")
+    p.add_argument("--no-error-estimate", action="store_true",
+                   help="skip the coarse-mesh solve (solid and reduced fidelities; auto always estimates)")
+    fidelity_options(p)
+    p.set_defaults(func=_modes)
+
+
+def _report(args) -> int:
+    from modalfe.report.report import format_rows, run_report
+
+    rows = run_report(args.scene, progress=not args.json, error_estimate=not args.no_error_estimate,
+                      overrides=parse_overrides(args.set), fidelity=args.fidelity, tol=args.tol, jobs=args.jobs)
+    if args.json:
+        print(json.dumps([r.to_json() for r in rows], indent=2))
+    else:
+        print(format_rows(rows))
+    return 1 if any(r.mode == "FAILED" for r in rows) else 0
+
+
+def _modes(args) -> int:
+    from modalfe.scene import load_scene
+    from modalfe.solve.solvers import solve_modes
+
+    scene = load_scene(args.scene, **parse_overrides(args.set))
+    band = tuple(args.band) if args.band else None
+    modes = solve_modes(scene, near=args.near, count=args.count, band=band, circuit=args.circuit,
+                        error_estimate=not args.no_error_estimate, fidelity=args.fidelity, tol=args.tol)
+    rows = [{"index": m.index, "frequency_hz": m.frequency, "label": m.label,
+             "error_estimate": None if not math.isfinite(m.error_estimate) else m.error_estimate,
+             "error_unresolved": m.error_estimate == float("inf"),
+             "model_error": None if not math.isfinite(m.model_error) else m.model_error,
+             "wavelength_m": None if m.wavelength != m.wavelength else m.wavelength} for m in modes]
+    if args.json:
+        print(json.dumps({"scene": scene.name, "circuit": modes.circuit, "fidelity": modes.fidelity,
+                          "fidelity_note": modes.fidelity_note, "dofs": modes.dofs, "modes": rows,
+                          "timings": {k: v for k, v in modes.timings.items()}}, indent=2))
+        return 0
+    print(f"{scene.name}: {modes.dofs} DOFs, {modes.circuit} circuit, {modes.fidelity} fidelity")
+    if modes.fidelity_note:
+        print(modes.fidelity_note)
+    print(f"{'#':>3} {'f [Hz]':>12} {'label':<14} {'err est':>8}")
+    for r in rows:
+        err = ("unresolved" if r["error_unresolved"] else "n/a" if r["error_estimate"] is None
+               else f"{100 * r['error_estimate']:.3f}%")
+        print(f"{r['index']:>3} {r['frequency_hz']:>12.2f} {r['label']:<14} {err:>8}")
+    return 0

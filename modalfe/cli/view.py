@@ -1,0 +1,80 @@
+"""`modalfe show` (a mode-shape picture or animation) and `modalfe export` (VTU for ParaView)."""
+
+from __future__ import annotations
+
+import os
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser("show", help="render a mode shape (PNG, GIF, or a window when there is a display)")
+    p.add_argument("scene", help="built-in scene name or .toml scene file")
+    p.add_argument("--mode", help="mode label (e.g. '(0,6)') or index among the computed modes "
+                                  "(default: the scene's first working mode)")
+    p.add_argument("--near", type=float, help="frequency [Hz] to search near (default: the working mode's)")
+    p.add_argument("--out", help="FILE.png or FILE.gif (default: a window if there is a display, "
+                                 "else <scene>.png)")
+    p.add_argument("--view", choices=("iso", "top", "bottom"), default="iso")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene parameter")
+    p.set_defaults(func=_show)
+
+    p = subparsers.add_parser("export", help="write every computed mode to a VTU file for ParaView")
+    p.add_argument("scene")
+    p.add_argument("--vtu", required=True, help="output file (.vtu)")
+    p.add_argument("--near", type=float)
+    p.add_argument("--count", type=int)
+    p.add_argument("--set", action="append", metavar="KEY=VALUE")
+    p.set_defaults(func=_export)
+
+
+def _modes(args):
+    from modalfe.cli.options import parse_overrides
+    from modalfe.scene import load_scene
+    from modalfe.solve.solvers import solve_modes
+
+    scene = load_scene(args.scene, **parse_overrides(args.set))
+    near = args.near or (scene.working_modes[0].near if scene.working_modes else None)
+    return scene, solve_modes(scene, near=near, count=getattr(args, "count", None), error_estimate=False)
+
+
+def _show(args) -> int:
+    from modalfe.errors import SolverError
+    from modalfe.plot.render import animate_mode, render_mode
+    from modalfe.results.modes import select
+
+    scene, modes = _modes(args)
+    if args.mode is None:
+        if not scene.working_modes:
+            raise SolverError("show: the scene names no working mode; give --mode")
+        wm = scene.working_modes[0]
+        mode = select(modes, wm.selector, args.near or wm.near)
+    elif args.mode.isdigit():
+        index = int(args.mode)
+        if index >= len(modes):
+            raise SolverError(f"--mode: index {index} out of range (0-{len(modes) - 1})")
+        mode = modes[index]
+    else:
+        mode = select(modes, args.mode, args.near or mode_near(scene))
+    interactive = args.out is None and bool(os.environ.get("DISPLAY"))
+    out = args.out or (None if interactive else f"{scene.name}.png")
+    if out and out.endswith(".gif"):
+        animate_mode(modes, mode, out)
+    else:
+        plotter = render_mode(modes, mode, out=out, view=args.view, off_screen=not interactive)
+        if interactive:
+            plotter.show()
+    if out:
+        print(f"{scene.name}: {mode.label} at {mode.frequency:.1f} Hz -> {out}")
+    return 0
+
+
+def mode_near(scene) -> float:
+    return scene.working_modes[0].near if scene.working_modes else scene.analysis.near
+
+
+def _export(args) -> int:
+    from modalfe.report.export import export_vtu
+
+    scene, modes = _modes(args)
+    path = export_vtu(modes, args.vtu)
+    print(f"{scene.name}: {len(modes)} modes -> {path}")
+    return 0

@@ -1,0 +1,54 @@
+"""Any device made of boxes, as written in a user scene file."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+from modalfe.geometry.parts import SIDES, Assembly, Box, Face
+from modalfe.errors import SceneError
+
+
+def boxes(*, parts: Sequence[Mapping], faces: Mapping[str, Sequence[str]] | None = None) -> Assembly:
+    """Assembly from part tables and face groups.
+
+    parts : each {name, region, material, origin (x, y, z) [m], size (dx, dy, dz) [m], poling}
+    faces : group name -> ["part.side", ...], side one of xmin, xmax, ymin, ymax, zmin, zmax
+    """
+    built = []
+    for i, spec in enumerate(parts):
+        where = f"parts[{i}]"
+        missing = {"name", "material", "origin", "size"} - set(spec)
+        if missing:
+            raise SceneError(f"{where}: missing {sorted(missing)}")
+        unknown = set(spec) - {"name", "region", "material", "origin", "size", "poling"}
+        if unknown:
+            raise SceneError(f"{where}: unknown keys {sorted(unknown)}")
+        origin, size = _triple(spec["origin"], f"{where}.origin"), _triple(spec["size"], f"{where}.size")
+        for k, s in enumerate(size):
+            if not s > 0:
+                raise SceneError(f"{where}.size: must be positive along {'xyz'[k]}, got {s}")
+        built.append(
+            Box(str(spec["name"]), str(spec.get("region", spec["name"])), spec["material"]
+                if isinstance(spec["material"], str) else str(spec["material"]),
+                origin, tuple(o + s for o, s in zip(origin, size)), int(spec.get("poling", 0)))
+        )
+    groups = {}
+    for group, refs in (faces or {}).items():
+        entries = []
+        for ref in refs:
+            part, _, side = str(ref).rpartition(".")
+            if not part or side not in SIDES:
+                raise SceneError(f"faces.{group}: '{ref}' is not 'part.side' with side in {SIDES}")
+            entries.append(Face(part, side))
+        groups[group] = tuple(entries)
+    return Assembly(tuple(built), groups)
+
+
+def _triple(value, field: str) -> tuple[float, float, float]:
+    try:
+        out = tuple(float(v) for v in value)
+    except (TypeError, ValueError):
+        raise SceneError(f"{field}: must be three numbers") from None
+    if len(out) != 3:
+        raise SceneError(f"{field}: must be three numbers, got {len(out)}")
+    return out

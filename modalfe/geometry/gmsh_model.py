@@ -1,0 +1,129 @@
+"""Gmsh model of a box assembly, with physical groups named by part and by face role.
+
+Two ways to build it:
+- ``add_grid`` (structured hexahedra): the tensor grid of the break coordinates, built directly in
+  gmsh's built-in kernel, one six-sided volume per grid cell inside a part. Neighbouring cells
+  share their points, lines and faces by construction, so bonded parts share interface nodes with
+  no boolean operation (an OCC fragment of the same cells took 0.7-1.4 s per mesh of the Cu-Be and
+  tile devices);
+- ``add_parts`` (tetrahedra): the parts as OCC boxes, fragmented so that touching parts share faces.
+The caller owns ``gmsh.initialize``/``finalize``.
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+
+from modalfe.geometry.parts import Assembly
+from modalfe.errors import MeshError
+
+TOL = 1e-9
+
+
+def grid_breaks(assembly: Assembly) -> list[np.ndarray]:
+    """Sorted distinct box coordinates along x, y and z (part faces and face-window edges)."""
+    out = []
+    for k in range(3):
+        coords = [v for p in assembly.parts for v in (p.lo[k], p.hi[k])]
+        for faces in assembly.faces.values():
+            for f in faces:
+                if f.window is not None:
+                    _, _, lo, hi = assembly.part(f.part).face_bounds(f.side, f.window)
+                    coords += [lo[k], hi[k]]
+        c = np.unique(coords)
+        scale = c[-1] - c[0]
+        keep = np.concatenate([[True], np.diff(c) > TOL * scale])
+        out.append(c[keep])
+    return out
+
+
+def add_grid(assembly: Assembly, breaks: list[np.ndarray]) -> dict[str, list[int]]:
+    """Add every grid cell of ``breaks`` that lies in a part as a built-in-kernel volume; physical
+    groups as in ``add_physical_groups``. Returns part name -> volume tags."""
+    import gmsh
+
+    geo = gmsh.model.geo
+    points: dict[tuple[int, int, int], int] = {}
+    lines: dict[tuple[tuple[int, int, int], int], int] = {}
+    surfaces: dict[tuple[tuple[int, int, int], int], int] = {}
+
+    def step(node: tuple[int, int, int], axis: int) -> tuple[int, int, int]:
+        return tuple(n + (k == axis) for k, n in enumerate(node))
+
+    def point(node):
+        if node not in points:
+            points[node] = geo.addPoint(*(breaks[k][node[k]] for k in range(3)))
+        return points[node]
+
+    def line(node, axis: int) -> int:
+        """The grid line from ``node`` one step along ``axis``."""
+        if (node, axis) not in lines:
+            lines[node, axis] = geo.addLine(point(node), point(step(node, axis)))
+        return lines[node, axis]
+
+    def surface(node, normal: int) -> int:
+        """The grid face with lowest corner ``node`` and normal ``normal``."""
+        if (node, normal) not in surfaces:
+            u, v = (k for k in range(3) if k != normal)
+            loop = geo.addCurveLoop([line(node, u), line(step(node, u), v), -line(step(node, v), u), -line(node, v)])
+            surfaces[node, normal] = geo.addPlaneSurface([loop])
+        return surfaces[node, normal]
+
+    volumes: dict[str, list[int]] = {}
+    for part in assembly.parts:
+        ranges = []
+        for k in range(3):
+            scale = breaks[k][-1] - breaks[k][0]
+            first = int(np.searchsorted(breaks[k], part.lo[k] - TOL * scale))
+            last = int(np.searchsorted(breaks[k], part.hi[k] - TOL * scale))
+            ranges.append(range(first, last))
+        for node in itertools.product(*ranges):
+            faces = [surface(n, axis) for axis in range(3) for n in (node, step(node, axis))]
+            volumes.setdefault(part.name, []).append(geo.addVolume([geo.addSurfaceLoop(faces)]))
+    geo.synchronize()
+    add_physical_groups(assembly, volumes)
+    return volumes
+
+
+def add_parts(assembly: Assembly) -> dict[str, list[int]]:
+    """Add the parts as OCC boxes fragmented together (tetrahedral meshing); physical groups as in
+    ``add_physical_groups``. Returns part name -> volume tags."""
+    import gmsh
+
+    occ = gmsh.model.occ
+    tags = [(3, occ.addBox(*p.lo, *(h - l for l, h in zip(p.lo, p.hi)))) for p in assembly.parts]
+    if len(tags) > 1:
+        _, children = occ.fragment(tags, [])
+    else:
+        children = [tags]  # nothing to glue: fragment would return no map
+    occ.synchronize()
+    volumes = {p.name: [t for d, t in child if d == 3] for p, child in zip(assembly.parts, children)}
+    add_physical_groups(assembly, volumes)
+    return volumes
+
+
+def add_physical_groups(assembly: Assembly, volumes: dict[str, list[int]]) -> None:
+    """One physical volume group per part (named after the part) and one physical surface group per
+    named face group, found by the face's bounding box."""
+    import gmsh
+
+    for name, vols in volumes.items():
+        gmsh.model.addPhysicalGroup(3, sorted(set(vols)), name=name)
+    lo, hi = assembly.bounds
+    scale = max(h - l for l, h in zip(lo, hi))
+    for group, faces in assembly.faces.items():
+        surfaces: set[int] = set()
+        for face in faces:
+            axis, c, flo, fhi = assembly.part(face.part).face_bounds(face.side, face.window)
+            bmin = [flo[k] if k != axis else c for k in range(3)]
+            bmax = [fhi[k] if k != axis else c for k in range(3)]
+            eps = 1e-5 * scale  # OCC bounding boxes carry ~1e-7 m of tolerance
+            found = gmsh.model.getEntitiesInBoundingBox(
+                *(b - eps for b in bmin), *(b + eps for b in bmax), dim=2
+            )
+            surfaces.update(t for _, t in found)
+        if not surfaces:
+            raise MeshError(f"faces.{group}: no surface found on the named faces")
+        gmsh.model.addPhysicalGroup(2, sorted(surfaces), name=group)

@@ -1,0 +1,212 @@
+"""Box parts and named face groups: the pure-Python description every device builder returns.
+
+A device is a set of axis-aligned boxes (plates, patches, bars, beams, feet, mounts). Boxes that
+touch are bonded. Faces are named by role (``electrode_top``, ``clamp``, ``foot_1``...) so that the
+same names reach the gmsh physical groups, the mesh, the model's DOF sets and the reports.
+Lengths in metres.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from modalfe.errors import SceneError
+
+SIDES = ("xmin", "xmax", "ymin", "ymax", "zmin", "zmax")
+
+
+@dataclass(frozen=True)
+class Box:
+    """An axis-aligned box part.
+
+    name : unique part name (``plate``, ``ceramic_3``, ``foot_1``)
+    region : material role shared by several parts (``plate``, ``piezo``, ``foot``...)
+    material : material name (see ``modalfe.scene.materials``)
+    lo, hi : opposite corners [m]
+    poling : +1 poled along +z, -1 along -z, 0 for a non-piezoelectric part
+    """
+
+    name: str
+    region: str
+    material: str
+    lo: tuple[float, float, float]
+    hi: tuple[float, float, float]
+    poling: int = 0
+
+    def __post_init__(self) -> None:
+        for axis, (a, b) in enumerate(zip(self.lo, self.hi)):
+            if not b - a > 0:
+                raise SceneError(
+                    f"part '{self.name}': size along {'xyz'[axis]} must be positive, got {b - a:g} m"
+                )
+        if self.poling not in (-1, 0, 1):
+            raise SceneError(f"part '{self.name}': poling must be +1, -1 or 0")
+
+    @property
+    def size(self) -> tuple[float, float, float]:
+        return tuple(b - a for a, b in zip(self.lo, self.hi))
+
+    @property
+    def volume(self) -> float:
+        sx, sy, sz = self.size
+        return sx * sy * sz
+
+    def contains(self, point, tol: float = 0.0) -> bool:
+        return all(a - tol <= p <= b + tol for p, a, b in zip(point, self.lo, self.hi))
+
+    def face(self, side: str) -> Face:
+        if side not in SIDES:
+            raise SceneError(f"part '{self.name}': face side must be one of {SIDES}, got '{side}'")
+        return Face(self.name, side)
+
+    def face_bounds(self, side: str, window=None) -> tuple[int, float, tuple, tuple]:
+        """(normal axis, coordinate, lo, hi) of one face of the box, or of a window in it."""
+        axis = "xyz".index(side[0])
+        coordinate = self.lo[axis] if side.endswith("min") else self.hi[axis]
+        if window is None:
+            return axis, coordinate, self.lo, self.hi
+        inplane = [k for k in range(3) if k != axis]
+        lo, hi = list(self.lo), list(self.hi)
+        for (k, a, b) in zip(inplane, window[0], window[1]):
+            if not (self.lo[k] - 1e-12 <= a < b <= self.hi[k] + 1e-12):
+                raise SceneError(f"face window on '{self.name}.{side}' lies outside the face along {'xyz'[k]}")
+            lo[k], hi[k] = a, b
+        return axis, coordinate, tuple(lo), tuple(hi)
+
+
+@dataclass(frozen=True)
+class Face:
+    """One face of a part, by part name and side (``zmax`` is the top).
+
+    ``window`` ((u0, v0), (u1, v1)) optionally restricts it to a rectangle, in the face's two
+    in-plane coordinates in xyz order (x, y for a z face); the mesh puts grid lines on its edges.
+    """
+
+    part: str
+    side: str
+    window: tuple[tuple[float, float], tuple[float, float]] | None = None
+
+
+@dataclass(frozen=True)
+class Assembly:
+    """What a device builder returns: parts plus named face groups.
+
+    faces : name -> faces, e.g. ``{"electrode_top": (Face("ceramic_1", "zmax"), ...)}``
+    """
+
+    parts: tuple[Box, ...]
+    faces: dict[str, tuple[Face, ...]] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        names = [p.name for p in self.parts]
+        if len(set(names)) != len(names):
+            raise SceneError(f"parts: duplicate part names {sorted({n for n in names if names.count(n) > 1})}")
+        if not self.parts:
+            raise SceneError("parts: a device needs at least one part")
+        by_name = {p.name: p for p in self.parts}
+        for group, faces in self.faces.items():
+            for f in faces:
+                if f.part not in by_name:
+                    raise SceneError(f"faces.{group}: unknown part '{f.part}'")
+                by_name[f.part].face(f.side)
+                by_name[f.part].face_bounds(f.side, f.window)
+        _check_overlaps(self.parts)
+
+    def part(self, name: str) -> Box:
+        for p in self.parts:
+            if p.name == name:
+                return p
+        raise SceneError(f"no part named '{name}'")
+
+    @property
+    def regions(self) -> dict[str, tuple[str, ...]]:
+        """Region -> names of its parts."""
+        out: dict[str, list[str]] = {}
+        for p in self.parts:
+            out.setdefault(p.region, []).append(p.name)
+        return {k: tuple(v) for k, v in out.items()}
+
+    def face_area(self, group: str) -> float:
+        """Area [m^2] of a face group, from the boxes (windows included)."""
+        total = 0.0
+        for f in self.faces[group]:
+            axis, _, lo, hi = self.part(f.part).face_bounds(f.side, f.window)
+            total += float(np.prod([hi[k] - lo[k] for k in range(3) if k != axis]))
+        return total
+
+    def halved(self, axis: int) -> Assembly:
+        """The half below the mid-plane normal to ``axis``, with the cut faces in group
+        ``symmetry_<x|y|z>``; raises SceneError unless the assembly is mirror-symmetric."""
+        lo, hi = self.bounds
+        mid = 0.5 * (lo[axis] + hi[axis])
+        scale = hi[axis] - lo[axis]
+        tol = 1e-9 * scale
+
+        def mirrored(p: Box) -> tuple:
+            a, b = list(p.lo), list(p.hi)
+            a[axis], b[axis] = 2 * mid - p.hi[axis], 2 * mid - p.lo[axis]
+            return tuple(a), tuple(b)
+
+        for p in self.parts:
+            a, b = mirrored(p)
+            if not any(q.material == p.material and q.poling == p.poling and np.allclose(q.lo, a, atol=tol)
+                       and np.allclose(q.hi, b, atol=tol) for q in self.parts):
+                raise SceneError(f"symmetry: part '{p.name}' has no mirror image about the {'xyz'[axis]} mid-plane")
+        kept, cut = [], []
+        for p in self.parts:
+            if p.lo[axis] >= mid - tol:
+                continue
+            if p.hi[axis] > mid + tol:
+                h = list(p.hi)
+                h[axis] = mid
+                p = Box(p.name, p.region, p.material, p.lo, tuple(h), p.poling)
+                cut.append(Face(p.name, "xyz"[axis] + "max"))
+            kept.append(p)
+        names = {p.name for p in kept}
+        clipped = {f.part for f in cut}
+        cut_side = "xyz"[axis] + "max"
+        faces = {}
+        for group, entries in self.faces.items():
+            inside = []
+            for f in entries:
+                if f.part not in names or (f.part in clipped and f.side == cut_side):
+                    continue  # removed with the mirror half (a clipped part's far face is the cut)
+                if f.window is not None:
+                    raise SceneError(f"symmetry: face windows (faces.{group}) are not supported with symmetry")
+                inside.append(f)
+            if inside:
+                faces[group] = tuple(inside)
+        if not cut:
+            raise SceneError(f"symmetry: no part crosses the {'xyz'[axis]} mid-plane")
+        faces[f"symmetry_{'xyz'[axis]}"] = tuple(cut)
+        return Assembly(tuple(kept), faces)
+
+    @property
+    def bounds(self) -> tuple[tuple[float, ...], tuple[float, ...]]:
+        lo = tuple(min(p.lo[i] for p in self.parts) for i in range(3))
+        hi = tuple(max(p.hi[i] for p in self.parts) for i in range(3))
+        return lo, hi
+
+
+def _check_overlaps(parts: tuple[Box, ...]) -> None:
+    """Bonded parts may touch but not interpenetrate."""
+    for i, a in enumerate(parts):
+        for b in parts[i + 1 :]:
+            overlap = [min(a.hi[k], b.hi[k]) - max(a.lo[k], b.lo[k]) for k in range(3)]
+            scale = max(max(a.size), max(b.size))
+            if all(o > 1e-9 * scale for o in overlap):
+                raise SceneError(f"parts: '{a.name}' and '{b.name}' overlap")
+
+
+def face_on_face(outer: Box, side: str, inner: Box, inner_side: str, name: str) -> None:
+    """Raise unless face ``inner_side`` of ``inner`` lies within face ``side`` of ``outer``."""
+    axis, c_out, _, _ = outer.face_bounds(side)
+    _, c_in, _, _ = inner.face_bounds(inner_side)
+    scale = max(outer.size)
+    if abs(c_out - c_in) > 1e-9 * scale:
+        raise SceneError(f"{name}: not on the {side} face of '{outer.name}'")
+    for k in range(3):
+        if k != axis and (inner.lo[k] < outer.lo[k] - 1e-9 * scale or inner.hi[k] > outer.hi[k] + 1e-9 * scale):
+            raise SceneError(f"{name}: lies outside the {side} face of '{outer.name}' along {'xyz'[k]}")

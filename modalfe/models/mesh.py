@@ -1,0 +1,311 @@
+"""Mesh a box assembly with gmsh, convert it to scikit-fem through meshio, cache it by parameters.
+
+Structured hexahedra (transfinite volumes on the tensor grid of the parts' coordinates) when
+``element="hex"``, unstructured tetrahedra otherwise. The mesh is geometrically linear; quadratic
+fields come from the element chosen in the model (serendipity hex or P2 tet), exact for boxes.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import itertools
+import logging
+import os
+import time
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from modalfe.errors import MeshError
+
+log = logging.getLogger(__name__)
+
+MESH_FORMAT_VERSION = 2
+GRADING_RATIO = 0.4  # size ratio of neighbouring element layers toward a clamped face
+_memory_cache: dict[str, DeviceMesh] = {}
+
+
+@dataclass(frozen=True)
+class DeviceMesh:
+    """A scikit-fem mesh with its named parts, regions and faces.
+
+    mesh : skfem MeshHex1 or MeshTet1 (coordinates in m)
+    parts : part name -> element indices
+    faces : face group name -> facet indices
+    key : content hash of the parameters that built it
+    seconds : wall time to build it (0 when read from the cache)
+    """
+
+    mesh: object
+    parts: dict[str, np.ndarray]
+    faces: dict[str, np.ndarray]
+    element: str
+    size: float
+    key: str
+    seconds: float
+
+    @property
+    def nelements(self) -> int:
+        return self.mesh.t.shape[1]
+
+
+def cache_dir() -> Path:
+    """Where meshes are cached: $MODALFE_CACHE, else $XDG_CACHE_HOME/modalfe, else ~/.cache/modalfe."""
+    root = os.environ.get("MODALFE_CACHE")
+    if root:
+        return Path(root)
+    return Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / "modalfe"
+
+
+def divisions(assembly, axis: int, breaks: np.ndarray, sizes: Mapping[str, float],
+              min_layers: int = 3) -> np.ndarray:
+    """Elements per grid interval along ``axis``: ceil(length / size), with the size the smallest
+    asked for by any part spanning that interval; the main (largest) part gets at least
+    ``min_layers`` elements across each of its dimensions, so bending through its thickness is
+    resolved (one quadratic layer under-estimates shear and rotary effects)."""
+    main = max(assembly.parts, key=lambda p: p.volume)
+    out = []
+    for a, b in itertools.pairwise(breaks):
+        mid = (a + b) / 2
+        spanning = [sizes[p.name] for p in assembly.parts if p.lo[axis] <= mid <= p.hi[axis]]
+        h = min(spanning) if spanning else b - a
+        if main.lo[axis] <= mid <= main.hi[axis]:
+            h = min(h, main.size[axis] / min_layers)
+        out.append(max(1, int(np.ceil((b - a) / h - 1e-9))))
+    return np.array(out)
+
+
+def graded_breaks(assembly, breaks: list[np.ndarray], faces: Sequence[str], sizes: Mapping[str, float],
+                  layers: int) -> list[np.ndarray]:
+    """``breaks`` plus ``layers`` grid planes toward each face of the groups ``faces``, at distances
+    h r^k (k = 1..layers, r = GRADING_RATIO, h the face's part's element size) inside its part.
+
+    Where a clamped face meets a free one the stress is singular (Williams 1952, J. Appl. Mech. 19,
+    526), which uniform refinement resolves slowly: the ciliary beam's mode 6 converges at order
+    ~1.9 in h instead of the ~4 of quadratic elements on smooth fields (docs/benchmark_peer.md).
+    Planes closer than a third of their own distance to an existing break are skipped (no slivers).
+    """
+    out = [b.copy() for b in breaks]
+    for group in faces:
+        for face in assembly.faces[group]:
+            part = assembly.part(face.part)
+            axis, plane, _, _ = part.face_bounds(face.side, face.window)
+            inward = 1.0 if face.side.endswith("min") else -1.0
+            for k in range(1, layers + 1):
+                distance = sizes[part.name] * GRADING_RATIO**k
+                if distance >= part.size[axis] / 2:
+                    continue
+                at = plane + inward * distance
+                if np.min(np.abs(out[axis] - at)) > distance / 3:
+                    out[axis] = np.sort(np.append(out[axis], at))
+    return out
+
+
+def element_sizes(scene) -> dict[str, float]:
+    """Target element size per part [m]: the shortest of the bending wavelength of the device's
+    main layer stack and the part's shear wavelength at ``scene.max_frequency``, divided by
+    ``mesh.elements_per_wavelength`` and clipped to [mesh.min_size, mesh.max_size]."""
+    assembly = scene.assembly()
+    settings = scene.mesh
+    f = scene.max_frequency
+    wavelength_bending = bending_wavelength(scene, assembly, f)
+    sizes = {}
+    for part in assembly.parts:
+        mat = scene.material(part.material)
+        lam = min(wavelength_bending, mat.wave_speed_shear() / f)
+        sizes[part.name] = float(np.clip(lam / settings.elements_per_wavelength, settings.min_size, settings.max_size))
+    return sizes
+
+
+def bending_wavelength(scene, assembly, frequency: float) -> float:
+    """Flexural wavelength 2 pi (D / (m omega^2))^(1/4) [m] of the layer stack through the centre of
+    the largest-footprint part (classical laminate D about the stack's neutral axis)."""
+    host = max(assembly.parts, key=lambda p: p.size[0] * p.size[1])
+    cx, cy = (host.lo[0] + host.hi[0]) / 2, (host.lo[1] + host.hi[1]) / 2
+    stack = [p for p in assembly.parts if p.lo[0] <= cx <= p.hi[0] and p.lo[1] <= cy <= p.hi[1]]
+    layers = []
+    for p in stack:
+        C = scene.material(p.material).C
+        layers.append((p.lo[2], p.hi[2], C[0, 0] - C[0, 2] ** 2 / C[2, 2], scene.material(p.material).rho))
+    stiffness = sum(E * (z1 - z0) for z0, z1, E, _ in layers)
+    neutral = sum(E * (z1 - z0) * (z0 + z1) / 2 for z0, z1, E, _ in layers) / stiffness
+    D = sum(E * ((z1 - neutral) ** 3 - (z0 - neutral) ** 3) / 3 for z0, z1, E, _ in layers)
+    mass = sum(rho * (z1 - z0) for z0, z1, _, rho in layers)
+    omega = 2 * np.pi * frequency
+    return float(2 * np.pi * (D / (mass * omega**2)) ** 0.25)
+
+
+def build_mesh(assembly, *, size: float | Mapping[str, float], element: str = "hex",
+               min_layers: int = 3, graded_faces: Sequence[str] = (), grading_layers: int = 0,
+               use_cache: bool = True) -> DeviceMesh:
+    """Mesh ``assembly`` with target element ``size`` [m] (one value, or one per part name);
+    ``element`` is "hex" (structured) or "tet"; hex meshes get ``grading_layers`` geometric layers
+    toward the face groups ``graded_faces`` (see ``graded_breaks``)."""
+    if element not in ("hex", "tet"):
+        raise MeshError(f"mesh.element must be 'hex' or 'tet', got '{element}'")
+    sizes = size if isinstance(size, Mapping) else {p.name: size for p in assembly.parts}
+    for name, h in sizes.items():
+        if not (np.isfinite(h) and h > 0):
+            raise MeshError(f"mesh size of part '{name}' must be positive and finite, got {h}")
+    size = min(sizes.values())
+    grading = (tuple(graded_faces), grading_layers) if element == "hex" and graded_faces and grading_layers else None
+    for group in graded_faces:
+        if group not in assembly.faces:
+            raise MeshError(f"graded_faces: no face group named '{group}'")
+    key = hashlib.sha256(
+        repr((MESH_FORMAT_VERSION, assembly, sorted(sizes.items()), element, min_layers, grading)).encode()
+    ).hexdigest()[:20]
+    if use_cache and key in _memory_cache:
+        return _memory_cache[key]
+    path = cache_dir() / "meshes" / f"{key}.npz"
+    if use_cache and path.exists():
+        try:
+            result = _load(path, key, element, size)
+            _memory_cache[key] = result
+            return result
+        except (OSError, ValueError, KeyError) as exc:
+            log.warning("ignoring unreadable mesh cache %s: %s", path, exc)
+    start = time.perf_counter()
+    meshio_mesh = _gmsh_mesh(assembly, sizes=sizes, element=element, min_layers=min_layers, grading=grading)
+    mesh, parts, faces = _to_skfem(meshio_mesh, assembly)
+    result = DeviceMesh(mesh, parts, faces, element, float(size), key, time.perf_counter() - start)
+    _check(result, assembly)
+    if use_cache:
+        _save(path, result)
+        _memory_cache[key] = result
+    return result
+
+
+def _gmsh_mesh(assembly, *, sizes: Mapping[str, float], element: str, min_layers: int, grading=None):
+    """Run gmsh on the assembly; return a meshio.Mesh with cell sets per part and face group."""
+    import gmsh
+    import meshio
+
+    from modalfe.geometry.gmsh_model import add_grid, add_parts, grid_breaks
+
+    if gmsh.isInitialized():
+        gmsh.finalize()
+    gmsh.initialize(interruptible=False)
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.model.add("modalfe")
+        if element == "hex":
+            breaks = grid_breaks(assembly)
+            if grading is not None:
+                breaks = graded_breaks(assembly, breaks, grading[0], sizes, grading[1])
+            add_grid(assembly, breaks)
+            counts = [divisions(assembly, k, b, sizes, min_layers) for k, b in enumerate(breaks)]
+            _set_transfinite(breaks, counts)
+        else:
+            if any(f.window is not None for faces in assembly.faces.values() for f in faces):
+                raise MeshError("mesh.element: face windows need element = 'hex'")
+            add_parts(assembly)
+            main = max(assembly.parts, key=lambda p: p.volume)
+            size = min(min(sizes.values()), min(main.size) / min_layers)
+            gmsh.option.setNumber("Mesh.MeshSizeMax", size)
+            gmsh.option.setNumber("Mesh.MeshSizeMin", size / 20)
+        gmsh.option.setNumber("Mesh.ElementOrder", 1)
+        try:
+            gmsh.model.mesh.generate(3)
+        except Exception as exc:  # gmsh raises bare Exception
+            raise MeshError(f"gmsh failed to mesh the assembly: {exc}") from exc
+        node_tags, coords, _ = gmsh.model.mesh.getNodes()
+        index = np.zeros(int(node_tags.max()) + 1, dtype=np.int64)
+        index[node_tags.astype(np.int64)] = np.arange(len(node_tags))
+        points = coords.reshape(-1, 3)
+        vtype, ftype, vname, fname, nv, nf = (
+            (5, 3, "hexahedron", "quad", 8, 4) if element == "hex" else (4, 2, "tetra", "triangle", 4, 3)
+        )
+        volumes, vsets = [], {}
+        facets, fsets = [], {}
+        for dim, ptag in gmsh.model.getPhysicalGroups():
+            name = gmsh.model.getPhysicalName(dim, ptag)
+            conn = []
+            for ent in gmsh.model.getEntitiesForPhysicalGroup(dim, ptag):
+                types, _, enodes = gmsh.model.mesh.getElements(dim, int(ent))
+                for t, en in zip(types, enodes):
+                    if t == (vtype if dim == 3 else ftype):
+                        conn.append(index[en.astype(np.int64)].reshape(-1, nv if dim == 3 else nf))
+            if not conn:
+                raise MeshError(f"physical group '{name}' got no {'volume' if dim == 3 else 'face'} elements")
+            conn = np.concatenate(conn)
+            target, sets = (volumes, vsets) if dim == 3 else (facets, fsets)
+            name = ("part:" if dim == 3 else "face:") + name  # a foot is a part and a face group
+            start = sum(len(c) for c in target)
+            target.append(conn)
+            sets[name] = np.arange(start, start + len(conn))
+    finally:
+        gmsh.finalize()
+    if not volumes:
+        raise MeshError("the mesh is empty: gmsh produced no volume elements")
+    # a face shared by several groups is listed once per group; skfem matches facets by nodes
+    empty = np.array([], dtype=int)
+    cells = [(vname, np.concatenate(volumes))]
+    cell_sets = {k: [v] for k, v in vsets.items()}
+    if facets:
+        cells.append((fname, np.concatenate(facets)))
+        cell_sets = {k: [v, empty] for k, v in vsets.items()}
+        cell_sets.update({k: [empty, v] for k, v in fsets.items()})
+    return meshio.Mesh(points, cells, cell_sets=cell_sets)
+
+
+def _set_transfinite(breaks: list[np.ndarray], counts: list[np.ndarray]) -> None:
+    """Structured divisions: each curve gets the count of the grid interval it spans."""
+    import gmsh
+
+    for dim, tag in gmsh.model.getEntities(1):
+        x0, y0, z0, x1, y1, z1 = gmsh.model.getBoundingBox(dim, tag)
+        span = np.array([x1 - x0, y1 - y0, z1 - z0])
+        axis = int(np.argmax(span))
+        lo = (x0, y0, z0)[axis]
+        i = int(np.argmin(np.abs(breaks[axis] - lo)))
+        gmsh.model.mesh.setTransfiniteCurve(tag, int(counts[axis][i]) + 1)
+    for _, tag in gmsh.model.getEntities(2):
+        gmsh.model.mesh.setTransfiniteSurface(tag)
+        gmsh.model.mesh.setRecombine(2, tag)
+    for _, tag in gmsh.model.getEntities(3):
+        gmsh.model.mesh.setTransfiniteVolume(tag)
+
+
+def _to_skfem(meshio_mesh, assembly):
+    """meshio -> skfem, keeping part subdomains and face-group boundaries."""
+    from skfem.io.meshio import from_meshio
+
+    mesh = from_meshio(meshio_mesh, ignore_orientation=True)
+    parts = {p.name: np.asarray(mesh.subdomains[f"part:{p.name}"]) for p in assembly.parts}
+    faces = {g: np.asarray(mesh.boundaries[f"face:{g}"]) for g in assembly.faces}
+    bare = type(mesh)(mesh.p, mesh.t)
+    return bare, parts, faces
+
+
+def _check(result: DeviceMesh, assembly) -> None:
+    if result.nelements == 0:
+        raise MeshError("the mesh is empty")
+    for name, elements in result.parts.items():
+        if len(elements) == 0:
+            raise MeshError(f"part '{name}' got no elements")
+    for name, facets in result.faces.items():
+        if len(facets) == 0:
+            raise MeshError(f"face group '{name}' got no facets")
+
+
+def _save(path: Path, result: DeviceMesh) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    arrays = {"p": result.mesh.p, "t": result.mesh.t}
+    arrays.update({f"part:{k}": v for k, v in result.parts.items()})
+    arrays.update({f"face:{k}": v for k, v in result.faces.items()})
+    tmp = path.with_suffix(".tmp.npz")
+    np.savez(tmp, **arrays)
+    os.replace(tmp, path)
+
+
+def _load(path: Path, key: str, element: str, size: float) -> DeviceMesh:
+    from skfem import MeshHex1, MeshTet1
+
+    with np.load(path) as data:
+        mesh = (MeshHex1 if element == "hex" else MeshTet1)(data["p"], data["t"])
+        parts = {k[5:]: data[k] for k in data.files if k.startswith("part:")}
+        faces = {k[5:]: data[k] for k in data.files if k.startswith("face:")}
+    return DeviceMesh(mesh, parts, faces, element, size, key, 0.0)

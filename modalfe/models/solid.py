@@ -1,0 +1,327 @@
+"""Assemble a scene on its mesh: stiffness, mass, piezoelectric coupling, supports and electrodes.
+
+Linear piezoelectricity in e-form (Allik & Hughes 1970), unknowns u (displacement) and phi
+(electric potential, on piezo parts only):
+
+    [ K_uu      K_uphi   ] [u  ]   [F ]        K_uu   = int B^T c^E B
+    [ K_uphi^T  -K_phiphi] [phi] = [-Q]        K_uphi = int B^T e^T grad N
+                                               K_phiphi = int grad N^T eps^S grad N
+
+The mass matrix acts on u only. Element matrices are computed for all elements of a part at once
+(batched over elements and quadrature points) from scikit-fem bases, then scattered.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+import scipy.sparse as sp
+
+from modalfe.errors import SceneError
+
+log = logging.getLogger(__name__)
+
+_CHUNK = 1500  # elements per batch: bounds the memory of the batched element matrices
+
+
+class PiezoUnknowns:
+    """Circuit handling shared by the 3-D model and the reduced ones: needs ``scene``, ``K``, ``n_u``,
+    ``n_phi``, ``electrodes`` (face group -> indices into the phi unknowns) and ``clamped``."""
+
+    @property
+    def ndofs(self) -> int:
+        return self.n_u + self.n_phi
+
+    def constraints(self, circuit: str) -> Constraints:
+        """The map from free unknowns to the full DOF vector for a ``short`` or ``open`` circuit.
+
+        Short: every electrode at 0 V. Open: each driven electrode floats as one shared unknown.
+        Potentials are scaled so that the coupled matrix stays well conditioned.
+        """
+        if circuit not in ("short", "open"):
+            raise SceneError(f"circuit: must be 'short' or 'open', got '{circuit}'")
+        roles = self.scene.electrodes
+        free_u = np.setdiff1d(np.arange(self.n_u), self.clamped)
+        on_electrode = np.zeros(self.n_phi, dtype=bool)
+        for group in self.electrodes:
+            on_electrode[self.electrodes[group]] = True
+        interior = np.flatnonzero(~on_electrode)
+        scale = self.potential_scale()
+        cols = [sp.csr_matrix((np.ones(len(free_u)), (free_u, np.arange(len(free_u)))),
+                              shape=(self.ndofs, len(free_u)))]
+        if len(interior):
+            cols.append(sp.csr_matrix((np.full(len(interior), scale), (self.n_u + interior, np.arange(len(interior)))),
+                                      shape=(self.ndofs, len(interior))))
+        floating = []
+        if circuit == "open":
+            for group, role in roles.items():
+                if role == "drive" and group in self.electrodes:
+                    idx = self.n_u + self.electrodes[group]
+                    cols.append(sp.csr_matrix((np.full(len(idx), scale), (idx, np.zeros(len(idx), dtype=int))),
+                                              shape=(self.ndofs, 1)))
+                    floating.append(group)
+        T = sp.hstack(cols, format="csr")
+        return Constraints(T, scale, tuple(floating))
+
+    def prescribed_potential(self, volts: float) -> np.ndarray:
+        """Full DOF vector that is ``volts`` [V] on every driven electrode and zero elsewhere: with the
+        short-circuit constraints (driven electrodes eliminated) x = T x_free + x_volts."""
+        x = np.zeros(self.ndofs)
+        for group, role in self.scene.electrodes.items():
+            if role == "drive" and group in self.electrodes:
+                x[self.n_u + self.electrodes[group]] = volts
+        return x
+
+    def potential_scale(self) -> float:
+        """Scale of the potential unknowns: sqrt(mean diag K_uu / mean diag K_phiphi)."""
+        if self.n_phi == 0:
+            return 1.0
+        d = self.K.diagonal()
+        return float(np.sqrt(np.mean(np.abs(d[: self.n_u])) / np.mean(np.abs(d[self.n_u :]))))
+
+
+@dataclass(frozen=True, eq=False)
+class Model(PiezoUnknowns):
+    """Assembled matrices of one scene on one mesh (full DOF set, no constraint applied).
+
+    K, M : (n, n) with n = n_u + n_phi; u DOFs first (skfem vector numbering), then phi
+    phi_dofs : skfem scalar DOF index of each phi unknown
+    electrodes : electrode face group -> indices into the phi unknowns
+    clamped : u DOF indices fixed to zero
+    """
+
+    scene: object
+    mesh: object
+    u_basis: object
+    K: sp.csr_matrix
+    M: sp.csr_matrix
+    n_u: int
+    phi_dofs: np.ndarray
+    electrodes: dict[str, np.ndarray]
+    clamped: np.ndarray
+    timings: dict[str, float] = field(default_factory=dict)
+    frame: np.ndarray | None = None
+
+    @property
+    def n_phi(self) -> int:
+        return len(self.phi_dofs)
+
+    def nodal_displacement(self, x: np.ndarray) -> np.ndarray:
+        """Displacement (3, n_vertices) at the mesh vertices from a full DOF vector."""
+        return np.asarray(x[: self.n_u])[self.u_basis.nodal_dofs]
+
+    def shifted_matrix(self, frequency: float, *, scale: float | None = None) -> sp.csr_matrix:
+        """K - omega^2 M on the short-circuit free unknowns, the potentials scaled by ``scale``
+        (default: ``potential_scale()``; 1.0 leaves them in volts), for conditioning checks."""
+        T = self.constraints("short").T
+        A = T.T @ (self.K - (2 * np.pi * frequency) ** 2 * self.M) @ T
+        n_u_free = self.n_u - len(self.clamped)
+        ratio = (self.potential_scale() if scale is None else scale) / self.potential_scale()
+        rescale = sp.diags(np.r_[np.ones(n_u_free), np.full(A.shape[0] - n_u_free, ratio)])
+        return (rescale @ A @ rescale).tocsr()
+
+
+@dataclass(frozen=True, eq=False)
+class Constraints:
+    """x_full = T @ x_free; ``floating`` electrodes each carry one potential unknown (last columns)."""
+
+    T: sp.csr_matrix
+    potential_scale: float
+    floating: tuple[str, ...]
+
+
+def element_for(kind: str, order: int):
+    """The scikit-fem scalar element for a mesh kind and field order."""
+    from skfem import ElementHex1, ElementHexS2, ElementTetP1, ElementTetP2
+
+    table = {("hex", 1): ElementHex1, ("hex", 2): ElementHexS2, ("tet", 1): ElementTetP1, ("tet", 2): ElementTetP2}
+    return table[(kind, order)]()
+
+
+def assemble(scene, device_mesh, *, frame: np.ndarray | None = None) -> Model:
+    """Assemble K and M of ``scene`` on ``device_mesh`` (a ``modalfe.models.mesh.DeviceMesh``).
+
+    ``frame`` (3, 3) rotates the whole device, mesh and material tensors alike (a check of
+    frame invariance); face springs are axis-aligned and refuse a frame.
+    """
+    from skfem import Basis, ElementVector
+
+    start = time.perf_counter()
+    assembly = scene.assembly()
+    mesh = device_mesh.mesh
+    if frame is not None:
+        if scene.springs:
+            raise SceneError("frame: face springs are axis-aligned and cannot be rotated")
+        if any(len(set(c)) < 3 for c in {**scene.clamps, **scene.symmetry_clamps}.values()):
+            raise SceneError("frame: clamps fixing some components only (and symmetry planes) are "
+                             "axis-aligned and cannot be rotated")
+        frame = np.asarray(frame, dtype=float)
+        mesh = type(mesh)(frame @ mesh.p, mesh.t)
+        device_mesh = replace(device_mesh, mesh=mesh)
+    scalar = element_for(device_mesh.element, scene.mesh.order)
+    intorder = 2 * scene.mesh.order
+    u_basis = Basis(mesh, ElementVector(scalar), intorder=intorder)
+    n_u = u_basis.N
+    K_blocks, M_blocks = [], []
+    piezo_parts = []
+    for part in assembly.parts:
+        mat = scene.material(part.material)
+        if part.poling:
+            mat = mat.poled(part.poling)
+        if frame is not None:
+            mat = mat.rotated(frame)
+        if part.poling:
+            piezo_parts.append((part, mat))
+        elements = device_mesh.parts[part.name]
+        for chunk in np.array_split(elements, max(1, int(np.ceil(len(elements) / _CHUNK)))):
+            b = Basis(mesh, ElementVector(scalar), intorder=intorder, elements=chunk)
+            Bv, V = _strain_and_value(b)
+            K_blocks.append(_scatter(b.element_dofs, b.element_dofs, _contract(Bv, mat.C, Bv, b.dx), n_u, n_u))
+            M_blocks.append(_scatter(b.element_dofs, b.element_dofs, mat.rho * _contract(V, None, V, b.dx), n_u, n_u))
+    Kuu = sum(K_blocks[1:], K_blocks[0]).tocsr()
+    Muu = sum(M_blocks[1:], M_blocks[0]).tocsr()
+    Kuu = Kuu + _face_springs(scene, device_mesh, u_basis, scalar, intorder)
+    Muu = Muu + _face_masses(scene, device_mesh, u_basis, scalar, intorder)
+    phi_dofs, Kup, Kpp = _piezo_blocks(mesh, scalar, intorder, device_mesh, piezo_parts, n_u)
+    n_phi = len(phi_dofs)
+    K = sp.bmat([[Kuu, Kup], [Kup.T, -Kpp]], format="csr") if n_phi else Kuu
+    M = sp.block_diag([Muu, sp.csr_matrix((n_phi, n_phi))], format="csr") if n_phi else Muu
+    electrodes = _electrode_dofs(scene, device_mesh, mesh, scalar, phi_dofs)
+    clamped = _clamped_dofs(scene, device_mesh, u_basis)
+    return Model(scene, device_mesh, u_basis, K, M, n_u, phi_dofs, electrodes, clamped,
+                 {"assembly": time.perf_counter() - start}, frame)
+
+
+def _clamped_dofs(scene, device_mesh, u_basis) -> np.ndarray:
+    """u DOFs fixed by the scene's clamps (each clamp fixes the components it names)."""
+    fixed = [np.array([], dtype=int)]
+    for group, components in {**scene.clamps, **scene.symmetry_clamps}.items():
+        dofs = u_basis.get_dofs(device_mesh.faces[group])
+        for c in components:
+            fixed.append(dofs.all(f"u^{'xyz'.index(c) + 1}"))
+    return np.unique(np.concatenate(fixed)).astype(int)
+
+
+def _strain_and_value(b):
+    """Voigt strain (nloc, 6, nel, nq) and value (nloc, 3, nel, nq) of each vector basis function."""
+    G = np.array([f[0].grad for f in b.basis])
+    V = np.array([np.asarray(f[0]) for f in b.basis])
+    Bv = np.stack([G[:, 0, 0], G[:, 1, 1], G[:, 2, 2], G[:, 1, 2] + G[:, 2, 1],
+                   G[:, 0, 2] + G[:, 2, 0], G[:, 0, 1] + G[:, 1, 0]], axis=1)
+    return Bv, V
+
+
+def _contract(A, C, B, dx):
+    """Element matrices sum_q A_i^T C B_j dx -> (nel, nA, nB); A (nA, a, nel, nq), B (nB, b, nel, nq)."""
+    nA, _, nel, _ = A.shape
+    nB = B.shape[0]
+    CB = B if C is None else np.einsum("ab,jbeq->jaeq", C, B, optimize=True)
+    left = (A * dx).transpose(2, 0, 1, 3).reshape(nel, nA, -1)
+    right = CB.transpose(2, 0, 1, 3).reshape(nel, nB, -1)
+    return left @ right.transpose(0, 2, 1)
+
+
+def _scatter(rows, cols, Ke, n_rows, n_cols) -> sp.csr_matrix:
+    nA, nB = rows.shape[0], cols.shape[0]
+    r = np.repeat(rows.T, nB, axis=1).ravel()
+    c = np.tile(cols.T, (1, nA)).ravel()
+    return sp.coo_matrix((Ke.ravel(), (r, c)), shape=(n_rows, n_cols)).tocsr()
+
+
+def _piezo_blocks(mesh, scalar, intorder, device_mesh, piezo_parts, n_u):
+    """K_uphi and K_phiphi over the piezo parts, on the potential unknowns they use."""
+    from skfem import Basis, ElementVector
+
+    if not piezo_parts:
+        return np.array([], dtype=int), None, None
+    used = np.unique(np.concatenate([
+        Basis(mesh, scalar, intorder=intorder, elements=device_mesh.parts[p.name]).element_dofs.ravel()
+        for p, _ in piezo_parts
+    ]))
+    n_scalar = Basis(mesh, scalar, intorder=1, elements=np.arange(1)).N
+    index = np.full(n_scalar, -1)
+    index[used] = np.arange(len(used))
+    n_phi = len(used)
+    Kup = sp.csr_matrix((n_u, n_phi))
+    Kpp = sp.csr_matrix((n_phi, n_phi))
+    for part, mat in piezo_parts:
+        elements = device_mesh.parts[part.name]
+        ub = Basis(mesh, ElementVector(scalar), intorder=intorder, elements=elements)
+        pb = Basis(mesh, scalar, intorder=intorder, elements=elements)
+        Bv, _ = _strain_and_value(ub)
+        Gp = np.array([f[0].grad for f in pb.basis])  # (nloc, 3, nel, nq)
+        phi_rows = index[pb.element_dofs]
+        Kup = Kup + _scatter(ub.element_dofs, phi_rows, _contract(Bv, mat.e.T, Gp, ub.dx), n_u, n_phi)
+        Kpp = Kpp + _scatter(phi_rows, phi_rows, _contract(Gp, mat.eps_S, Gp, pb.dx), n_phi, n_phi)
+    return used, Kup.tocsr(), Kpp.tocsr()
+
+
+def _electrode_dofs(scene, device_mesh, mesh, scalar, phi_dofs) -> dict[str, np.ndarray]:
+    """Indices into the phi unknowns of every electrode named by the scene."""
+    from skfem import Basis
+
+    if not scene.electrodes:
+        return {}
+    if len(phi_dofs) == 0:
+        raise SceneError("electrodes: the scene names electrodes but has no poled piezo part")
+    index = {d: i for i, d in enumerate(phi_dofs)}
+    probe = Basis(mesh, scalar, intorder=1, elements=np.arange(1))
+    out = {}
+    for group in scene.electrodes:
+        if group not in device_mesh.faces:
+            continue  # the mirror image of a face kept by the symmetric model
+        dofs = probe.get_dofs(device_mesh.faces[group]).all()
+        idx = np.array([index[d] for d in dofs if d in index], dtype=int)
+        if len(idx) == 0:
+            raise SceneError(f"electrodes.{group}: the face group does not touch a piezo part")
+        out[group] = idx
+    return out
+
+
+def _face_operator(device_mesh, group, scalar, intorder, diag):
+    """int_face diag(d) u . v ds over one face group, with ``diag`` per unit area."""
+    from skfem import BilinearForm, ElementVector, FacetBasis
+
+    fb = FacetBasis(device_mesh.mesh, ElementVector(scalar), facets=device_mesh.faces[group], intorder=intorder)
+    d = np.asarray(diag, dtype=float)
+
+    @BilinearForm
+    def weighted(u, v, _):
+        return d[0] * u[0] * v[0] + d[1] * u[1] * v[1] + d[2] * u[2] * v[2]
+
+    return weighted.assemble(fb)
+
+
+def face_area(device_mesh, group: str) -> float:
+    """Area [m^2] of a face group."""
+    from skfem import ElementHex1, ElementTetP1, FacetBasis, Functional
+
+    fb = FacetBasis(device_mesh.mesh, ElementHex1() if device_mesh.element == "hex" else ElementTetP1(),
+                    facets=device_mesh.faces[group])
+    return float(Functional(lambda w: 1.0 + 0.0 * w.x[0]).assemble(fb))
+
+
+def _face_springs(scene, device_mesh, u_basis, scalar, intorder):
+    """Springs to ground: the scene gives totals for the whole face (whole device), spread
+    uniformly per unit area, so a symmetric half model carries its share."""
+    out = sp.csr_matrix((u_basis.N, u_basis.N))
+    full = scene.full_assembly()
+    for group, k in scene.springs.items():
+        if group not in device_mesh.faces:
+            continue  # the mirror image of a face kept by the symmetric model
+        out = out + _face_operator(device_mesh, group, scalar, intorder, np.asarray(k) / full.face_area(group))
+    return out
+
+
+def _face_masses(scene, device_mesh, u_basis, scalar, intorder):
+    """Attached masses (translational inertia), spread uniformly over the face like the springs."""
+    out = sp.csr_matrix((u_basis.N, u_basis.N))
+    full = scene.full_assembly()
+    for group, m in scene.masses.items():
+        if group not in device_mesh.faces:
+            continue  # the mirror image of a face kept by the symmetric model
+        out = out + _face_operator(device_mesh, group, scalar, intorder, np.full(3, m / full.face_area(group)))
+    return out

@@ -1,0 +1,241 @@
+"""The eigenfrequency report: each device's working modes beside the seeds' targets."""
+
+from __future__ import annotations
+
+import functools
+import math
+import multiprocessing
+import os
+import time
+from dataclasses import asdict, dataclass, field
+
+from modalfe.errors import SolverError
+from modalfe.results.modes import select
+from modalfe.solve.solvers import DEFAULT_TOL
+
+_MAX_COUNT = 80  # modes searched around a target before a working mode is declared missing
+
+
+@dataclass(frozen=True)
+class ReportRow:
+    """One working mode of one device against its targets.
+
+    frequency_hz [Hz]; wavelength_m [m] (plate modes, else None); error_estimate relative;
+    seconds: wall time of the device's solves; targets: name, value, unit, kind, source, deviation.
+    """
+
+    scene: str
+    mode: str
+    frequency_hz: float
+    targets: list[dict]
+    error_estimate: float | None
+    dofs: int
+    fidelity: str
+    seconds: float
+    wavelength_m: float | None = None
+    antiresonance_hz: float | None = None
+    k_eff: float | None = None
+    notes: list[str] = field(default_factory=list)
+    fidelity_note: str = ""
+    assumptions: list[str] = field(default_factory=list)
+
+    def to_json(self) -> dict:
+        """Plain JSON: an unresolved (infinite) error estimate becomes null with ``error_unresolved``."""
+        out = asdict(self)
+        out["error_unresolved"] = self.error_estimate is not None and math.isinf(self.error_estimate)
+        if out["error_unresolved"]:
+            out["error_estimate"] = None
+        return out
+
+
+def device_report(scene, *, error_estimate: bool = True, fidelity: str = "auto",
+                  tol: float = DEFAULT_TOL) -> list[ReportRow]:
+    """Rows for each working mode of ``scene``; solves once per frequency window, and once more in
+    open circuit where the scene has a driven electrode (antiresonance and k_eff): at the solid when it
+    answered, else from the solid's fa / fr at the cross-check level (``coupling_check_level``). With
+    ``fidelity="auto"`` the working modes of the window must meet ``tol``."""
+    from modalfe.results.coupling import antiresonance, k_eff
+    from modalfe.solve.fidelity import coupling_check_level
+    from modalfe.solve.solvers import solve_modes
+
+    rows = []
+    start = time.perf_counter()
+    band = scene.analysis.band
+    solved = {}
+    for wm in scene.working_modes:
+        key = "band" if band is not None else wm.near
+        count = max(scene.analysis.count, 10)
+        window = scene.working_modes if band is not None else [w for w in scene.working_modes if w.near == wm.near]
+        options = {"error_estimate": error_estimate, "fidelity": fidelity, "tol": tol,
+                   "check": tuple((w.selector, w.near) for w in window)}
+        while True:
+            if key not in solved:
+                solved[key] = (solve_modes(scene, **options) if band is not None
+                               else solve_modes(scene, near=wm.near, count=count, **options))
+            modes = solved[key]
+            try:
+                mode = select(modes, wm.selector, wm.near)
+                break
+            except SolverError:
+                if band is not None or count >= _MAX_COUNT:
+                    raise
+                count *= 2  # dense spectrum: look at more modes around the target
+                del solved[key]
+        targets = []
+        for t in wm.targets:
+            value = mode.wavelength if t.unit == "m" else mode.frequency
+            deviation = (value - t.value) / t.value if math.isfinite(value) else None
+            targets.append({"name": t.name, "value": t.value, "unit": t.unit, "kind": t.kind,
+                            "source": t.source, "deviation": deviation})
+        fa = coupling = None
+        notes = device_notes(scene, modes, mode)
+        if "drive" in scene.electrodes.values() and modes.fidelity == "solid":
+            open_modes = solve_modes(scene, near=mode.frequency, count=6, circuit="open", error_estimate=False)
+            fa = antiresonance(mode, open_modes).frequency
+            coupling = k_eff(mode.frequency, fa)
+        elif "drive" in scene.electrodes.values():
+            fr_solid, fa_solid = coupling_check_level(modes, mode)
+            fa, coupling = mode.frequency * fa_solid / fr_solid, k_eff(fr_solid, fa_solid)
+            notes.append(f"k_eff and fa / fr from the 3-D solid at the cross-check's coarse level "
+                         f"({fr_solid:.0f} / {fa_solid:.0f} Hz): the {modes.fidelity} model's piezo layers misplace "
+                         f"k_eff by 10-15 % on the seed devices")
+        rows.append(ReportRow(
+            scene=scene.name, mode=mode.label, frequency_hz=mode.frequency, targets=targets,
+            error_estimate=None if math.isnan(mode.error_estimate) else mode.error_estimate,
+            dofs=modes.dofs, fidelity=modes.fidelity, fidelity_note=modes.fidelity_note, seconds=0.0,
+            wavelength_m=None if math.isnan(mode.wavelength) else mode.wavelength,
+            antiresonance_hz=fa, k_eff=coupling, notes=notes,
+            assumptions=list(scene.assumptions),
+        ))
+    seconds = time.perf_counter() - start
+    return [ReportRow(**{**asdict(r), "seconds": seconds}) for r in rows]
+
+
+def device_notes(scene, modes, mode) -> list[str]:
+    """Computed remarks that explain a row: other modes of interest, model limits."""
+    notes = []
+    if scene.symmetry:
+        notes.append(f"symmetric model about the {'/'.join(scene.symmetry)} mid-plane(s): "
+                     "modes antisymmetric about them are not computed (--set symmetry=[] for all)")
+    if math.isfinite(mode.wavelength) and scene.kind == "plate":
+        main = max(scene.assembly().parts, key=lambda p: p.volume)
+        f_thin = kirchhoff_frequency(scene.material(main.material).C, scene.material(main.material).rho,
+                                     main.size[2], mode.wavelength)
+        notes.append(f"Kirchhoff thin-plate theory at this wavelength: {f_thin:.0f} Hz "
+                     f"({100 * (f_thin / mode.frequency - 1):+.1f}% vs the {modes.fidelity} model; "
+                     f"thickness / wavelength "
+                     f"{main.size[2] / mode.wavelength:.2f})")
+    if scene.analysis.band is not None:
+        rigid = [m for m in modes if m.label in ("sway-x", "sway-y", "heave", "roll", "pitch", "yaw")]
+        if rigid and mode.label in ("heave",):
+            notes.append("suspension modes: " + ", ".join(f"{m.label} {m.frequency:.1f} Hz" for m in rigid)
+                         + " (seed 002 FEM: 28, 45, 51, 77 Hz)")
+        plate = [m for m in modes if m not in rigid]
+        if plate and mode.label not in ("heave",):
+            notes.append("plate modes: " + ", ".join(f"{m.label} {m.frequency:.0f} Hz" for m in plate[:6])
+                         + " (seed 002 FEM: 896, 1032 Hz)")
+    return notes
+
+
+def kirchhoff_frequency(C, rho: float, thickness: float, wavelength: float) -> float:
+    """Straight-crested flexural wave in a thin plate: f = k^2 sqrt(D / (rho h)) / (2 pi), k = 2 pi / wavelength,
+    D = E' h^3 / 12 with E' = C11 - C13^2 / C33 = E / (1 - nu^2) (Kirchhoff; Graff, Wave Motion in
+    Elastic Solids, 1975, sec. 4.2)."""
+    modulus = C[0, 0] - C[0, 2] ** 2 / C[2, 2]
+    k = 2 * math.pi / wavelength
+    return k**2 * math.sqrt(modulus * thickness**2 / (12 * rho)) / (2 * math.pi)
+
+
+def run_report(names: list[str] | None = None, *, progress: bool = True, error_estimate: bool = True,
+               overrides: dict | None = None, fidelity: str = "auto", tol: float = DEFAULT_TOL,
+               jobs: int | None = None) -> list[ReportRow]:
+    """Report rows for the named built-in scenes (all of them by default), each at ``fidelity``;
+    the devices are solved ``jobs`` at a time in separate processes (default: one per core)."""
+    from modalfe.scene import load_scene
+    from modalfe.scene.builtin import BUILTIN
+
+    if jobs is not None and not (isinstance(jobs, int) and jobs >= 1):
+        raise ValueError(f"jobs: must be a positive integer, got {jobs!r}")
+    names = names or list(BUILTIN)
+    for name in names:
+        load_scene(name, **(overrides or {}))  # a bad name or override fails here, before any solve
+    jobs = min(jobs or os.cpu_count() or 1, len(names))
+    task = functools.partial(device_rows, overrides=overrides or {}, error_estimate=error_estimate,
+                             fidelity=fidelity, tol=tol)
+    bar = None
+    if progress:
+        from tqdm import tqdm
+
+        bar = tqdm(total=len(names), desc="modalfe report", unit="device", leave=False)
+    if jobs == 1:
+        results = {}
+        for name in names:
+            results[name] = task(name)
+            if bar is not None:
+                bar.update()
+    else:
+        results = _in_processes(task, names, jobs, bar)
+    if bar is not None:
+        bar.close()
+    return [row for name in names for row in results[name]]
+
+
+def _in_processes(task, names: list[str], jobs: int, bar) -> dict[str, list[ReportRow]]:
+    """``task`` of every name in ``jobs`` fresh processes, each with one MKL thread (two
+    multithreaded PARDISO solves on two cores wait on each other)."""
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
+    saved = os.environ.get("MKL_NUM_THREADS")
+    os.environ["MKL_NUM_THREADS"] = "1"  # inherited by the workers, read when they load MKL
+    try:
+        with ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context("spawn")) as pool:
+            futures = {pool.submit(task, name): name for name in names}
+            results = {}
+            for future in as_completed(futures):
+                results[futures[future]] = future.result()
+                if bar is not None:
+                    bar.update()
+    finally:
+        if saved is None:
+            os.environ.pop("MKL_NUM_THREADS")
+        else:
+            os.environ["MKL_NUM_THREADS"] = saved
+    return results
+
+
+def device_rows(name: str, *, overrides: dict, error_estimate: bool, fidelity: str, tol: float) -> list[ReportRow]:
+    """The report rows of one built-in scene; a solver failure becomes one FAILED row."""
+    from modalfe.scene import load_scene
+
+    scene = load_scene(name, **overrides)
+    try:
+        return device_report(scene, error_estimate=error_estimate, fidelity=fidelity, tol=tol)
+    except SolverError as exc:
+        return [ReportRow(scene=name, mode="FAILED", frequency_hz=float("nan"), targets=[],
+                          error_estimate=None, dofs=0, fidelity="solid", seconds=0.0, notes=[str(exc)])]
+
+
+def format_rows(rows: list[ReportRow]) -> str:
+    """A plain-text table: one line per working mode, then its targets and notes."""
+    lines = [f"{'scene':<15} {'mode':<12} {'f [Hz]':>10} {'err est':>8} {'DOFs':>7} {'fidelity':>8} {'s':>6}"]
+    for r in rows:
+        err = "n/a" if r.error_estimate is None else "unresolved" if math.isinf(r.error_estimate) else \
+            f"{100 * r.error_estimate:.2f}%"
+        lines.append(f"{r.scene:<15} {r.mode:<12} {r.frequency_hz:>10.1f} {err:>8} {r.dofs:>7} "
+                     f"{r.fidelity:>8} {r.seconds:>6.1f}")
+        if r.wavelength_m is not None:
+            lines.append(f"{'':<15} wavelength along x {1e3 * r.wavelength_m:.2f} mm")
+        if r.fidelity_note:
+            lines.append(f"{'':<15} {r.fidelity_note}")
+        if r.k_eff is not None:
+            lines.append(f"{'':<15} antiresonance {r.antiresonance_hz:.1f} Hz, k_eff {r.k_eff:.4f}")
+        for t in r.targets:
+            dev = f"{100 * t['deviation']:+.1f}%" if t["deviation"] is not None else "n/a"
+            value = f"{t['value']:.6g} {t['unit']}"
+            lines.append(f"{'':<15} vs {t['name']:<20} {value:>14}  {dev:>7}  ({t['kind']}: {t['source']})")
+        for note in r.notes:
+            lines.append(f"{'':<15} note: {note}")
+        if r is rows[-1] or rows[rows.index(r) + 1].scene != r.scene:
+            for a in r.assumptions:
+                lines.append(f"{'':<15} assumption: {a}")
+    return "\n".join(lines)

@@ -1,0 +1,349 @@
+"""Forced response to a drive voltage: damping, full FE harmonic solves, the reduced modal model,
+admittance and the Butterworth-Van Dyke circuit of the working mode.
+
+Full FE harmonic response (free unknowns x, drive V on the driven electrodes):
+
+    (A - omega^2 B + i omega C) x = F V,   F = -T^T K x_1V,   Q = F^T x + C_b V
+
+with C = alpha M + beta K_uu (Rayleigh). A modal damping ratio zeta (or Q = 1 / 2 zeta) is applied
+to the full model as the stiffness-proportional beta = 2 zeta / omega_r that gives zeta at the
+working mode, and said so in the output.
+
+Reduced model of one mode r (mass-normalised shape v, theta = v^T F): the modal coordinate obeys
+q'' + 2 zeta omega_r q' + omega_r^2 q = theta V; outputs u_j = phi_j q + D_j V, with D_j the quasi-
+static contribution of every other mode, taken from one undamped full solve beside resonance
+(residual flexibility); charge Q / V = C_0 + theta^2 / (omega_r^2 - omega^2 + 2 i zeta omega_r omega).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+import numpy as np
+import scipy.sparse as sp
+
+from modalfe.errors import SceneError, SolverError
+
+
+@dataclass(frozen=True)
+class Damping:
+    """Damping as a modal ratio ``zeta``, a quality factor ``Q`` (zeta = 1 / 2Q), or Rayleigh
+    ``alpha`` [1/s] and ``beta`` [s] (C = alpha M + beta K)."""
+
+    zeta: float | None = None
+    Q: float | None = None
+    alpha: float = 0.0
+    beta: float = 0.0
+
+    def __post_init__(self) -> None:
+        given = sum(x is not None for x in (self.zeta, self.Q)) + (self.alpha != 0 or self.beta != 0)
+        if given != 1:
+            raise SceneError("damping: give exactly one of zeta, Q, or Rayleigh alpha/beta")
+        for name in ("zeta", "Q", "alpha", "beta"):
+            v = getattr(self, name)
+            if v is not None and not (math.isfinite(v) and v >= 0):
+                raise SceneError(f"damping.{name}: must be finite and >= 0, got {v}")
+        if self.Q is not None and self.Q == 0:
+            raise SceneError("damping.Q: must be positive")
+
+    @classmethod
+    def parse(cls, text: str) -> Damping:
+        """``zeta=0.025``, ``Q=150`` or ``rayleigh=ALPHA,BETA``."""
+        key, _, value = text.partition("=")
+        try:
+            if key == "zeta":
+                return cls(zeta=float(value))
+            if key == "Q":
+                return cls(Q=float(value))
+            if key == "rayleigh":
+                a, b = (float(v) for v in value.split(","))
+                return cls(alpha=a, beta=b)
+        except ValueError:
+            pass
+        raise SceneError(f"damping: expected zeta=Z, Q=Q or rayleigh=ALPHA,BETA, got '{text}'")
+
+    def ratio(self, omega: float) -> float:
+        """Modal damping ratio at angular frequency ``omega`` [rad/s]."""
+        if self.zeta is not None:
+            return self.zeta
+        if self.Q is not None:
+            return 1.0 / (2.0 * self.Q)
+        return self.alpha / (2.0 * omega) + self.beta * omega / 2.0
+
+    def rayleigh_at(self, omega: float) -> tuple[float, float]:
+        """(alpha, beta) for the full model: as given, or beta = 2 zeta / omega_r."""
+        if self.zeta is None and self.Q is None:
+            return self.alpha, self.beta
+        return 0.0, 2.0 * self.ratio(omega) / omega
+
+    def describe(self) -> str:
+        if self.zeta is not None:
+            return f"modal zeta = {self.zeta:g}"
+        if self.Q is not None:
+            return f"quality factor Q = {self.Q:g} (zeta = {1 / (2 * self.Q):.3g})"
+        return f"Rayleigh alpha = {self.alpha:g} 1/s, beta = {self.beta:g} s"
+
+
+def output_points(scene, outputs) -> dict[str, np.ndarray]:
+    """Points [m] for named outputs: a face group's centre (e.g. ``foot_1``: the foot tip), or
+    explicit coordinates given as (x, y, z)."""
+    assembly = scene.full_assembly()
+    out = {}
+    for item in outputs:
+        if isinstance(item, str):
+            if item not in assembly.faces:
+                raise SceneError(f"outputs: no face group '{item}'; known: {sorted(assembly.faces)}")
+            centres = []
+            for f in assembly.faces[item]:
+                axis, c, lo, hi = assembly.part(f.part).face_bounds(f.side, f.window)
+                centre = [(lo[k] + hi[k]) / 2 for k in range(3)]
+                centre[axis] = c
+                centres.append(centre)
+            out[item] = np.mean(centres, axis=0)
+        else:
+            name, point = item
+            out[str(name)] = np.asarray(point, dtype=float)
+    return out
+
+
+def probe(model, point: np.ndarray) -> sp.csr_matrix:
+    """(3, n_full) matrix giving the displacement at ``point`` [m] from a full DOF vector."""
+    return probes(model, np.asarray(point, dtype=float).reshape(3, 1))
+
+
+def probes(model, points: np.ndarray) -> sp.csr_matrix:
+    """(3 n, n_full) matrix, rows component-major (all ux, then uy, then uz), for ``points`` (3, n) [m].
+    A point in the mirrored half of a symmetric model reads its mirror image, that component negated.
+    A beam or plate model (whole device) gives its own ``displacement_probes``."""
+    if hasattr(model, "displacement_probes"):
+        return model.displacement_probes(np.asarray(points, dtype=float).T)
+    scene = model.scene
+    lo, hi = scene.full_assembly().bounds
+    p = np.array(points, dtype=float)
+    flip = np.ones((3, p.shape[1]))
+    for axis in scene.symmetry:
+        k = "xyz".index(axis)
+        far = p[k] > 0.5 * (lo[k] + hi[k])
+        p[k, far] = lo[k] + hi[k] - p[k, far]
+        flip[k, far] = -1.0
+    centre = np.array([0.5 * (l + h) for l, h in zip(lo, hi)])[:, None]
+    scale = max(h - l for l, h in zip(lo, hi))
+    p = p + 1e-9 * scale * (centre - p)  # points on the boundary stay inside the mesh
+    P = sp.diags(flip.ravel()) @ model.u_basis.probes(p)
+    return sp.hstack([P, sp.csr_matrix((P.shape[0], model.n_phi))], format="csr")
+
+
+@dataclass(frozen=True)
+class ReducedModel:
+    """Single-mode reduced model of a working mode, for the friction simulators and controllers.
+
+    frequency [Hz], zeta [-], reference output name; at the reference output: modal_mass [kg],
+    stiffness [N/m], damping [N s/m], force_factor [N/V]; shapes: output -> (ux, uy, uz) of the
+    mode relative to the reference's normal (z) value; feedthrough: output -> (3,) [m/V] quasi-static
+    response of all other modes; capacitance C0 [F] (everything but the mode) and theta [C/(m)] =
+    charge per unit reference displacement.
+    """
+
+    label: str
+    frequency: float
+    zeta: float
+    damping_description: str
+    reference: str
+    modal_mass: float
+    stiffness: float
+    damping: float
+    force_factor: float
+    capacitance: float
+    shapes: dict[str, list[float]] = field(default_factory=dict)
+    feedthrough: dict[str, list[float]] = field(default_factory=dict)
+
+    @property
+    def omega(self) -> float:
+        return 2 * math.pi * self.frequency
+
+    def frf(self, frequency, output: str | None = None, component: int = 2) -> np.ndarray:
+        """Displacement per volt [m/V] (complex) at ``output`` (default: the reference)."""
+        output = output or self.reference
+        w = 2 * np.pi * np.asarray(frequency, dtype=float)
+        modal = self.force_factor / (self.stiffness - self.modal_mass * w**2 + 1j * self.damping * w)
+        return modal * self.shapes[output][component] + self.feedthrough[output][component]
+
+    def admittance(self, frequency) -> np.ndarray:
+        """Electrical admittance Y = i omega Q / V [S] (complex)."""
+        w = 2 * np.pi * np.asarray(frequency, dtype=float)
+        motional = self.force_factor**2 / (self.stiffness - self.modal_mass * w**2 + 1j * self.damping * w)
+        return 1j * w * (self.capacitance + motional)
+
+    def impedance(self, frequency) -> np.ndarray:
+        """Electrical impedance Z = 1 / Y [ohm] (complex)."""
+        return 1.0 / self.admittance(frequency)
+
+    @property
+    def bvd(self) -> dict[str, float]:
+        """Butterworth-Van Dyke circuit: C0 [F], R1 [ohm], L1 [H], C1 [F] (IEEE Std 176-1987)."""
+        n = self.force_factor
+        return {"C0": self.capacitance, "R1": self.damping / n**2, "L1": self.modal_mass / n**2,
+                "C1": n**2 / self.stiffness}
+
+    @property
+    def antiresonance(self) -> float:
+        """fa [Hz] of the circuit: fr sqrt(1 + C1 / C0)."""
+        return self.frequency * math.sqrt(1 + self.bvd["C1"] / self.capacitance)
+
+    @property
+    def k_eff(self) -> float:
+        fa = self.antiresonance
+        return math.sqrt((fa**2 - self.frequency**2) / fa**2)
+
+    @property
+    def envelope_time_constant(self) -> float:
+        """Amplitude build-up time constant tau = 1 / (zeta omega_r) = Q / (pi f) [s]."""
+        return 1.0 / (self.zeta * self.omega)
+
+    def amplitude_per_volt(self, output: str | None = None) -> float:
+        """Peak normal amplitude per volt at resonance [m/V] (0-peak)."""
+        return float(abs(self.frf(self.frequency, output)))
+
+    def state_space(self, outputs: list[str] | None = None):
+        """(A, B, C, D): state (x, x') of the reference, input V, outputs the normal displacement."""
+        outputs = outputs or list(self.shapes)
+        m, k, c, n = self.modal_mass, self.stiffness, self.damping, self.force_factor
+        A = np.array([[0.0, 1.0], [-k / m, -c / m]])
+        B = np.array([[0.0], [n / m]])
+        C = np.array([[self.shapes[o][2], 0.0] for o in outputs])
+        D = np.array([[self.feedthrough[o][2]] for o in outputs])
+        return A, B, C, D
+
+    def to_json(self) -> str:
+        return json.dumps({"format": "modalfe.ReducedModel/1", **asdict(self)}, indent=2)
+
+    @classmethod
+    def from_json(cls, text: str) -> ReducedModel:
+        data = json.loads(text)
+        if data.pop("format", None) != "modalfe.ReducedModel/1":
+            raise SceneError("reduced model: not a modalfe.ReducedModel/1 JSON document")
+        return cls(**data)
+
+    def save(self, path: str | Path) -> None:
+        Path(path).write_text(self.to_json())
+
+    @classmethod
+    def load(cls, path: str | Path) -> ReducedModel:
+        return cls.from_json(Path(path).read_text())
+
+
+def _drive(model):
+    """(T, F, C_b, x_1V): constraints with driven electrodes at 1 V, the load on the free unknowns and
+    the part of the charge that does not depend on them."""
+    if "drive" not in model.scene.electrodes.values():
+        raise SceneError("electrodes: the scene has no driven electrode to apply a voltage to")
+    T = model.constraints("short").T
+    x_v = model.prescribed_potential(1.0)
+    Kx = model.K @ x_v
+    F = -(T.T @ Kx)
+    C_b = -float(x_v @ Kx)
+    return T, F, C_b, x_v
+
+
+def reduce(scene, mode, modes, *, outputs, damping: Damping, reference: str | None = None) -> ReducedModel:
+    """Reduced model of ``mode`` (one of ``modes``, short circuit) at the named ``outputs``; the
+    ``reference`` output (default: the one with the largest normal motion) carries the modal mass."""
+    from modalfe.solve.linalg import factorize
+
+    model = modes.model
+    T, F, C_b, x_v = _drive(model)
+    A = (T.T @ model.K @ T).tocsr()
+    B = (T.T @ model.M @ T).tocsr()
+    points = output_points(scene, outputs)
+    probes = {name: probe(model, p) for name, p in points.items()}
+    v_free = _free_coordinates(model, T, mode.shape)
+    theta = float(v_free @ F)
+    omega_r = mode.omega
+    # residual of the other modes: one undamped full solve just below resonance
+    omega_d = 0.97 * omega_r
+    solve, _ = factorize(A - omega_d**2 * B)
+    x_d = solve(F)
+    modal_d = theta / (omega_r**2 - omega_d**2)
+    phi = {name: P @ mode.shape for name, P in probes.items()}
+    reference = reference or max(phi, key=lambda name: abs(phi[name][2]))  # the output that moves most
+    full_d = {name: P @ (T @ x_d + x_v) for name, P in probes.items()}
+    feed = {name: (full_d[name] - phi[name] * modal_d) for name in probes}
+    capacitance = float(F @ x_d + C_b - theta * modal_d)
+    ref = phi[reference][2]
+    if abs(ref) < 1e-12 * max(np.abs(np.concatenate(list(phi.values())))):
+        raise SolverError(f"outputs: the reference '{reference}' sits on a node of mode {mode.label}")
+    zeta = damping.ratio(omega_r)
+    m_eff = 1.0 / ref**2
+    return ReducedModel(
+        label=mode.label, frequency=mode.frequency, zeta=zeta, damping_description=damping.describe(),
+        reference=reference, modal_mass=m_eff, stiffness=m_eff * omega_r**2, damping=2 * zeta * omega_r * m_eff,
+        force_factor=theta / ref, capacitance=capacitance,
+        shapes={n: list(map(float, phi[n] / ref)) for n in phi},
+        feedthrough={n: list(map(float, feed[n])) for n in feed},
+    )
+
+
+def _free_coordinates(model, T, x_full: np.ndarray) -> np.ndarray:
+    """Free unknowns x with T x = x_full (T's columns are disjoint: a weighted pick)."""
+    weights = np.asarray(T.multiply(T).sum(axis=0)).ravel()
+    return (T.T @ x_full) / weights
+
+
+@dataclass(frozen=True)
+class HarmonicResponse:
+    """Full FE response per volt: frequency [Hz]; displacement: output -> (n_f, 3) complex [m/V];
+    admittance (n_f,) complex [S]; damping stated."""
+
+    frequency: np.ndarray
+    displacement: dict[str, np.ndarray]
+    admittance: np.ndarray
+    damping_description: str
+    dissipated: np.ndarray | None = None  # time-averaged power lost in the damping per volt^2 [W/V^2]
+
+    def velocity(self, output: str) -> np.ndarray:
+        return 2j * np.pi * self.frequency[:, None] * self.displacement[output]
+
+    def acceleration(self, output: str) -> np.ndarray:
+        return -((2 * np.pi * self.frequency[:, None]) ** 2) * self.displacement[output]
+
+    @property
+    def impedance(self) -> np.ndarray:
+        """Electrical impedance Z = 1 / Y [ohm] (complex)."""
+        return 1.0 / self.admittance
+
+
+def harmonic_response(scene, modes, frequency, *, outputs, damping: Damping,
+                      reference_omega: float) -> HarmonicResponse:
+    """Direct damped solve at each frequency [Hz] (one complex factorization each)."""
+    from scipy.sparse.linalg import splu
+
+    model = modes.model
+    T, F, C_b, x_v = _drive(model)
+    A = (T.T @ model.K @ T).tocsc()
+    B = (T.T @ model.M @ T).tocsc()
+    K_mech = sp.block_diag([model.K[: model.n_u, : model.n_u], sp.csr_matrix((model.n_phi, model.n_phi))])
+    alpha, beta = damping.rayleigh_at(reference_omega)
+    C = (T.T @ (alpha * model.M + beta * K_mech) @ T).tocsc()
+    probes = {name: probe(model, p) for name, p in output_points(scene, outputs).items()}
+    freqs = np.atleast_1d(np.asarray(frequency, dtype=float))
+    disp = {name: np.zeros((len(freqs), 3), dtype=complex) for name in probes}
+    Y = np.zeros(len(freqs), dtype=complex)
+    dissipated = np.zeros(len(freqs))
+    for i, f in enumerate(freqs):
+        w = 2 * np.pi * f
+        x = splu((A - w**2 * B + 1j * w * C).tocsc(), permc_spec="MMD_AT_PLUS_A",
+                 options={"SymmetricMode": True}).solve(F.astype(complex))
+        if not np.all(np.isfinite(x)):
+            raise SolverError(f"harmonic solve at {f:g} Hz returned NaN")
+        full = T @ x + x_v
+        for name, P in probes.items():
+            disp[name][i] = P @ full
+        Y[i] = 1j * w * (F @ x + C_b)
+        dissipated[i] = 0.5 * w**2 * float(np.real(np.conj(x) @ (C @ x)))
+    description = damping.describe()
+    if damping.zeta is not None or damping.Q is not None:
+        description += f"; full model: Rayleigh beta = {beta:.3g} s (gives it at {reference_omega / 2 / np.pi:.0f} Hz)"
+    return HarmonicResponse(freqs, disp, Y, description, dissipated)

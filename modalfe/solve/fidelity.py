@@ -1,0 +1,227 @@
+"""The fidelity ladder: a 1-D beam, a 2-D plate or the 3-D solid, and ``auto``, the cheapest that
+meets a tolerance.
+
+Every frequency of a reduced model (``modalfe.models.beam``, ``modalfe.models.plate``) carries two errors:
+- discretization: Richardson from two mesh levels (element sizes x1 and x1.5), as for the solid;
+- model: distance from the 3-D solid, found by a cheap cross-check, the solid on two coarse levels
+  (element sizes x1.5 and x2.25 of the default, thickness layers scaled alike) extrapolated to zero
+  element size at the assumed convergence order; the extrapolation's own uncertainty is added: how far
+  the extrapolated value moves over the orders observed on the seed devices (``OBSERVED_ORDERS``).
+A mode's ``error_estimate`` is the sum of the two, ``model_error`` the second.
+
+``auto`` tries the reduced model that suits the scene's kind (beam or plate) and answers with it when
+the estimated error of the modes asked about is within ``tol``; otherwise the 3-D solid answers,
+reusing the cross-check's finer coarse level for its own error estimate. ``Modes.fidelity_note`` says
+which fidelity answered and why.
+
+Where the scene declares mirror symmetry the plate model solves the symmetric part, as the solid does;
+the beam model solves the whole beam and the modes antisymmetric about those planes are dropped, so that
+every fidelity returns the same family.
+"""
+
+from __future__ import annotations
+
+import importlib
+import logging
+import math
+import time
+from dataclasses import replace
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from modalfe.errors import SceneError, SolverError
+from modalfe.results.modes import Modes, select
+from modalfe.solve.solvers import (
+    COARSE_FACTOR,
+    CONVERGENCE_ORDER,
+    OBSERVED_ORDERS,
+    coarse_level,
+    coarser,
+    partner,
+    refinement_ratio,
+    richardson,
+    solve_level,
+)
+
+log = logging.getLogger(__name__)
+
+# fidelity -> (module, solve function, whether it solves the scene's symmetric part itself)
+REDUCED = {"beam": ("modalfe.models.beam", "solve_beam_modes", False), "plate": ("modalfe.models.plate", "solve_plate_modes", True)}
+CHECK_FACTORS = (COARSE_FACTOR, COARSE_FACTOR**2)  # the cross-check's two solid levels
+
+
+def reduced_fidelities(scene) -> list[str]:
+    """Reduced models that can stand for ``scene``, cheapest first."""
+    return {"beam": ["beam"], "plate": ["plate"]}.get(scene.kind, [])
+
+
+def solve_at_fidelity(scene, analysis, *, fidelity: str, tol: float, check, size_factor: float = 1.0,
+                      solver: str = "auto", error_estimate: bool = True) -> Modes:
+    """Modes at ``fidelity`` (``beam``, ``plate`` or ``auto``); ``auto`` always estimates errors."""
+    if fidelity == "auto":
+        return solve_auto(scene, analysis, tol=tol, check=check, size_factor=size_factor, solver=solver)
+    return solve_reduced(scene, analysis, fidelity, size_factor=size_factor, solver=solver,
+                         error_estimate=error_estimate)
+
+
+def solve_reduced(scene, analysis, fidelity: str, *, size_factor: float = 1.0, solver: str = "auto",
+                  error_estimate: bool = True) -> Modes:
+    """A reduced model's modes, with Richardson discretization estimates (no model error)."""
+    if fidelity not in reduced_fidelities(scene):
+        raise SceneError(f"fidelity: '{fidelity}' does not apply to a {scene.kind} scene "
+                         f"(use {[*reduced_fidelities(scene), 'solid', 'auto']})")
+    module, name, symmetric = REDUCED[fidelity]
+    solve_whole = getattr(importlib.import_module(module), name)
+
+    def solve(a, factor):
+        if symmetric:
+            return solve_whole(scene, a, size_factor=factor, solver=solver)
+        return _same_family(solve_whole(scene, _widened(a, scene), size_factor=factor, solver=solver), scene, a)
+
+    fine = solve(analysis, size_factor)
+    if not error_estimate:
+        return fine
+    start = time.perf_counter()
+    coarse = solve(coarser(analysis), size_factor * COARSE_FACTOR)
+    result = fine.with_error_estimates(richardson(fine, coarse, COARSE_FACTOR))
+    return replace(result, timings=dict(fine.timings, error_estimate=time.perf_counter() - start))
+
+
+def solve_auto(scene, analysis, *, tol: float, check=None, size_factor: float = 1.0, solver: str = "auto") -> Modes:
+    """The cheapest fidelity whose estimated error on the checked modes is within ``tol``."""
+    reasons = []
+    levels = []  # the solid cross-check levels, solved at most once
+
+    def solid_levels():
+        if not levels:
+            a = analysis
+            for factor in CHECK_FACTORS:
+                a = coarser(a)
+                levels.append(solve_level(scene, a, solver=solver, **coarse_level(scene, factor, size_factor)))
+        return levels
+
+    for fidelity in reduced_fidelities(scene):
+        try:
+            reduced = solve_reduced(scene, analysis, fidelity, size_factor=size_factor, solver=solver)
+        except (SceneError, SolverError, ImportError) as exc:
+            reasons.append(f"{fidelity} model not applicable: {exc}")
+            continue
+        start = time.perf_counter()
+        checked = with_model_errors(reduced, *solid_levels(), scene)
+        checked = replace(checked, timings=dict(checked.timings, cross_check=time.perf_counter() - start))
+        worst, why = _worst(checked, check)
+        if worst <= tol:
+            model = max((m.model_error for m in _checked_modes(checked, check)), default=0.0)
+            note = (f"auto: {fidelity} answered, estimated error {worst:.2%} <= tol {tol:.2%} "
+                    f"(model error {model:.2%} from a coarse 3-D solid cross-check, plus discretization)")
+            return replace(checked, fidelity_note=note, cross_check=tuple(solid_levels()))
+        reasons.append(f"{fidelity} model: {why} > tol {tol:.2%}")
+    fine = solve_level(scene, analysis, size_factor=size_factor, solver=solver)
+    start = time.perf_counter()
+    coarse = solid_levels()[0]
+    solid = fine.with_error_estimates(richardson(fine, coarse, refinement_ratio(fine.model.mesh, coarse.model.mesh,
+                                                                                 scene)))
+    solid = replace(solid, timings=dict(fine.timings, error_estimate=time.perf_counter() - start))
+    worst, why = _worst(solid, check)
+    note = "auto: solid answered" + (f" ({'; '.join(reasons)})" if reasons else " (no reduced model for a "
+                                     f"{scene.kind} scene)")
+    if worst > tol:
+        note += f"; its {why} exceeds tol {tol:.2%}: refine (--set mesh.elements_per_wavelength=...)"
+    return replace(solid, fidelity_note=note)
+
+
+def with_model_errors(reduced: Modes, solid_1: Modes, solid_2: Modes, scene) -> Modes:
+    """``reduced`` with each mode's model error against the solid extrapolated from two coarse levels,
+    and its error estimate raised by it (inf where the solid has no partner mode)."""
+    ratio = refinement_ratio(solid_1.model.mesh, solid_2.model.mesh, scene)
+    top = max(m.frequency for m in reduced)
+    modes = []
+    for mode in reduced:
+        if mode.frequency < 1e-6 * top:
+            modes.append(replace(mode, model_error=0.0))
+            continue
+        near = partner(mode, solid_1)
+        far = partner(near, solid_2) if near is not None else None
+        if far is None:
+            error = math.inf
+        else:
+            step = near.frequency - far.frequency
+            extrapolated = near.frequency + step / (ratio**CONVERGENCE_ORDER - 1)
+            uncertainty = max(abs(step / (ratio**p - 1) - step / (ratio**CONVERGENCE_ORDER - 1))
+                              for p in OBSERVED_ORDERS) / extrapolated
+            error = abs(mode.frequency - extrapolated) / extrapolated + uncertainty
+        discretization = 0.0 if math.isnan(mode.error_estimate) else mode.error_estimate
+        modes.append(replace(mode, model_error=error, error_estimate=discretization + error))
+    return replace(reduced, modes=tuple(modes))
+
+
+def _checked_modes(modes: Modes, check) -> list:
+    if check is None:
+        top = max(m.frequency for m in modes)
+        return [m for m in modes if m.frequency >= 1e-6 * top]
+    return [select(modes, selector, near) for selector, near in check]
+
+
+def _worst(modes: Modes, check) -> tuple[float, str]:
+    """(largest estimated error of the checked modes, a phrase saying which)."""
+    try:
+        found = _checked_modes(modes, check)
+    except SolverError as exc:
+        return math.inf, f"working mode not found ({exc})"
+    if not found:
+        return 0.0, "no mode to check"
+    worst = max(found, key=lambda m: m.error_estimate if not math.isnan(m.error_estimate) else math.inf)
+    value = worst.error_estimate if not math.isnan(worst.error_estimate) else math.inf
+    return value, f"estimated error {value:.2%} on {worst.label} at {worst.frequency:.6g} Hz"
+
+
+def _widened(analysis, scene):
+    """Twice the modes where the scene is symmetric: about half are dropped as antisymmetric."""
+    if not scene.symmetry or analysis.band is not None:
+        return analysis
+    return replace(analysis, count=analysis.count * 2 ** len(scene.symmetry))
+
+
+def _same_family(modes: Modes, scene, analysis) -> Modes:
+    """Keep the modes symmetric about every mirror plane of ``scene.symmetry`` (the family the 3-D
+    solid's reduced domain returns), then the ``count`` nearest the target; renumbered from 0."""
+    kept = [m for m in modes if all(_parity(modes.model, m.shape, "xyz".index(a), scene) > 0 for a in scene.symmetry)]
+    if analysis.band is None:
+        kept = sorted(sorted(kept, key=lambda m: abs(m.frequency - analysis.near))[: analysis.count],
+                      key=lambda m: m.frequency)
+    return replace(modes, modes=tuple(replace(m, index=i) for i, m in enumerate(kept)))
+
+
+def _parity(model, shape: np.ndarray, axis: int, scene) -> float:
+    """Correlation of a displacement field with its mirror image about the device's mid-plane normal
+    to ``axis``: +1 symmetric, -1 antisymmetric."""
+    points, u = model.surface_field(shape)
+    lo, hi = scene.full_assembly().bounds
+    mirrored = points.copy()
+    mirrored[axis] = lo[axis] + hi[axis] - points[axis]
+    _, nearest = cKDTree(points.T).query(mirrored.T)
+    image = u[:, nearest].copy()
+    image[axis] *= -1
+    norm = float(np.sum(u * u))
+    return float(np.sum(u * image)) / norm if norm > 0 else 1.0
+
+
+def coupling_check_level(modes: Modes, mode, *, size_factor: float = 1.0, solver: str = "auto") -> tuple[float, float]:
+    """(fr, fa) [Hz] of ``mode``'s partner in the 3-D solid at the cross-check's finer coarse level that
+    ``modes`` (answered by a reduced model) was checked against: short circuit from that level, open circuit
+    solved on the same mesh. A reduced model's piezo layers (uniform field, no shear lag at the patch edges)
+    misplace k_eff by 10-15 % on the seed devices, while the solid's fa / fr at this level is within ~2.5 %
+    in k_eff of the default mesh (both shift alike): the report takes k_eff from here."""
+    from modalfe.scene import Analysis
+
+    if not modes.cross_check:
+        raise SolverError(f"no 3-D cross-check to take k_eff from ({modes.fidelity} fidelity asked directly)")
+    level = modes.cross_check[0]
+    short = partner(mode, level)
+    if short is None:
+        raise SolverError(f"no 3-D partner of {mode.label} at {mode.frequency:.6g} Hz in the cross-check")
+    scene = modes.model.scene
+    open_ = solve_level(scene, Analysis(near=short.frequency, count=6, circuit="open"), solver=solver,
+                        **coarse_level(scene, CHECK_FACTORS[0], size_factor))
+    return short.frequency, select(open_, short.label, short.frequency).frequency

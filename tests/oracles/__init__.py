@@ -1,0 +1,1 @@
+"""The sub-packages of tests hold verification oracles that only tests and studies import."""

@@ -20,8 +20,8 @@ __version__ = "0.1.0"
 
 
 def solve_modes(scene, **kwargs):
-    """Eigenmodes of a scene; see ``modalfe.solve.solvers.solve_modes``."""
-    from modalfe.solve.solvers import solve_modes as _solve_modes
+    """Eigenmodes of a scene; see ``modalfe.solve.api.solve_modes``."""
+    from modalfe.solve.api import solve_modes as _solve_modes
 
     return _solve_modes(scene, **kwargs)
 

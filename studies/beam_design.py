@@ -133,14 +133,13 @@ def line_response(modes: Modes, frequency: float, *, volts: float = SEED_VOLTS, 
     modal superposition of every mode in ``modes`` plus the static residual (seed 003 eq. (21), with the
     bimorph's distributed moment in place of the seed's point force at x0). ``static``: the static
     response to ``volts`` from ``static_drive`` (computed here when None)."""
-    from modalfe.response.forced import probes
-    from modalfe.response.superposition import modal_receptance, voltage_load
+    from modalfe.response.superposition import modal_receptance
 
     model = modes.model
     length = float(model.scene.full_assembly().bounds[1][0])
     points = line_points(length, samples)
-    P = probes(model, points)[2 * samples:]
-    w = modal_receptance(modes, voltage_load(model, volts), P, [frequency], zeta, static=static)[0]
+    P = model.displacement_probes(points.T)[2 * samples:]
+    w = modal_receptance(modes, model.voltage_load(volts), P, [frequency], zeta, static=static)[0]
     return LineResponse(float(frequency), points[0], w, volts, zeta)
 
 
@@ -149,19 +148,18 @@ def frequency_response(modes: Modes, frequency, x: float, *, volts: float = SEED
     """Complex normal displacement [m] at ``x`` [m] on the top centre line for each drive frequency [Hz]
     (seed 003 eq. (22), Fig. 8), by modal superposition with the static residual (``static`` as in
     ``line_response``)."""
-    from modalfe.response.forced import probes
-    from modalfe.response.superposition import modal_receptance, voltage_load
+    from modalfe.response.superposition import modal_receptance
 
-    P = probes(modes.model, np.array([[x], [_TOP_Y], [_TOP_Z]]))[2:]
-    return modal_receptance(modes, voltage_load(modes.model, volts), P, frequency, zeta, static=static)[:, 0]
+    P = modes.model.displacement_probes(np.array([[x, _TOP_Y, _TOP_Z]]))[2:]
+    return modal_receptance(modes, modes.model.voltage_load(volts), P, frequency, zeta, static=static)[:, 0]
 
 
 def static_drive(modes: Modes, volts: float = SEED_VOLTS) -> np.ndarray:
     """Full DOF static response K_c^-1 f to ``volts`` [V] on ``modes.model``: pass it as ``static`` to
     ``line_response`` and ``frequency_response`` at the same ``volts`` to factorize K_c once."""
-    from modalfe.response.superposition import static_response, voltage_load
+    from modalfe.response.superposition import static_response
 
-    return static_response(modes.model, voltage_load(modes.model, volts))
+    return static_response(modes.model, modes.model.voltage_load(volts))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -219,7 +217,7 @@ def variant_scene(parameter: str, value: float, *, coarse: bool = False, setting
 def solve(scene: Scene, *, fidelity: str = "beam", top: float = 45e3, error_estimate: bool = False) -> Modes:
     """All modes from 1 Hz to ``top`` [Hz] (mode 6 near 22-24 kHz and the next two above it) at
     ``fidelity`` (``beam`` or ``solid``), with a Richardson discretization estimate if asked."""
-    from modalfe.solve.solvers import solve_modes
+    from modalfe.solve.api import solve_modes
 
     return solve_modes(scene, band=(1.0, top), fidelity=fidelity, error_estimate=error_estimate)
 

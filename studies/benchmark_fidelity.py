@@ -13,8 +13,8 @@ How it is measured:
   interpreter and its libraries), beside the same figure read after the imports, before the solve;
 - solid levels refine uniformly: layers through the thickness are round(min_layers / size factor), at least 1;
 - reference: Richardson extrapolation of the two finest solid levels at the assumed order
-  ``modalfe.solve.solvers.CONVERGENCE_ORDER``, refinement ratio from the main part's element counts (as
-  ``modalfe.solve.solvers.refinement_ratio``); its uncertainty is how far it moves over ``OBSERVED_ORDERS``;
+  ``modalfe.solve.estimates.CONVERGENCE_ORDER``, refinement ratio from the main part's element counts (as
+  ``modalfe.solve.estimates.refinement_ratio``); its uncertainty is how far it moves over ``OBSERVED_ORDERS``;
 - exponents: least-squares slope of log(stage seconds) against log(DOFs) over each sweep.
 
     python studies/benchmark_fidelity.py [--quick] [--repeats 3] [--devices cube_plate ...] [--out DIR]
@@ -76,7 +76,7 @@ def measure(device: str, fidelity: str, size_factor: float, solver: str) -> dict
     import resource
 
     from modalfe.results.modes import select
-    from modalfe.solve.solvers import solve_level
+    from modalfe.solve.levels import solve_level
 
     with tempfile.TemporaryDirectory(prefix="modalfe-bench-") as cache:
         os.environ["MODALFE_CACHE"] = cache
@@ -129,10 +129,10 @@ class Point:
 
 def tracked(previous: Point | None, run: dict) -> tuple[str, float]:
     """(label, frequency [Hz]) of the working mode at a finer level: the partner of the coarser level's
-    mode (same label, nearest in frequency, within 10 %: ``modalfe.solve.solvers.partner``), else the
+    mode (same label, nearest in frequency, within 10 %: ``modalfe.solve.estimates.partner``), else the
     selector's pick (the coarsest level, or no partner: said)."""
     from modalfe.results.modes import Mode
-    from modalfe.solve.solvers import partner
+    from modalfe.solve.estimates import partner
 
     if previous is None:
         return run["mode"], run["frequency"]
@@ -168,7 +168,7 @@ def sweep(device: str, fidelity: str, factors, repeats: int, solver: str) -> lis
 def reference(solid: list[Point]) -> tuple[float, float]:
     """(f_ref [Hz], relative uncertainty): Richardson from the two finest solid levels at
     CONVERGENCE_ORDER, uncertainty = largest move of f_ref over OBSERVED_ORDERS."""
-    from modalfe.solve.solvers import CONVERGENCE_ORDER, OBSERVED_ORDERS
+    from modalfe.solve.estimates import CONVERGENCE_ORDER, OBSERVED_ORDERS
 
     coarse, fine = sorted(solid, key=lambda p: p.dofs)[-2:]
     ratio = (fine.main_elements / coarse.main_elements) ** (1 / 3)

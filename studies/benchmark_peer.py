@@ -11,7 +11,7 @@ through the thickness refined alike; on the beam with ``mesh.clamp_grading`` = 4
 layers toward the clamp), NGSolve ``maxh`` (order-2 tetrahedra, straight-sided). The
 geometry, materials, poling and supports of the peer model are read from the same modalfe scene.
 Peer eigen solve: K and M are exported from NGSolve to scipy and solved with modalfe's own
-shift-invert path (``modalfe.solve.solvers.eigenpairs``: PARDISO through ``modalfe.solve.linalg.factorize`` and
+shift-invert path (``modalfe.solve.eigen.eigenpairs``: PARDISO through ``modalfe.solve.linalg.factorize`` and
 ARPACK), so the measured difference is the discretization, meshing and assembly, not the eigen
 solver. NGSolve assembles inside its ``TaskManager``, as usually run.
 
@@ -110,7 +110,7 @@ def layers(size_factor: float) -> int:
 def modalfe_solve(case: str, size_factor: float) -> dict:
     """One modalfe solve: DOFs, stage times [s] and the case's mode frequency [Hz]."""
     from modalfe.results.modes import select
-    from modalfe.solve.solvers import solve_level
+    from modalfe.solve.levels import solve_level
 
     sc = scene(case)
     start = time.perf_counter()
@@ -124,11 +124,11 @@ def modalfe_solve(case: str, size_factor: float) -> dict:
 def _fresh_modalfe_caches(folder: Path) -> None:
     """Forget meshes and models (new cache ``folder``) so that a repeat meshes and assembles again."""
     import modalfe.models.mesh
-    import modalfe.solve.solvers
+    from modalfe.models.build import clear_cache
 
     os.environ["MODALFE_CACHE"] = str(folder)
     modalfe.models.mesh._memory_cache.clear()
-    modalfe.solve.solvers._MODELS.clear()
+    clear_cache()
 
 
 # ---- peer side (NGSolve) -----------------------------------------------------------------------
@@ -266,7 +266,7 @@ def peer_solve(case: str, maxh: float) -> dict:
     from netgen.occ import OCCGeometry
     from ngsolve import Mesh, SetNumThreads, TaskManager
 
-    from modalfe.solve.solvers import eigenpairs
+    from modalfe.solve.eigen import eigenpairs
 
     sc = scene(case)
     SetNumThreads(int(os.environ.get("OMP_NUM_THREADS", "1")))
@@ -278,7 +278,8 @@ def peer_solve(case: str, maxh: float) -> dict:
         t_mesh = time.perf_counter() - start
         K, M, fes, free = peer_matrices(sc, mesh)
         t_assembly = time.perf_counter() - start - t_mesh
-    lam, X, t_fact, t_eig, _ = eigenpairs(K, M, sc.analysis)
+    solution = eigenpairs(K, M, sc.analysis)
+    lam, X, t_fact, t_eig = solution.values, solution.vectors, solution.factorization_seconds, solution.eigensolve_seconds
     frequency = peer_pick(case, sc, mesh, fes, free, lam, X)
     return {"dofs": K.shape[0], "frequency": frequency, "total": time.perf_counter() - start, "mesh": t_mesh,
             "assembly": t_assembly, "factorization": t_fact, "eigensolve": t_eig}

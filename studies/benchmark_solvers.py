@@ -1,8 +1,8 @@
 """SuperLU against PARDISO on the shift-invert matrices of the solid models (issue 6, item 4).
 
 For each device and size factor the solid model is assembled and constrained as ``solve_level`` does
-(``modalfe.solve.solvers.assembled_model``, ``model.constraints(circuit)``), then, with each direct solver,
-``modalfe.solve.solvers.eigenpairs`` runs one full eigen solve: factorization of A - sigma B (timed on its own)
+(``modalfe.models.build.build_model``, ``model.constraints(circuit)``), then, with each direct solver,
+``modalfe.solve.eigen.eigenpairs`` runs one full eigen solve: factorization of A - sigma B (timed on its own)
 and the ARPACK shift-invert iterations. Medians over ``--repeats`` (solvers alternate within a repeat),
 the SuperLU / PARDISO time ratio per size, the power-law exponent of each solver's time against DOFs, and
 the largest relative difference between the two solvers' frequencies. Layers through the thickness scale
@@ -50,23 +50,24 @@ class Timing:
 
 def shift_invert_problem(device: str, size_factor: float):
     """(A, B, analysis) of the device's constrained solid model at ``size_factor``."""
-    from modalfe.solve.solvers import assembled_model
+    from modalfe.models.build import build_model
 
     scene = level_scene(device, size_factor)
-    model, _, _ = assembled_model(scene, size_factor=size_factor)
+    model, _ = build_model(scene, size_factor=size_factor)
     T = model.constraints(scene.analysis.circuit).T
     return (T.T @ model.K @ T).tocsr(), (T.T @ model.M @ T).tocsr(), scene.analysis
 
 
 def time_solvers(device: str, size_factor: float, solvers: list[str], repeats: int) -> list[Timing]:
     """Each solver's median factorization and eigen-solve seconds on one matrix pair."""
-    from modalfe.solve.solvers import eigenpairs
+    from modalfe.solve.eigen import eigenpairs
 
     A, B, analysis = shift_invert_problem(device, size_factor)
     runs = {name: [] for name in solvers}
     for _ in range(repeats):
         for name in solvers:
-            lam, _, t_fact, t_eig, used = eigenpairs(A, B, analysis, name)
+            solution = eigenpairs(A, B, analysis, name)
+            lam, t_fact, t_eig, used = solution.values, solution.factorization_seconds, solution.eigensolve_seconds, solution.solver
             if used != name:
                 raise RuntimeError(f"asked for {name}, eigenpairs used {used}")
             runs[name].append((t_fact, t_eig, np.sqrt(np.clip(lam, 0, None)) / (2 * np.pi)))

@@ -15,7 +15,7 @@ from pathlib import Path
 
 from modalfe.results.modes import select
 from modalfe.scene import load_scene
-from modalfe.solve.solvers import solve_modes
+from modalfe.solve.api import solve_modes
 
 CASES = {
     "cube_plate": ("(0,6)", 40.7e3),

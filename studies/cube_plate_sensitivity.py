@@ -15,7 +15,7 @@ import time
 from pathlib import Path
 
 from modalfe.scene import load_scene
-from modalfe.solve.solvers import solve_modes
+from modalfe.solve.api import solve_modes
 
 MEASURED = 40.7e3  # Hz, seed 001
 ABAQUS = 42.7e3  # Hz, seed 001

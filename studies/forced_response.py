@@ -78,9 +78,7 @@ def ciliary_beam(quick: bool) -> None:
 def beam_acceleration_profile(quick: bool, volts: float = 100.0) -> None:
     """Half-period average acceleration (2 / pi) omega^2 |w| along the beam's top centre line."""
     import numpy as np
-
-    from modalfe.response.forced import probes
-    from modalfe.solve.solvers import solve_modes
+    from modalfe.solve.api import solve_modes
 
     scene = _scene("ciliary_beam", quick)
     fig = forced_figures(scene)
@@ -89,7 +87,7 @@ def beam_acceleration_profile(quick: bool, volts: float = 100.0) -> None:
     mode = modes.labelled(rom.label, near=rom.frequency)
     x = np.linspace(0.0, 0.1, 201)
     points = np.vstack([x, np.full_like(x, 2.5e-3), np.full_like(x, 5e-3)])
-    w = (probes(modes.model, points) @ mode.shape)[2 * len(x):]
+    w = (modes.model.displacement_probes(points.T) @ mode.shape)[2 * len(x):]
     q = abs(rom.force_factor) / np.sqrt(rom.modal_mass) / (2 * rom.zeta * rom.omega**2)
     average = 2 / math.pi * rom.omega**2 * q * volts * np.abs(w)
     peaks = [x[i] for i in range(1, len(x) - 1) if average[i] >= average[i - 1] and average[i] > average[i + 1]]

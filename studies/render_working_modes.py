@@ -16,7 +16,7 @@ from modalfe.plot.render import render_mode
 from modalfe.results.modes import select
 from modalfe.scene import load_scene
 from modalfe.scene.builtin import BUILTIN
-from modalfe.solve.solvers import solve_modes
+from modalfe.solve.api import solve_modes
 
 
 def main() -> None:

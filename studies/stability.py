@@ -33,9 +33,9 @@ def case(name: str):
 def conditioning(quick):
     from modalfe.solve.linalg import condition_estimate, factorize
     from modalfe.scene import load_scene
-    from modalfe.solve.solvers import assembled_model
+    from modalfe.models.build import build_model
 
-    model, _, _ = assembled_model(load_scene("ciliary_beam", **{"mesh.elements_per_wavelength": 4.0}))
+    model, _ = build_model(load_scene("ciliary_beam", **{"mesh.elements_per_wavelength": 4.0}))
     a, b = model.shifted_matrix(20e3), model.shifted_matrix(20e3, scale=1.0)
     ca, cb = condition_estimate(a, factorize(a)[0]), condition_estimate(b, factorize(b)[0])
     return ca < 1e-6 * cb, f"scaled {ca:.2e}, unscaled {cb:.2e}"
@@ -44,7 +44,7 @@ def conditioning(quick):
 @case("shift exactly on an eigenvalue")
 def singular_shift(quick):
     from modalfe.scene import load_scene
-    from modalfe.solve.solvers import solve_modes
+    from modalfe.solve.api import solve_modes
 
     scene = load_scene("ciliary_beam", **{"mesh.elements_per_wavelength": 4.0})
     f = solve_modes(scene, near=22e3, count=4, error_estimate=False).labelled("bending-z 6").frequency
@@ -54,7 +54,7 @@ def singular_shift(quick):
 
 @case("free-free plate: six rigid-body modes")
 def rigid(quick):
-    from modalfe.solve.solvers import solve_modes
+    from modalfe.solve.api import solve_modes
     from tests.oracles.cases import free_plate_scene
 
     modes = solve_modes(free_plate_scene(), band=(0.0, 3000.0), error_estimate=False)
@@ -65,7 +65,7 @@ def rigid(quick):
 
 @case("band with no modes")
 def empty_band(quick):
-    from modalfe.solve.solvers import solve_modes
+    from modalfe.solve.api import solve_modes
     from tests.oracles.cases import free_plate_scene
 
     solve_modes(free_plate_scene(), band=(500.0, 600.0), error_estimate=False)
@@ -75,7 +75,7 @@ def empty_band(quick):
 @case("coarse mesh (2 el./wavelength): estimate warns")
 def coarse(quick):
     from modalfe.scene import load_scene
-    from modalfe.solve.solvers import solve_modes
+    from modalfe.solve.api import solve_modes
 
     mode = solve_modes(load_scene("ciliary_beam", **{"mesh.elements_per_wavelength": 2.0}), near=24e3, count=8,
                        error_estimate=True).labelled("bending-z 6")
@@ -85,7 +85,7 @@ def coarse(quick):
 @case("0.1 mm parameter step within the error estimate")
 def continuity(quick):
     from modalfe.scene import load_scene
-    from modalfe.solve.solvers import solve_modes
+    from modalfe.solve.api import solve_modes
 
     a = solve_modes(load_scene("ciliary_beam"), near=22e3, count=4).labelled("bending-z 6")
     b = solve_modes(load_scene("ciliary_beam", x0=0.0681), near=22e3, count=4,
@@ -97,7 +97,7 @@ def continuity(quick):
 @case("sheets 0.3 / 0.1 / 0.03 mm on a 100 mm beam (1:333-1:3333)")
 def thin_sheets(quick):
     from modalfe.scene import load_scene
-    from modalfe.solve.solvers import solve_modes
+    from modalfe.solve.api import solve_modes
 
     f = [solve_modes(load_scene("ciliary_beam", sheet_thickness=t), near=22e3, count=4,
                      error_estimate=False).labelled("bending-z 6").frequency for t in (0.3e-3, 0.1e-3, 0.03e-3)]
@@ -107,7 +107,7 @@ def thin_sheets(quick):
 
 @case("nu 0.3 / 0.49 / 0.499: the estimate bounds the error")
 def incompressible(quick):
-    from modalfe.solve.solvers import solve_modes
+    from modalfe.solve.api import solve_modes
     from tests.oracles.cases import clamped_bar_scene
 
     def mode(nu, size, estimate=True):
@@ -130,7 +130,7 @@ def incompressible(quick):
 def tetrahedra(quick):
     from modalfe.results.modes import select
     from modalfe.scene import load_scene
-    from modalfe.solve.solvers import solve_modes
+    from modalfe.solve.api import solve_modes
 
     if quick:
         return True, "skipped (--quick)"
@@ -146,7 +146,7 @@ def tetrahedra(quick):
 def energy(quick):
     from modalfe.response.forced import Damping, harmonic_response
     from modalfe.scene import load_scene
-    from modalfe.solve.solvers import solve_modes
+    from modalfe.solve.api import solve_modes
 
     scene = load_scene("ciliary_beam", **{"mesh.elements_per_wavelength": 4.0})
     modes = solve_modes(scene, near=22e3, count=4, error_estimate=False)

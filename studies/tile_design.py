@@ -203,11 +203,10 @@ def acceleration_frf(modes, force: np.ndarray, points: dict[str, tuple[float, fl
     R (``residual``) is the static share of the modes above the computed band (residual flexibility,
     the mode-acceleration method); it moves antiresonances, which a truncated sum places too high.
     """
-    from modalfe.response.forced import probes
     from modalfe.response.superposition import modal_receptance
 
     names = list(points)
-    P = probes(modes.model, np.array([points[n] for n in names], dtype=float).T)[2 * len(names):]  # z rows
+    P = modes.model.displacement_probes(np.array([points[n] for n in names], dtype=float))[2 * len(names):]  # z rows
     zeta = [modal_damping(m, zeta_suspension=zeta_suspension, zeta_plate=zeta_plate) for m in modes]
     f = np.atleast_1d(np.asarray(frequency, dtype=float))
     accel = -((2 * np.pi * f[:, None]) ** 2) * modal_receptance(modes, force, P, f, zeta, residual=residual)

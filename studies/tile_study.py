@@ -18,7 +18,7 @@ import numpy as np
 
 import tile_design as tile
 from modalfe.scene import load_scene
-from modalfe.solve.solvers import solve_modes
+from modalfe.solve.api import solve_modes
 
 BAND = (1.0, 1500.0)  # Hz, issue 8: every mode from 0 to 1.5 kHz
 COARSE = {"mesh.max_size": 0.04, "mesh.elements_per_wavelength": 4.0}  # ~10 k DOFs, a few seconds

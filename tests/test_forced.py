@@ -8,7 +8,7 @@ from modalfe.response.control import quasi_linear_region, track_amplitude
 from modalfe.errors import SceneError
 from modalfe.response.forced import Damping, ReducedModel, harmonic_response, reduce
 from modalfe.scene import load_scene
-from modalfe.solve.solvers import solve_modes
+from modalfe.solve.api import solve_modes
 
 OUTPUTS = [("tip", (0.1, 0.0025, 0.005)), ("x_47mm", (0.047, 0.0025, 0.005))]
 

@@ -6,7 +6,7 @@ import pytest
 from modalfe.results.coupling import antiresonance, k_eff
 from modalfe.errors import SolverError
 from modalfe.scene import load_scene, scene_from_dict
-from modalfe.solve.solvers import solve_modes
+from modalfe.solve.api import solve_modes
 from tests.oracles.cases import free_plate_scene
 
 

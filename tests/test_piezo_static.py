@@ -5,7 +5,8 @@ import pytest
 
 from modalfe.scene.materials import MATERIALS
 from modalfe.scene import scene_from_dict
-from modalfe.solve.solvers import static_response
+from modalfe.models.build import build_model
+from modalfe.response.superposition import static_voltage_response
 
 L, W, T = 0.02, 0.004, 0.001
 
@@ -27,10 +28,8 @@ def _bar(poling: int):
 def test_free_bar_strains_by_the_d_constants(poling):
     volts = 100.0
     scene = _bar(poling)
-    x = static_response(scene, volts)
-    from modalfe.solve.solvers import assembled_model
-
-    model, _, _ = assembled_model(scene)
+    model, _ = build_model(scene)
+    x = static_voltage_response(model, volts)
     u = model.nodal_displacement(x)
     p = model.mesh.mesh.p
     m = MATERIALS["PZT-5A"]

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from modalfe.scene import load_scene
-from modalfe.solve.solvers import solve_modes
+from modalfe.solve.api import solve_modes
 
 pv = pytest.importorskip("pyvista")
 

@@ -1,13 +1,20 @@
 """Scenes: every built-in scene and registered builder, overrides, scene files and bad input."""
 
+import inspect
+import json
+import pickle
+from typing import Any
+
 import numpy as np
 import pytest
 
-from modalfe.geometry import BUILDERS
 from modalfe.errors import MeshError, SceneError
-from modalfe.scene.materials import MATERIALS, material
+from modalfe.geometry import BUILDERS, builder_parameters, check_parameters
 from modalfe.scene import load_scene, scene_from_dict
 from modalfe.scene.builtin import BUILTIN
+from modalfe.scene.frozen import FrozenMap
+from modalfe.scene.materials import MATERIALS, material
+from tests.helpers import assert_one_line_error
 
 BEAM_FILE = """
 name = "bimorph"
@@ -59,10 +66,16 @@ def test_every_builtin_scene_validates_and_builds(name):
 
 
 @pytest.mark.parametrize("name", sorted(set(BUILDERS) - {"boxes"}))
-def test_every_registered_builder_runs_with_defaults(name):
-    assembly = BUILDERS[name]()
-    total = sum(p.volume for p in assembly.parts)
-    assert total > 0
+def test_every_registered_builder_declares_typed_parameters_its_defaults_pass(name):
+    parameters = builder_parameters(name)
+    assert list(parameters) == list(inspect.signature(BUILDERS[name]).parameters)
+    for p in parameters.values():
+        assert p.kind is not Any, f"{name}.{p.name} has no type"
+        if p.kind is float:
+            assert p.unit and p.constraint is not None, f"{name}.{p.name}: a number without unit or constraint"
+        p.check(p.default)  # the defaults are valid values of their own parameters
+    check_parameters(name, {p.name: p.default for p in parameters.values()})
+    assert BUILDERS[name](**{p.name: p.default for p in parameters.values()}) == BUILDERS[name]()
 
 
 def test_overrides_change_the_geometry():
@@ -197,3 +210,87 @@ def test_empty_or_failed_mesh_is_a_mesh_error():
     with pytest.raises(MeshError) as info:
         build_mesh(assembly, size=1e-3, element="prism")
     _one_line_error(info, "mesh.element")
+
+
+@pytest.mark.parametrize("name", sorted(BUILTIN))
+def test_scenes_are_immutable_and_equal_scenes_hash_equal(name):
+    scene = load_scene(name)
+    again = load_scene(name)
+    assert scene == again and hash(scene) == hash(again)
+    assert pickle.loads(pickle.dumps(scene)) == scene
+    for table in ("params", "electrodes", "clamps", "springs", "masses", "materials"):
+        with pytest.raises(TypeError):
+            getattr(scene, table)["x"] = 1
+    assert hash(scene.with_overrides(**{"mesh.elements_per_wavelength": 5})) != hash(scene)
+
+
+def test_nested_scene_tables_are_frozen_too():
+    scene = load_scene("tile_eq5")
+    parts, material_table = scene.params["parts"], scene.materials["eq5"]
+    assert isinstance(parts, tuple) and isinstance(parts[0], FrozenMap)
+    assert isinstance(parts[0]["size"], tuple)
+    with pytest.raises(TypeError):
+        material_table["nu"] = 0.3
+    # what consumers do with the tables still works
+    assert dict(scene.clamps) == {"side_x": "yz", "side_y": "xz"}
+    assert {**scene.clamps, **scene.symmetry_clamps}["symmetry_x"] == "x"
+    assert json.loads(json.dumps(scene.params.to_dict()))["parts"][0]["size"] == [0.304, 0.304, 0.025]
+    assert scene.params == {"parts": scene.params["parts"], "faces": scene.params["faces"]}
+    changed = scene.with_overrides(**{"materials.eq5.nu": 0.1})
+    assert changed.materials["eq5"]["nu"] == 0.1 and scene.materials["eq5"]["nu"] == 0.0
+
+
+def test_overrides_from_lists_are_frozen_and_hash_like_tuples():
+    as_list = load_scene("honeycomb_tile", **{"springs.mount_1": [1.0, 2.0, 3.0]})
+    as_tuple = load_scene("honeycomb_tile", **{"springs.mount_1": (1.0, 2.0, 3.0)})
+    assert as_list.springs["mount_1"] == (1.0, 2.0, 3.0)
+    assert as_list == as_tuple and hash(as_list) == hash(as_tuple)
+    feet = load_scene("cube_plate", feet=[[20.35e-3, 6e-3], [43.65e-3, 6e-3]], symmetry=[])
+    assert feet.params["feet"] == ((20.35e-3, 6e-3), (43.65e-3, 6e-3))
+    assert len(feet.assembly().faces) == 4  # two electrodes, two feet
+
+
+def test_a_default_value_is_always_accepted():
+    # bond_thickness >= 0, and 0.0 is its default: refused by the old name-suffix rule
+    assert load_scene("cube_plate", bond_thickness=0.0).params["bond_thickness"] == 0.0
+    assert load_scene("cube_plate", bond_thickness=0.05e-3).assembly().part("bond_1").size[2] == pytest.approx(5e-5)
+
+
+def test_an_int_is_a_valid_float_parameter():
+    scene = load_scene("ciliary_beam", length=1)
+    assert scene.assembly().bounds[1][0] == 1
+
+
+@pytest.mark.parametrize("key,value,message", [
+    ("length", -3e-3, "length: must be positive, got -0.003 m"),
+    ("bond_thickness", -1e-6, "bond_thickness: must be >= 0, got -1e-06 m"),
+    ("thickness", True, "thickness: must be a number, got True"),
+    ("thickness", "3e-3", "thickness: must be a number, got '3e-3'"),
+    ("ceramic_columns", 2.5, "ceramic_columns: must be an integer, got 2.5"),
+    ("ceramic_columns", True, "ceramic_columns: must be an integer, got True"),
+    ("ceramic_columns", 0, "ceramic_columns: must be >= 1, got 0"),
+    ("plate_material", 3, "plate_material: must be a string, got 3"),
+    ("poled", 1, "poled: must be true or false, got 1"),
+    ("length", float("inf"), "length: must be finite, got inf m"),
+])
+def test_bad_parameters_are_refused_from_the_builder_signature(key, value, message):
+    assert_one_line_error(lambda: load_scene("cube_plate", **{key: value}), key, SceneError)
+    with pytest.raises(SceneError) as info:
+        load_scene("cube_plate", **{key: value})
+    assert str(info.value) == message
+
+
+def test_unknown_parameter_keeps_its_one_line_error():
+    assert_one_line_error(lambda: load_scene("glass_plate", glass_colour="green"), "glass_colour", SceneError)
+    with pytest.raises(SceneError) as info:
+        load_scene("glass_plate", glass_colour="green")
+    assert "not a parameter of glass_plate; known: [" in str(info.value)
+
+
+def test_builder_parameters_are_data():
+    p = builder_parameters("cube_plate")
+    assert (p["length"].default, p["length"].unit, p["length"].constraint.text) == (64e-3, "m", "positive")
+    assert p["bond_thickness"].constraint.text == ">= 0" and p["bond_thickness"].default == 0.0
+    assert p["ceramic_columns"].type_name == "int" and p["ceramic_columns"].constraint.text == ">= 1"
+    assert p["sensor"].type_name == "tuple[float, float] | None"
+    assert_one_line_error(lambda: builder_parameters("no_such_builder"), "device", SceneError)

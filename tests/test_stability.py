@@ -7,12 +7,13 @@ from hypothesis import strategies as st
 
 from modalfe.solve.linalg import condition_estimate, factorize
 from modalfe.scene import load_scene, scene_from_dict
-from modalfe.solve.solvers import assembled_model, solve_modes
+from modalfe.models.build import build_model
+from modalfe.solve.api import solve_modes
 
 
 def test_scaling_the_potentials_improves_the_conditioning():
     scene = load_scene("ciliary_beam", **{"mesh.elements_per_wavelength": 4.0})
-    model, _, _ = assembled_model(scene)
+    model, _ = build_model(scene)
     scaled = model.shifted_matrix(20e3)
     raw = model.shifted_matrix(20e3, scale=1.0)
     c_scaled = condition_estimate(scaled, factorize(scaled)[0])
@@ -58,7 +59,7 @@ def test_random_valid_plates_have_spd_matrices_and_positive_frequencies(length, 
         "faces": {"clamp": ["p.xmin"]}, "clamps": {"clamp": "xyz"},
         "analysis": {"near": 1000.0, "count": 3}, "mesh": {"elements_per_wavelength": 3.0},
     })
-    model, _, _ = assembled_model(scene)
+    model, _ = build_model(scene)
     K, M = model.K, model.M
     for A in (K, M):
         assert abs(A - A.T).max() <= 1e-9 * abs(A).max()  # symmetric to round-off

@@ -48,7 +48,7 @@ def _report(args) -> int:
 
 def _modes(args) -> int:
     from modalfe.scene import load_scene
-    from modalfe.solve.solvers import solve_modes
+    from modalfe.solve.api import solve_modes
 
     scene = load_scene(args.scene, **parse_overrides(args.set))
     band = tuple(args.band) if args.band else None

@@ -39,7 +39,7 @@ def positive_int(text: str) -> int:
 
 
 def fidelity_options(p: argparse.ArgumentParser) -> None:
-    from modalfe.solve.solvers import DEFAULT_TOL, FIDELITIES
+    from modalfe.solve.api import DEFAULT_TOL, FIDELITIES
 
     p.add_argument("--fidelity", choices=FIDELITIES, default="auto",
                    help="model: 1-D beam, 2-D plate, 3-D solid, or auto: the cheapest meeting --tol (default)")

@@ -29,7 +29,7 @@ def register(subparsers) -> None:
 def _modes(args):
     from modalfe.cli.options import parse_overrides
     from modalfe.scene import load_scene
-    from modalfe.solve.solvers import solve_modes
+    from modalfe.solve.api import solve_modes
 
     scene = load_scene(args.scene, **parse_overrides(args.set))
     near = args.near or (scene.working_modes[0].near if scene.working_modes else None)

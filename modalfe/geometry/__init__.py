@@ -1,17 +1,28 @@
 """Device builders: keyword-only parametric factories returning a box ``Assembly``.
 
-``BUILDERS`` registers every device by name; ``modalfe.geometry.gmsh_model`` turns an assembly into a
-gmsh model (structured grid or OCC parts) with physical groups named by part and by face role.
+``BUILDERS`` registers every device by name; ``builder_parameters`` gives a builder's parameters as
+data (name, type, default, unit, constraint) read from its annotated signature, and
+``check_parameters`` validates scene parameters against them. ``modalfe.geometry.gmsh_model`` turns
+an assembly into a gmsh model (structured grid or OCC parts) with physical groups named by part and
+by face role.
 """
 
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from functools import cache
+from typing import Any
+
+from modalfe.errors import SceneError
 from modalfe.geometry.boxes import boxes
 from modalfe.geometry.ciliary_beam import ciliary_beam
 from modalfe.geometry.cube_plate import cube_plate
 from modalfe.geometry.glass_plate import glass_plate
 from modalfe.geometry.honeycomb_tile import honeycomb_tile
+from modalfe.geometry.parameters import AtLeast, NonNegative, Parameter, Positive, Unit, parameters_of
 from modalfe.geometry.parts import Assembly, Box, Face
 
-BUILDERS = {
+BUILDERS: dict[str, Callable[..., Assembly]] = {
     "cube_plate": cube_plate,
     "glass_plate": glass_plate,
     "honeycomb_tile": honeycomb_tile,
@@ -19,5 +30,31 @@ BUILDERS = {
     "boxes": boxes,
 }
 
-__all__ = ["BUILDERS", "Assembly", "Box", "Face", "boxes", "ciliary_beam", "cube_plate",
-           "glass_plate", "honeycomb_tile"]
+
+def builder_parameters(name: str) -> dict[str, Parameter]:
+    """The parameters of builder ``name`` (name -> Parameter), in signature order."""
+    try:
+        builder = BUILDERS[name]
+    except KeyError:
+        raise SceneError(f"device: unknown builder '{name}'; known: {sorted(BUILDERS)}") from None
+    return dict(_parameters(builder))
+
+
+@cache
+def _parameters(builder: Callable[..., Assembly]) -> tuple[tuple[str, Parameter], ...]:
+    return tuple(parameters_of(builder).items())
+
+
+def check_parameters(name: str, params: Mapping[str, Any]) -> None:
+    """Raise a one-line SceneError naming the first unknown or invalid parameter of builder ``name``."""
+    accepted = builder_parameters(name)
+    unknown = set(params) - set(accepted)
+    if unknown:
+        raise SceneError(f"{sorted(unknown)[0]}: not a parameter of {name}; known: {sorted(accepted)}")
+    for key, value in params.items():
+        accepted[key].check(value)
+
+
+__all__ = ["BUILDERS", "Assembly", "AtLeast", "Box", "Face", "NonNegative", "Parameter", "Positive", "Unit",
+           "boxes", "builder_parameters", "check_parameters", "ciliary_beam", "cube_plate", "glass_plate",
+           "honeycomb_tile"]

@@ -4,12 +4,12 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 
-from modalfe.geometry.parts import SIDES, Assembly, Box, Face
 from modalfe.errors import SceneError
+from modalfe.geometry.parts import SIDES, Assembly, Box, Face
 
 
 def boxes(*, parts: Sequence[Mapping], faces: Mapping[str, Sequence[str]] | None = None) -> Assembly:
-    """Assembly from part tables and face groups.
+    """Assembly from part tables and face groups (lists or tuples, dicts or read-only mappings).
 
     parts : each {name, region, material, origin (x, y, z) [m], size (dx, dy, dz) [m], poling}
     faces : group name -> ["part.side", ...], side one of xmin, xmax, ymin, ymax, zmin, zmax
@@ -17,6 +17,8 @@ def boxes(*, parts: Sequence[Mapping], faces: Mapping[str, Sequence[str]] | None
     built = []
     for i, spec in enumerate(parts):
         where = f"parts[{i}]"
+        if not isinstance(spec, Mapping):
+            raise SceneError(f"{where}: must be a table {{name, material, origin, size}}")
         missing = {"name", "material", "origin", "size"} - set(spec)
         if missing:
             raise SceneError(f"{where}: missing {sorted(missing)}")
@@ -34,6 +36,8 @@ def boxes(*, parts: Sequence[Mapping], faces: Mapping[str, Sequence[str]] | None
         )
     groups = {}
     for group, refs in (faces or {}).items():
+        if isinstance(refs, str) or not isinstance(refs, Sequence):
+            raise SceneError(f"faces.{group}: must be a list of 'part.side'")
         entries = []
         for ref in refs:
             part, _, side = str(ref).rpartition(".")

@@ -2,20 +2,21 @@
 
 from __future__ import annotations
 
-from modalfe.geometry.parts import Assembly, Box, Face
 from modalfe.errors import SceneError
+from modalfe.geometry.parameters import Length
+from modalfe.geometry.parts import Assembly, Box, Face
 
 
 def ciliary_beam(
     *,
-    length: float = 0.1,
-    height: float = 5e-3,
-    width: float = 5e-3,
+    length: Length = 0.1,
+    height: Length = 5e-3,
+    width: Length = 5e-3,
     beam_material: str = "brass-seed003",
-    sheet_length: float = 10e-3,
-    sheet_thickness: float = 0.3e-3,
+    sheet_length: Length = 10e-3,
+    sheet_thickness: Length = 0.3e-3,
     sheet_material: str = "PZT-5A",
-    x0: float = 68e-3,
+    x0: Length = 68e-3,
 ) -> Assembly:
     """Cantilever clamped at x = 0 with a bimorph pair of sheets centred at ``x0``.
 

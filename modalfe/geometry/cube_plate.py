@@ -2,35 +2,36 @@
 
 from __future__ import annotations
 
-from modalfe.geometry.parts import Assembly, Box, Face
 from modalfe.errors import SceneError
+from modalfe.geometry.parameters import Count, Gap, Length
+from modalfe.geometry.parts import Assembly, Box, Face
 
 # Feet at the in-phase antinode pair x = 32 -+ 11.65 mm of the (0,6) mode (free-free beam mode
-# with six nodes: interior antinode pitch ~ L / 5.5), rows y = 6 and 32 mm (ASSUMPTIONS.md default).
+# with six nodes: interior antinode pitch ~ L / 5.5), rows y = 6 and 32 mm (docs/assumptions.md, Cu-Be plate).
 DEFAULT_FEET = ((20.35e-3, 6e-3), (43.65e-3, 6e-3), (20.35e-3, 32e-3), (43.65e-3, 32e-3))
 
 
 def cube_plate(
     *,
-    length: float = 64e-3,
-    width: float = 38e-3,
-    thickness: float = 3e-3,
+    length: Length = 64e-3,
+    width: Length = 38e-3,
+    thickness: Length = 3e-3,
     plate_material: str = "CuBe",
-    ceramic_length: float = 12e-3,
-    ceramic_width: float = 12e-3,
-    ceramic_thickness: float = 1e-3,
+    ceramic_length: Length = 12e-3,
+    ceramic_width: Length = 12e-3,
+    ceramic_thickness: Length = 1e-3,
     ceramic_material: str = "PZT-4",
-    ceramic_columns: int = 5,
-    ceramic_pitch: float = 12.4e-3,
+    ceramic_columns: Count = 5,
+    ceramic_pitch: Gap = 12.4e-3,
     ceramic_rows: tuple[float, ...] = (12.5e-3, 25.5e-3),
     polarity: tuple[int, ...] = (1, -1, 1, -1, 1),
     feet: tuple[tuple[float, float], ...] = DEFAULT_FEET,
-    foot_size: float = 3e-3,
-    foot_height: float = 4e-3,
+    foot_size: Length = 3e-3,
+    foot_height: Length = 4e-3,
     foot_material: str = "CuBe",
     sensor: tuple[float, float] | None = None,
-    sensor_size: float = 5e-3,
-    bond_thickness: float = 0.0,
+    sensor_size: Length = 5e-3,
+    bond_thickness: Gap = 0.0,
     bond_material: str = "epoxy",
     poled: bool = True,
 ) -> Assembly:

@@ -2,21 +2,22 @@
 
 from __future__ import annotations
 
-from modalfe.geometry.parts import Assembly, Box, Face
 from modalfe.errors import SceneError
+from modalfe.geometry.parameters import Length
+from modalfe.geometry.parts import Assembly, Box, Face
 
 
 def glass_plate(
     *,
-    length: float = 60e-3,
-    width: float = 20e-3,
-    thickness: float = 1.9e-3,
+    length: Length = 60e-3,
+    width: Length = 20e-3,
+    thickness: Length = 1.9e-3,
     glass_material: str = "soda-lime-glass",
-    piezo_length: float = 18e-3,
-    piezo_width: float = 5e-3,
-    piezo_thickness: float = 0.3e-3,
+    piezo_length: Length = 18e-3,
+    piezo_width: Length = 5e-3,
+    piezo_thickness: Length = 0.3e-3,
     piezo_material: str = "PZT-4",
-    piezo_inset: float = 5e-3,
+    piezo_inset: Length = 5e-3,
 ) -> Assembly:
     """Glass plate; two piezos across the width near each short end, on the bottom face.
 
@@ -25,7 +26,7 @@ def glass_plate(
         piezo_inset = distance from a short end to a piezo's centre line
 
     The seed's in-plane size was lost with its figure: 60 x 20 mm is an assumption
-    (ASSUMPTIONS.md); the 66 and 225 kHz modes exist at any length of a few wavelengths,
+    (docs/assumptions.md, glass plate); the 66 and 225 kHz modes exist at any length of a few wavelengths,
     their wavelengths being set by the glass's dispersion, not by the length.
     """
     if piezo_length > width + 1e-12:

@@ -16,8 +16,8 @@ import itertools
 
 import numpy as np
 
-from modalfe.geometry.parts import Assembly
 from modalfe.errors import MeshError
+from modalfe.geometry.parts import Assembly
 
 TOL = 1e-9
 

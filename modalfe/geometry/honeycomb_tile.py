@@ -2,21 +2,22 @@
 
 from __future__ import annotations
 
-from modalfe.geometry.parts import Assembly, Box, Face
 from modalfe.errors import SceneError
+from modalfe.geometry.parameters import Length
+from modalfe.geometry.parts import Assembly, Box, Face
 
 
 def honeycomb_tile(
     *,
-    length: float = 0.304,
-    width: float = 0.304,
-    thickness: float = 0.0254,
-    facing_thickness: float = 0.0008,
+    length: Length = 0.304,
+    width: Length = 0.304,
+    thickness: Length = 0.0254,
+    facing_thickness: Length = 0.0008,
     facing_material: str = "Al-5052",
     core_material: str = "honeycomb-5052-1/4-.001",
-    mount_side: float = 0.02828,
-    mount_inset: float = 0.02,
-    actuator_side: float = 0.04,
+    mount_side: Length = 0.02828,
+    mount_inset: Length = 0.02,
+    actuator_side: Length = 0.04,
 ) -> Assembly:
     """Sandwich panel (facing_top, core, facing_bottom) with four mount pads and an actuator pad.
 

@@ -23,7 +23,7 @@ beam (uniaxial stress) constants T1 = S1 / s11^E - e_b E3, D3 = e_b S1 + eps_b E
 
 (d-form with T2 = T3 = 0 solved for T1; Smits, Dalke & Cooney, 'The constituent equations of
 piezoelectric bimorphs', Sens. Actuators A 28 (1991) 41-61; constants from IEEE Std 176-1987 relations
-via ``tests.oracles.analytic.piezo_compliance_form``). One potential unknown per electrode face group, as the
+via ``modalfe.scene.materials.piezo_compliance_form``). One potential unknown per electrode face group, as the
 3-D model's electrodes: the matrices have the same block form [[K_uu, K_uphi], [K_uphi^T, -K_phiphi]].
 """
 
@@ -44,10 +44,8 @@ from modalfe.models.layered import (
     electrode_layers,
     element_size,
     flexural_wavenumber,
-    solve_layered,
     thin_layer_constants,
 )
-from modalfe.results.modes import Modes
 
 SLENDERNESS = 5.0  # length / largest section size below which a 1-D model is refused
 SURFACE_SAMPLES = 241  # x-samples of each surface line for labels (60 label stations, 4 samples each)
@@ -133,6 +131,15 @@ def _displacement_map() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return N0, Ny, Nz
 
 
+def cowper_shear_coefficient_rectangle(nu: float) -> float:
+    """Timoshenko shear coefficient of a solid rectangle, kappa = 10 (1 + nu) / (12 + 11 nu).
+
+    Cowper, 'The shear coefficient in Timoshenko's beam theory', J. Appl. Mech. 33 (1966) 335-340
+    (its result for the solid rectangular section).
+    """
+    return 10 * (1 + nu) / (12 + 11 * nu)
+
+
 def torsion_constant_rectangle(b: float, t: float, terms: int = 20) -> float:
     """Saint-Venant torsion constant J [m^4] of a b x t rectangle:
 
@@ -156,8 +163,6 @@ def section_properties(x0: float, x1: float, layers: tuple[Layer, ...], yr: floa
     centre: exact in the thin-strip limit, where the shear stress is linear across the thickness); per
     layer G = sqrt(G_xy G_xz) (exact when isotropic).
     """
-    from tests.oracles.analytic import cowper_shear_coefficient_rectangle
-
     N0, Ny, Nz = _displacement_map()
     a0 = np.zeros((1, 6))
     a0[0, 0] = 1.0
@@ -472,10 +477,3 @@ def _clamped_dofs(scene, basis, mesh) -> np.ndarray:
             node = int(basis.nodal_dofs[0, vertex])
             fixed |= {6 * node + a for c in components for a in _COMPONENT_DOFS[c]}
     return np.array(sorted(fixed), dtype=int)
-
-
-def solve_beam_modes(scene, analysis, *, size_factor: float = 1.0, solver: str = "auto") -> Modes:
-    """Modes of the 1-D beam model of ``scene`` for ``analysis`` (near/count or band, circuit), by the
-    shared shift-invert solve; ``Modes.fidelity`` is ``beam``, shapes are full beam DOF vectors
-    (mass-normalised), no error estimate (call at two ``size_factor`` values for Richardson)."""
-    return solve_layered(assemble_beam(scene, size_factor=size_factor), analysis, solver, "beam")

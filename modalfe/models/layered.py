@@ -1,6 +1,6 @@
 """What the reduced-dimension models (``modalfe.models.beam``, ``modalfe.models.plate``) share: the electrode and
 circuit handling of their laminated piezo layers, the element size from the flexural wavenumber, the surface
-sampling that labels their modes, and the shift-invert solve. Their matrices have the 3-D model's block form
+sampling that labels their modes. Their matrices have the 3-D model's block form
 [[K_uu, K_uphi], [K_uphi^T, -K_phiphi]] with one potential unknown per electrode face group, so every later
 stage treats them alike.
 """
@@ -16,7 +16,6 @@ import scipy.sparse as sp
 
 from modalfe.errors import SceneError
 from modalfe.models.solid import PiezoUnknowns
-from modalfe.results.modes import Mode, Modes
 
 
 @dataclass(frozen=True, eq=False)
@@ -41,12 +40,17 @@ class LayeredModel(PiezoUnknowns):
     def n_phi(self) -> int:
         return len(self.electrodes)
 
+    def potential_probes(self, points: np.ndarray) -> sp.csr_matrix:
+        """Not available: a reduced model carries one potential per electrode, no field in the layers."""
+        raise SceneError(f"points: the {self.scene.kind} model has no potential field (one unknown per electrode); "
+                         "use the solid fidelity")
+
     @functools.cached_property
     def _surface(self) -> tuple[np.ndarray, sp.csr_matrix]:
         points = self.surface_points()
         return points.T, self.displacement_probes(points)
 
-    def surface_field(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def label_field(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(points (3, m) [m], displacement (3, m) [m]) of the full DOF vector ``x`` at ``surface_points``."""
         points, probes = self._surface
         return points, (probes @ np.asarray(x)).reshape(3, -1)
@@ -113,9 +117,9 @@ def thin_layer_constants(material, in_plane: list[int]) -> tuple[np.ndarray, np.
     """(stiffness Q, coupling e*, permittivity eps*) of a thin layer with field E3 only and the stresses
     outside ``in_plane`` (Voigt indices) zero: from the d-form, eps_in = s_in sig_in + d_in^T E3 and
     D3 = d_in . sig_in + eps33^T E3, so Q = s_in^-1, e* = Q d_in, eps* = eps33^T - d_in Q d_in (IEEE Std
-    176-1987 relations via ``tests.oracles.analytic.piezo_compliance_form``). For ``in_plane`` = [0] this is the
+    176-1987 relations via ``modalfe.scene.materials.piezo_compliance_form``). For ``in_plane`` = [0] this is the
     beam's uniaxial stress, for [0, 1, 5] the plate's plane stress; e* = 0, eps* = 0 for a passive layer."""
-    from tests.oracles.analytic import piezo_compliance_form
+    from modalfe.scene.materials import piezo_compliance_form
 
     s = np.linalg.inv(material.C)
     Q = np.linalg.inv(s[np.ix_(in_plane, in_plane)])
@@ -124,38 +128,3 @@ def thin_layer_constants(material, in_plane: list[int]) -> tuple[np.ndarray, np.
     _, d, eps_T = piezo_compliance_form(material.C, material.e, material.eps_S)
     d_in = d[2, in_plane]
     return Q, Q @ d_in, float(eps_T[2, 2] - d_in @ Q @ d_in)
-
-
-def label_surface(model, x: np.ndarray) -> tuple[str, float]:
-    """(label, wavelength [m] or NaN) of the full DOF vector ``x`` from the model's surface samples, as
-    ``modalfe.results.labels.label_mode`` labels the solid's: a rigid-body name for an unsupported body moving
-    rigidly, else the beam or plate label of the scene's kind."""
-    from modalfe.results import labels
-
-    points, u = model.surface_field(x)
-    if not model.scene.clamps:
-        name, fraction = labels.rigid_motion(points, u)
-        if fraction > labels._RIGID:
-            return name, float("nan")
-    if model.scene.kind == "beam":
-        return labels.beam_label(points, u), float("nan")
-    return labels.plate_label(points, u)
-
-
-def solve_layered(model, analysis, solver: str, fidelity: str) -> Modes:
-    """Modes of an assembled reduced ``model`` for ``analysis`` by the shared shift-invert solve; shapes are
-    full DOF vectors (mass-normalised), no error estimate (``modalfe.solve.fidelity`` adds Richardson)."""
-    from modalfe.solve.solvers import eigenpairs
-
-    T = model.constraints(analysis.circuit).T
-    A = (T.T @ model.K @ T).tocsr()
-    B = (T.T @ model.M @ T).tocsr()
-    values, vectors, t_fact, t_eig, used = eigenpairs(A, B, analysis, solver)
-    shapes = T @ vectors
-    modes = []
-    for i, lam in enumerate(values):
-        frequency = float(np.sqrt(max(lam, 0.0)) / (2 * np.pi))
-        label, wavelength = label_surface(model, shapes[:, i])
-        modes.append(Mode(i, frequency, label, shapes[:, i], wavelength=wavelength))
-    timings = {**model.timings, "factorization": t_fact, "eigensolve": t_eig, "solver": used}
-    return Modes(tuple(modes), model, analysis.circuit, fidelity, A.shape[0], timings)

@@ -37,16 +37,15 @@ import numpy as np
 import scipy.sparse as sp
 
 from modalfe.errors import SceneError
+from modalfe.models.symmetry import fold, mirror_planes, mirrored
 from modalfe.models.layered import (
     LayeredModel,
     capacitance_matrix,
     electrode_layers,
     element_size,
     flexural_wavenumber,
-    solve_layered,
     thin_layer_constants,
 )
-from modalfe.results.modes import Modes
 
 SLENDERNESS = 5.0  # smaller in-plane side / mean section thickness below which a plate model is refused
 PLANE_STRESS = [0, 1, 5]  # Voigt xx, yy, xy
@@ -299,12 +298,8 @@ class PlateModel(LayeredModel):
         if np.any(off):
             raise SceneError(f"points: (x, y) = ({p[off, 0][0]:g}, {p[off, 1][0]:g}) m lies off the plate")
         n = p.shape[0]
-        sign = np.ones((3, n))
-        for axis in self.scene.symmetry:  # a point in the mirrored half reads its image, that component negated
-            k = "xyz".index(axis)
-            far = p[:, k] > 0.5 * (full_lo[k] + full_hi[k])
-            p[far, k] = full_lo[k] + full_hi[k] - p[far, k]
-            sign[k, far] = -1.0
+        folded, sign = fold(self.scene, p.T)  # a point in a mirrored half reads its image
+        p = folded.T
         lo, hi = self.mesh.p.min(axis=1), self.mesh.p.max(axis=1)
         inside = lo + 1e-9 * span * np.sign(0.5 * (lo + hi) - lo)
         xy = np.clip(p[:, :2].T, inside[:, None], (hi - (inside - lo))[:, None])
@@ -325,11 +320,9 @@ class PlateModel(LayeredModel):
         full = self.scene.full_assembly()
         widest = widest_part(full)
         xy = self.mesh.p
-        for axis in self.scene.symmetry:
-            k = "xyz".index(axis)
-            image = xy.copy()
-            image[k] = full.bounds[0][k] + full.bounds[1][k] - xy[k]
-            xy = np.hstack([xy, image[:, image[k] > xy[k].max() + 1e-12]])
+        for axis, twice in mirror_planes(self.scene):  # the images beyond each plane, the plane's own points once
+            image = mirrored(xy, axis, twice)
+            xy = np.hstack([xy, image[:, image[axis] > xy[axis].max() + 1e-12]])
         inside = ((xy[0] >= widest.lo[0]) & (xy[0] <= widest.hi[0]) & (xy[1] >= widest.lo[1])
                   & (xy[1] <= widest.hi[1]))
         x, y = xy[0, inside], xy[1, inside]
@@ -491,9 +484,3 @@ def _clamped_dofs(scene, basis, mesh) -> np.ndarray:
             nodes = np.flatnonzero(on)
             fixed |= {5 * int(n) + a for n in nodes for comp in components for a in _COMPONENT_DOFS[comp]}
     return np.array(sorted(fixed), dtype=int)
-
-
-def solve_plate_modes(scene, analysis, *, size_factor: float = 1.0, solver: str = "auto") -> Modes:
-    """Modes of the plate model of ``scene`` for ``analysis`` (near/count or band, circuit); ``Modes.fidelity``
-    is ``plate``, shapes are full plate DOF vectors (mass-normalised), no error estimate."""
-    return solve_layered(assemble_plate(scene, size_factor=size_factor), analysis, solver, "plate")

@@ -21,6 +21,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from modalfe.errors import SceneError
+from modalfe.models.symmetry import fold, unfold
 
 log = logging.getLogger(__name__)
 
@@ -75,6 +76,14 @@ class PiezoUnknowns:
                 x[self.n_u + self.electrodes[group]] = volts
         return x
 
+    def voltage_load(self, volts: float = 1.0) -> np.ndarray:
+        """Full DOF load f = -K x_V of ``volts`` [V] on the driven electrodes, the others grounded: the right-hand
+        side of the short-circuit problem whose solution x gives the full response T x + x_V, and whose
+        projection phi_r . f on a mass-normalised mode is its modal force per ``volts``."""
+        if "drive" not in self.scene.electrodes.values():
+            raise SceneError("electrodes: the scene has no driven electrode to apply a voltage to")
+        return -(self.K @ self.prescribed_potential(volts))
+
     def potential_scale(self) -> float:
         """Scale of the potential unknowns: sqrt(mean diag K_uu / mean diag K_phiphi)."""
         if self.n_phi == 0:
@@ -112,6 +121,40 @@ class Model(PiezoUnknowns):
     def nodal_displacement(self, x: np.ndarray) -> np.ndarray:
         """Displacement (3, n_vertices) at the mesh vertices from a full DOF vector."""
         return np.asarray(x[: self.n_u])[self.u_basis.nodal_dofs]
+
+    def displacement_probes(self, points: np.ndarray) -> sp.csr_matrix:
+        """(3 n, ndofs) matrix giving (ux, uy, uz) [m] at ``points`` (n, 3) [m] of the whole device from a full
+        DOF vector, rows component-major (all ux, then uy, then uz); a symmetric model reads mirror images."""
+        p, flip = fold(self.scene, np.asarray(points, dtype=float).reshape(-1, 3).T)
+        lo, hi = (np.asarray(b, dtype=float) for b in self.scene.full_assembly().bounds)
+        p = p + 1e-9 * float(np.max(hi - lo)) * (0.5 * (lo + hi)[:, None] - p)  # boundary points stay inside
+        P = sp.diags(flip.ravel()) @ self.u_basis.probes(p)
+        return sp.hstack([P, sp.csr_matrix((P.shape[0], self.n_phi))], format="csr")
+
+    def potential_probes(self, points: np.ndarray) -> sp.csr_matrix:
+        """(n, ndofs) matrix giving the electric potential [V] at ``points`` (n, 3) [m] from a full DOF vector
+        (zero outside the poled parts, which carry no potential unknowns)."""
+        from skfem import Basis
+
+        p, _ = fold(self.scene, np.asarray(points, dtype=float).reshape(-1, 3).T)
+        scalar = Basis(self.u_basis.mesh, element_for(self.mesh.element, self.scene.mesh.order))
+        P = scalar.probes(p).tocsc()[:, self.phi_dofs]
+        return sp.hstack([sp.csr_matrix((P.shape[0], self.n_u)), P], format="csr")
+
+    def label_field(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Coordinates (3, n) and displacements (3, n) of the whole device at the vertices of its main parts
+        (those at least 1 % as stiff as the stiffest, so rubber mounts and honeycomb cores do not vote), in the
+        device's own axes: what ``modalfe.results.labels.label`` reads a mode's shape from."""
+        scene, dm = self.scene, self.mesh
+        assembly = scene.assembly()
+        stiffness = {p.name: scene.material(p.material).C[0, 0] for p in assembly.parts}
+        top = max(stiffness.values())
+        keep = [p.name for p in assembly.parts if stiffness[p.name] >= 0.01 * top]
+        vertices = np.unique(dm.mesh.t[:, np.concatenate([dm.parts[n] for n in keep])])
+        points, u = dm.mesh.p[:, vertices], self.nodal_displacement(x)[:, vertices]
+        if self.frame is not None:  # a rotated device is labelled in its own axes
+            points, u = self.frame.T @ points, self.frame.T @ u
+        return unfold(scene, points, u)
 
     def shifted_matrix(self, frequency: float, *, scale: float | None = None) -> sp.csr_matrix:
         """K - omega^2 M on the short-circuit free unknowns, the potentials scaled by ``scale``

@@ -11,7 +11,7 @@ from dataclasses import asdict, dataclass, field
 
 from modalfe.errors import SolverError
 from modalfe.results.modes import select
-from modalfe.solve.solvers import DEFAULT_TOL
+from modalfe.solve.api import DEFAULT_TOL
 
 _MAX_COUNT = 80  # modes searched around a target before a working mode is declared missing
 
@@ -56,7 +56,7 @@ def device_report(scene, *, error_estimate: bool = True, fidelity: str = "auto",
     ``fidelity="auto"`` the working modes of the window must meet ``tol``."""
     from modalfe.results.coupling import antiresonance, k_eff
     from modalfe.solve.fidelity import coupling_check_level
-    from modalfe.solve.solvers import solve_modes
+    from modalfe.solve.api import solve_modes
 
     rows = []
     start = time.perf_counter()

@@ -62,7 +62,7 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
     """Reduce the working mode and derive the device figures; ``full`` adds the direct FE FRF."""
     from modalfe.response.forced import Damping, harmonic_response, reduce
     from modalfe.results.modes import select
-    from modalfe.solve.solvers import solve_modes
+    from modalfe.solve.api import solve_modes
 
     if not scene.working_modes and selector is None:
         raise SolverError("forced: the scene names no working mode; give --mode and --near")

@@ -109,33 +109,6 @@ def output_points(scene, outputs) -> dict[str, np.ndarray]:
     return out
 
 
-def probe(model, point: np.ndarray) -> sp.csr_matrix:
-    """(3, n_full) matrix giving the displacement at ``point`` [m] from a full DOF vector."""
-    return probes(model, np.asarray(point, dtype=float).reshape(3, 1))
-
-
-def probes(model, points: np.ndarray) -> sp.csr_matrix:
-    """(3 n, n_full) matrix, rows component-major (all ux, then uy, then uz), for ``points`` (3, n) [m].
-    A point in the mirrored half of a symmetric model reads its mirror image, that component negated.
-    A beam or plate model (whole device) gives its own ``displacement_probes``."""
-    if hasattr(model, "displacement_probes"):
-        return model.displacement_probes(np.asarray(points, dtype=float).T)
-    scene = model.scene
-    lo, hi = scene.full_assembly().bounds
-    p = np.array(points, dtype=float)
-    flip = np.ones((3, p.shape[1]))
-    for axis in scene.symmetry:
-        k = "xyz".index(axis)
-        far = p[k] > 0.5 * (lo[k] + hi[k])
-        p[k, far] = lo[k] + hi[k] - p[k, far]
-        flip[k, far] = -1.0
-    centre = np.array([0.5 * (l + h) for l, h in zip(lo, hi)])[:, None]
-    scale = max(h - l for l, h in zip(lo, hi))
-    p = p + 1e-9 * scale * (centre - p)  # points on the boundary stay inside the mesh
-    P = sp.diags(flip.ravel()) @ model.u_basis.probes(p)
-    return sp.hstack([P, sp.csr_matrix((P.shape[0], model.n_phi))], format="csr")
-
-
 @dataclass(frozen=True)
 class ReducedModel:
     """Single-mode reduced model of a working mode, for the friction simulators and controllers.
@@ -238,14 +211,10 @@ class ReducedModel:
 def _drive(model):
     """(T, F, C_b, x_1V): constraints with driven electrodes at 1 V, the load on the free unknowns and
     the part of the charge that does not depend on them."""
-    if "drive" not in model.scene.electrodes.values():
-        raise SceneError("electrodes: the scene has no driven electrode to apply a voltage to")
     T = model.constraints("short").T
+    load = model.voltage_load(1.0)
     x_v = model.prescribed_potential(1.0)
-    Kx = model.K @ x_v
-    F = -(T.T @ Kx)
-    C_b = -float(x_v @ Kx)
-    return T, F, C_b, x_v
+    return T, T.T @ load, float(x_v @ load), x_v
 
 
 def reduce(scene, mode, modes, *, outputs, damping: Damping, reference: str | None = None) -> ReducedModel:
@@ -258,7 +227,7 @@ def reduce(scene, mode, modes, *, outputs, damping: Damping, reference: str | No
     A = (T.T @ model.K @ T).tocsr()
     B = (T.T @ model.M @ T).tocsr()
     points = output_points(scene, outputs)
-    probes = {name: probe(model, p) for name, p in points.items()}
+    probes = {name: model.displacement_probes(p.reshape(1, 3)) for name, p in points.items()}
     v_free = _free_coordinates(model, T, mode.shape)
     theta = float(v_free @ F)
     omega_r = mode.omega
@@ -327,7 +296,7 @@ def harmonic_response(scene, modes, frequency, *, outputs, damping: Damping,
     K_mech = sp.block_diag([model.K[: model.n_u, : model.n_u], sp.csr_matrix((model.n_phi, model.n_phi))])
     alpha, beta = damping.rayleigh_at(reference_omega)
     C = (T.T @ (alpha * model.M + beta * K_mech) @ T).tocsc()
-    probes = {name: probe(model, p) for name, p in output_points(scene, outputs).items()}
+    probes = {name: model.displacement_probes(p.reshape(1, 3)) for name, p in output_points(scene, outputs).items()}
     freqs = np.atleast_1d(np.asarray(frequency, dtype=float))
     disp = {name: np.zeros((len(freqs), 3), dtype=complex) for name in probes}
     Y = np.zeros(len(freqs), dtype=complex)

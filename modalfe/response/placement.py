@@ -26,7 +26,6 @@ class Antinode:
 def face_field(modes, mode, *, part: str, side: str = "zmin", spacing: float = 0.5e-3):
     """Normal displacement of ``mode`` on one face of a part (whole device, symmetry unfolded) on a
     grid of ``spacing`` [m]: returns (xs, ys, W)."""
-    from modalfe.response.forced import probes
 
     model = modes.model
     box = model.scene.full_assembly().part(part)
@@ -37,7 +36,7 @@ def face_field(modes, mode, *, part: str, side: str = "zmin", spacing: float = 0
     ys = np.linspace(lo[1], hi[1], max(8, round((hi[1] - lo[1]) / spacing) + 1))
     X, Y = np.meshgrid(xs, ys)
     points = np.vstack([X.ravel(), Y.ravel(), np.full(X.size, c)])
-    w = (probes(model, points) @ mode.shape)[2 * X.size:]
+    w = (model.displacement_probes(points.T) @ mode.shape)[2 * X.size:]
     return xs, ys, w.reshape(X.shape)
 
 
@@ -87,7 +86,7 @@ def place_feet(scene, *, selector: str, near: float, contact_stiffness: float,
     """Put the scene's feet on in-phase antinodes of the working mode (nearest to where they are),
     then re-solve with the feet free and with ``contact_stiffness`` [N/m] under each foot."""
     from modalfe.results.modes import select
-    from modalfe.solve.solvers import solve_modes
+    from modalfe.solve.api import solve_modes
 
     feet = tuple(scene.params.get("feet", _default_feet(scene)))
     if not feet:

@@ -17,14 +17,6 @@ import numpy as np
 from modalfe.errors import SceneError
 
 
-def voltage_load(model, volts: float = 1.0) -> np.ndarray:
-    """Full DOF load vector f = -K x_V of ``volts`` [V] on the driven electrodes (the others grounded):
-    phi_r . f is the modal force of mode r (as ``modalfe.response.forced.reduce``'s theta)."""
-    if "drive" not in model.scene.electrodes.values():
-        raise SceneError("electrodes: the scene has no driven electrode to apply a voltage to")
-    return -(model.K @ model.prescribed_potential(volts))
-
-
 def static_response(model, load: np.ndarray) -> np.ndarray:
     """Full DOF vector K_c^-1 f on the short-circuit free unknowns (supports must hold the body)."""
     from modalfe.solve.linalg import factorize
@@ -32,6 +24,12 @@ def static_response(model, load: np.ndarray) -> np.ndarray:
     T = model.constraints("short").T
     solve, _ = factorize((T.T @ model.K @ T).tocsr())
     return T @ solve(T.T @ load)
+
+
+def static_voltage_response(model, volts: float) -> np.ndarray:
+    """Full DOF vector (u then phi) under ``volts`` [V] on the driven electrodes, the others grounded:
+    the static response to ``model.voltage_load(volts)`` plus the prescribed potential itself."""
+    return static_response(model, model.voltage_load(volts)) + model.prescribed_potential(volts)
 
 
 def modal_receptance(modes, load: np.ndarray, P, frequency, zeta, *, residual: bool = True,

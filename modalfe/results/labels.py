@@ -19,38 +19,18 @@ _SMALL = 0.08  # samples below this fraction of the peak carry no sign (noise ne
 _RIGID = 0.98  # main parts moving 98 % as a rigid body: a suspension mode (plate modes reach ~0.9)
 
 
-def label_mode(model, x: np.ndarray, kind: str) -> tuple[str, float]:
-    """(label, wavelength along x [m] or NaN) of the full DOF vector ``x``."""
-    points, u = main_part_field(model, x)
+def label(model, x: np.ndarray) -> tuple[str, float]:
+    """(label, wavelength along x [m] or NaN) of the full DOF vector ``x`` of any assembled model (solid, plate
+    or beam), read from its ``label_field`` (the whole device's main surfaces or vertices): a rigid-body name
+    for an unsupported body moving rigidly, else the beam or plate label of the scene's kind."""
+    points, u = model.label_field(x)
     if not model.scene.clamps:  # only a free or spring-supported body has rigid-body modes
         name, fraction = rigid_motion(points, u)
         if fraction > _RIGID:
             return name, float("nan")
-    if kind == "beam":
+    if model.scene.kind == "beam":
         return beam_label(points, u), float("nan")
     return plate_label(points, u)
-
-
-def main_part_field(model, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Coordinates (3, n) and displacements (3, n) at the vertices of the main parts: those at least
-    1 % as stiff as the stiffest, so rubber mounts and honeycomb cores do not vote."""
-    scene, dm = model.scene, model.mesh
-    assembly = scene.assembly()
-    stiffness = {p.name: scene.material(p.material).C[0, 0] for p in assembly.parts}
-    top = max(stiffness.values())
-    keep = [p.name for p in assembly.parts if stiffness[p.name] >= 0.01 * top]
-    vertices = np.unique(dm.mesh.t[:, np.concatenate([dm.parts[n] for n in keep])])
-    points, u = dm.mesh.p[:, vertices], model.nodal_displacement(x)[:, vertices]
-    if model.frame is not None:  # a rotated device is labelled in its own axes
-        points, u = model.frame.T @ points, model.frame.T @ u
-    lo, hi = scene.full_assembly().bounds
-    for axis in scene.symmetry:  # unfold a symmetric model into the whole device
-        k = "xyz".index(axis)
-        mirror_p, mirror_u = points.copy(), u.copy()
-        mirror_p[k] = lo[k] + hi[k] - points[k]
-        mirror_u[k] = -u[k]
-        points, u = np.hstack([points, mirror_p]), np.hstack([u, mirror_u])
-    return points, u
 
 
 def rigid_motion(points: np.ndarray, u: np.ndarray) -> tuple[str, float]:

@@ -14,11 +14,12 @@ _FAMILY = re.compile(r"^\((\d+|n),(\d+|n)\)$")
 
 @dataclass(frozen=True, eq=False)
 class Mode:
-    """One eigenmode.
+    """One eigenmode, bound to the assembled model (and so the scene and mesh) that produced it.
 
     frequency : [Hz]
     label : shape label, e.g. ``(0,6)``, ``bending-z 6``, ``heave``
-    shape : full DOF vector (u then phi), mass-normalised (u^T M u = 1 [kg])
+    shape : full DOF vector of ``model`` (u then phi), mass-normalised (u^T M u = 1 [kg])
+    model : the assembled solid, plate or beam model; circuit : ``short`` or ``open``
     error_estimate : estimated relative error of ``frequency`` (NaN if not estimated): discretization,
         plus the model error for a beam or plate model
     wavelength : bending wavelength along the long axis [m] for plate modes, else NaN
@@ -29,7 +30,9 @@ class Mode:
     index: int
     frequency: float
     label: str
-    shape: np.ndarray
+    shape: np.ndarray = field(repr=False)
+    model: object = field(repr=False)
+    circuit: str = "short"
     error_estimate: float = float("nan")
     wavelength: float = float("nan")
     model_error: float = float("nan")
@@ -38,6 +41,26 @@ class Mode:
     def omega(self) -> float:
         """Angular frequency [rad/s]."""
         return 2 * np.pi * self.frequency
+
+    @property
+    def scene(self):
+        """The scene the mode was solved for."""
+        return self.model.scene
+
+    @property
+    def modal_mass(self) -> float:
+        """Generalised mass x^T M x [kg] of ``shape`` (1 for the mass-normalised shapes a solve returns)."""
+        return float(self.shape @ (self.model.M @ self.shape))
+
+    def displacement(self, points) -> np.ndarray:
+        """Displacement (n, 3) [m per unit modal coordinate] at ``points`` (n, 3) [m] of the whole device."""
+        p = np.asarray(points, dtype=float).reshape(-1, 3)
+        return np.asarray(self.model.displacement_probes(p) @ self.shape).reshape(3, -1).T
+
+    def potential(self, points) -> np.ndarray:
+        """Electric potential (n,) [V per unit modal coordinate] at ``points`` (n, 3) [m] (solid models)."""
+        p = np.asarray(points, dtype=float).reshape(-1, 3)
+        return np.asarray(self.model.potential_probes(p) @ self.shape)
 
 
 @dataclass(frozen=True, eq=False)

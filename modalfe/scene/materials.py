@@ -265,3 +265,17 @@ def material(name_or_spec) -> ElasticMaterial:
     if "e" in spec or "eps_S" in spec:
         return PiezoMaterial(name, C, rho, source, e=np.asarray(spec.get("e")), eps_S=np.asarray(spec.get("eps_S")))
     return ElasticMaterial(name, C, rho, source)
+
+
+def piezo_compliance_form(c_E: np.ndarray, e: np.ndarray, eps_S: np.ndarray
+                          ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(s^E [1/Pa] (6, 6), d [C/N] (3, 6), eps^T [F/m] (3, 3)) from the e-form tensors.
+
+    s^E = (c^E)^-1, d = e s^E, eps^T = eps^S + d e^T; IEEE Std 176-1987 (relations between
+    the four forms of the piezoelectric constitutive equations; exact matrix identities).
+    Voigt order xx, yy, zz, yz, xz, xy.
+    """
+    s_E = np.linalg.inv(np.asarray(c_E, dtype=float))
+    d = np.asarray(e, dtype=float) @ s_E
+    eps_T = np.asarray(eps_S, dtype=float) + d @ np.asarray(e, dtype=float).T
+    return s_E, d, eps_T

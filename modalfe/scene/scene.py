@@ -7,17 +7,13 @@ mesh resolution, the working mode and the seed's targets with their sources.
 
 from __future__ import annotations
 
-import copy
-import inspect
 import math
-import sys
 from collections.abc import Mapping
 from dataclasses import dataclass, field, fields, replace
-from pathlib import Path
 from typing import Any
 
 from modalfe.errors import SceneError
-
+from modalfe.scene.frozen import FrozenMap, freeze
 
 
 @dataclass(frozen=True)
@@ -51,9 +47,13 @@ class Drive:
     to drive, and amplitude or time targets from the seeds."""
 
     damping: str = "Q=150"
-    damping_source: str = "assumption (ASSUMPTIONS.md default Q ~ 150)"
+    damping_source: str = "assumption (docs/assumptions.md, damping: default Q ~ 150)"
     outputs: tuple = ()
     targets: tuple[Target, ...] = ()
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "outputs", freeze(tuple(self.outputs)))
+        object.__setattr__(self, "targets", tuple(self.targets))
 
 
 @dataclass(frozen=True)
@@ -80,10 +80,18 @@ class Analysis:
     band: tuple[float, float] | None = None
     circuit: str = "short"
 
+    def __post_init__(self) -> None:
+        if self.band is not None:
+            object.__setattr__(self, "band", freeze(tuple(self.band)))
+
 
 @dataclass(frozen=True)
 class Scene:
-    """One device's validated parameters. Build variants with ``with_overrides``."""
+    """One device's validated parameters. Build variants with ``with_overrides``.
+
+    Immutable and hashable: the tables (``params``, ``electrodes``, ``clamps``, ``springs``,
+    ``masses``, ``materials``) are read-only ``FrozenMap``s, lists in them tuples.
+    """
 
     name: str
     device: str
@@ -100,6 +108,12 @@ class Scene:
     kind: str = "plate"
     symmetry: tuple[str, ...] = ()
     drive: Drive = Drive()
+
+    def __post_init__(self) -> None:
+        for name in _TABLES:
+            object.__setattr__(self, name, FrozenMap(getattr(self, name)))
+        for name in ("working_modes", "assumptions", "symmetry"):
+            object.__setattr__(self, name, tuple(getattr(self, name)))
 
     def assembly(self):
         """The box assembly that is meshed: the whole device, or the half (quarter) kept by
@@ -164,8 +178,8 @@ class Scene:
                 scene = replace(scene, symmetry=tuple(value))
             elif head == "materials" and rest:
                 name, _, prop = rest.partition(".")
-                table = copy.deepcopy(dict(scene.materials))
-                table.setdefault(name, {})[prop] = value
+                table = dict(scene.materials)
+                table[name] = {**table.get(name, {}), prop: value}
                 scene = replace(scene, materials=table)
             else:
                 params[key] = value
@@ -175,22 +189,10 @@ class Scene:
 
     def validate(self) -> None:
         """Raise SceneError naming the first field at fault."""
-        from modalfe.geometry import BUILDERS
+        from modalfe.geometry import BUILDERS, check_parameters
 
-        if self.device in BUILDERS and self.device != "boxes":
-            accepted = set(inspect.signature(BUILDERS[self.device]).parameters)
-            unknown = set(self.params) - accepted
-            if unknown:
-                raise SceneError(
-                    f"{sorted(unknown)[0]}: not a parameter of {self.device}; known: {sorted(accepted)}"
-                )
-            for key, value in self.params.items():
-                if isinstance(value, (int, float)) and not isinstance(value, bool):
-                    if not math.isfinite(value):
-                        raise SceneError(f"{key}: must be finite, got {value}")
-                    if (key.endswith(("length", "width", "thickness", "height", "size", "side"))
-                            and value <= 0):
-                        raise SceneError(f"{key}: must be positive, got {value} m")
+        if self.device in BUILDERS:
+            check_parameters(self.device, self.params)  # types and constraints from the builder's signature
         for axis in self.symmetry:
             if axis not in ("x", "y", "z"):
                 raise SceneError(f"symmetry: axes must be 'x', 'y' or 'z', got '{axis}'")
@@ -249,3 +251,6 @@ class Scene:
         a = self.analysis
         top = a.band[1] if a.band is not None else a.near
         return max(self.mesh.max_frequency, top)
+
+
+_TABLES = ("params", "electrodes", "clamps", "springs", "masses", "materials")

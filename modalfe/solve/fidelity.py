@@ -21,7 +21,6 @@ every fidelity returns the same family.
 
 from __future__ import annotations
 
-import importlib
 import logging
 import math
 import time
@@ -32,7 +31,8 @@ from scipy.spatial import cKDTree
 
 from modalfe.errors import SceneError, SolverError
 from modalfe.results.modes import Modes, select
-from modalfe.solve.solvers import (
+from modalfe.scene.scene import Analysis
+from modalfe.solve.estimates import (
     COARSE_FACTOR,
     CONVERGENCE_ORDER,
     OBSERVED_ORDERS,
@@ -41,13 +41,12 @@ from modalfe.solve.solvers import (
     partner,
     refinement_ratio,
     richardson,
-    solve_level,
 )
+from modalfe.solve.levels import solve_level
 
 log = logging.getLogger(__name__)
 
-# fidelity -> (module, solve function, whether it solves the scene's symmetric part itself)
-REDUCED = {"beam": ("modalfe.models.beam", "solve_beam_modes", False), "plate": ("modalfe.models.plate", "solve_plate_modes", True)}
+SOLVES_SYMMETRIC_PART = {"beam": False, "plate": True, "solid": True}  # else the whole device is solved
 CHECK_FACTORS = (COARSE_FACTOR, COARSE_FACTOR**2)  # the cross-check's two solid levels
 
 
@@ -57,34 +56,40 @@ def reduced_fidelities(scene) -> list[str]:
 
 
 def solve_at_fidelity(scene, analysis, *, fidelity: str, tol: float, check, size_factor: float = 1.0,
-                      solver: str = "auto", error_estimate: bool = True) -> Modes:
-    """Modes at ``fidelity`` (``beam``, ``plate`` or ``auto``); ``auto`` always estimates errors."""
+                      solver: str = "auto", error_estimate: bool = True, frame=None) -> Modes:
+    """Modes at ``fidelity`` (``beam``, ``plate``, ``solid`` or ``auto``); ``auto`` always estimates errors."""
     if fidelity == "auto":
         return solve_auto(scene, analysis, tol=tol, check=check, size_factor=size_factor, solver=solver)
-    return solve_reduced(scene, analysis, fidelity, size_factor=size_factor, solver=solver,
-                         error_estimate=error_estimate)
+    return solve_estimated(scene, analysis, fidelity, size_factor=size_factor, solver=solver,
+                           error_estimate=error_estimate, frame=frame)
 
 
-def solve_reduced(scene, analysis, fidelity: str, *, size_factor: float = 1.0, solver: str = "auto",
-                  error_estimate: bool = True) -> Modes:
-    """A reduced model's modes, with Richardson discretization estimates (no model error)."""
-    if fidelity not in reduced_fidelities(scene):
+def solve_estimated(scene, analysis, fidelity: str, *, size_factor: float = 1.0, solver: str = "auto",
+                    error_estimate: bool = True, frame=None) -> Modes:
+    """Modes of one fidelity with Richardson discretization estimates from a level 1.5x coarser (no model
+    error: ``with_model_errors`` adds it for a reduced model)."""
+    if fidelity != "solid" and fidelity not in reduced_fidelities(scene):
         raise SceneError(f"fidelity: '{fidelity}' does not apply to a {scene.kind} scene "
                          f"(use {[*reduced_fidelities(scene), 'solid', 'auto']})")
-    module, name, symmetric = REDUCED[fidelity]
-    solve_whole = getattr(importlib.import_module(module), name)
+    if frame is not None and fidelity != "solid":
+        raise SolverError("frame: rotating the device is supported at solid fidelity only")
 
-    def solve(a, factor):
-        if symmetric:
-            return solve_whole(scene, a, size_factor=factor, solver=solver)
-        return _same_family(solve_whole(scene, _widened(a, scene), size_factor=factor, solver=solver), scene, a)
+    def solve(a, **level):
+        if SOLVES_SYMMETRIC_PART[fidelity]:
+            return solve_level(scene, a, fidelity=fidelity, solver=solver, frame=frame, **level)
+        return _same_family(solve_level(scene, _widened(a, scene), fidelity=fidelity, solver=solver, **level), scene, a)
 
-    fine = solve(analysis, size_factor)
+    fine = solve(analysis, size_factor=size_factor)
     if not error_estimate:
         return fine
     start = time.perf_counter()
-    coarse = solve(coarser(analysis), size_factor * COARSE_FACTOR)
-    result = fine.with_error_estimates(richardson(fine, coarse, COARSE_FACTOR))
+    if fidelity == "solid":
+        coarse = solve(coarser(analysis), **coarse_level(scene, COARSE_FACTOR, size_factor))
+        ratio = refinement_ratio(fine.model.mesh, coarse.model.mesh, scene)
+    else:
+        coarse = solve(coarser(analysis), size_factor=size_factor * COARSE_FACTOR)
+        ratio = COARSE_FACTOR
+    result = fine.with_error_estimates(richardson(fine, coarse, ratio))
     return replace(result, timings=dict(fine.timings, error_estimate=time.perf_counter() - start))
 
 
@@ -103,7 +108,7 @@ def solve_auto(scene, analysis, *, tol: float, check=None, size_factor: float = 
 
     for fidelity in reduced_fidelities(scene):
         try:
-            reduced = solve_reduced(scene, analysis, fidelity, size_factor=size_factor, solver=solver)
+            reduced = solve_estimated(scene, analysis, fidelity, size_factor=size_factor, solver=solver)
         except (SceneError, SolverError, ImportError) as exc:
             reasons.append(f"{fidelity} model not applicable: {exc}")
             continue
@@ -196,7 +201,7 @@ def _same_family(modes: Modes, scene, analysis) -> Modes:
 def _parity(model, shape: np.ndarray, axis: int, scene) -> float:
     """Correlation of a displacement field with its mirror image about the device's mid-plane normal
     to ``axis``: +1 symmetric, -1 antisymmetric."""
-    points, u = model.surface_field(shape)
+    points, u = model.label_field(shape)
     lo, hi = scene.full_assembly().bounds
     mirrored = points.copy()
     mirrored[axis] = lo[axis] + hi[axis] - points[axis]

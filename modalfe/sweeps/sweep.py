@@ -58,10 +58,9 @@ def mac(a: np.ndarray, b: np.ndarray) -> float:
 def evaluate_point(scene_ref: str, params: dict, base: dict, selector: str, near: float, count: int = 6,
                    extra: Callable | None = None) -> dict:
     """Solve one point: the labelled working mode and its ``count`` nearest candidates (shapes sampled)."""
-    from modalfe.response.forced import probes
     from modalfe.results.modes import select
     from modalfe.scene import load_scene
-    from modalfe.solve.solvers import solve_modes
+    from modalfe.solve.api import solve_modes
 
     start = time.perf_counter()
     scene = load_scene(scene_ref, **{**base, **params})
@@ -73,7 +72,7 @@ def evaluate_point(scene_ref: str, params: dict, base: dict, selector: str, near
     U, V = np.meshgrid(np.linspace(0.02, 0.98, GRID[0]), np.linspace(0.05, 0.95, GRID[1]))
     points = np.vstack([lo[0] + U.ravel() * (hi[0] - lo[0]), lo[1] + V.ravel() * (hi[1] - lo[1]),
                         np.full(U.size, main.hi[2])])  # a grid fixed relative to the device
-    P = probes(modes.model, points)[2 * U.size:]
+    P = modes.model.displacement_probes(points.T)[2 * U.size:]
     candidates = [{"index": m.index, "label": m.label, "frequency_hz": m.frequency,
                    "shape": [round(float(x), 6) for x in (P @ m.shape) / np.abs(P @ m.shape).max()]}
                   for m in modes]
@@ -182,7 +181,7 @@ def track(rows: list[dict], selector: str) -> list[dict]:
 def coupling_extra(scene, modes, working) -> dict:
     """k_eff of the working mode (an open-circuit solve beside the short-circuit one)."""
     from modalfe.results.coupling import antiresonance, k_eff
-    from modalfe.solve.solvers import solve_modes
+    from modalfe.solve.api import solve_modes
 
     open_modes = solve_modes(scene, near=working.frequency, count=4, circuit="open", error_estimate=False)
     return {"k_eff": k_eff(working.frequency, antiresonance(working, open_modes).frequency)}

@@ -21,13 +21,17 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
+from modalfe.models.beam import cowper_shear_coefficient_rectangle
+from modalfe.results.coupling import k_eff
+from modalfe.scene.materials import piezo_compliance_form
+
 __all__ = [
     "K31Bar",
     "cantilever_roots",
     "cowper_shear_coefficient_rectangle",
     "euler_bernoulli_cantilever",
     "k31_bar",
-    "k_eff_from_frequencies",
+    "k_eff",
     "kirchhoff_plate_ss",
     "mindlin_plate_ss",
     "piezo_compliance_form",
@@ -108,15 +112,6 @@ def euler_bernoulli_cantilever(
     """
     beta_l = cantilever_roots(count)
     return beta_l**2 / (2 * math.pi * length**2) * math.sqrt(E * inertia / (rho * area))
-
-
-def cowper_shear_coefficient_rectangle(nu: float) -> float:
-    """Timoshenko shear coefficient of a solid rectangle, kappa = 10 (1 + nu) / (12 + 11 nu).
-
-    Cowper, 'The shear coefficient in Timoshenko's beam theory', J. Appl. Mech. 33 (1966) 335-340
-    (its result for the solid rectangular section).
-    """
-    return 10 * (1 + nu) / (12 + 11 * nu)
 
 
 def timoshenko_cantilever(
@@ -339,20 +334,6 @@ def _tanhc_divided_difference(z1: float, z2: float) -> float:
 # piezoelectric length-extensional bar (k31)
 
 
-def piezo_compliance_form(c_E: np.ndarray, e: np.ndarray, eps_S: np.ndarray
-                          ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(s^E [1/Pa] (6, 6), d [C/N] (3, 6), eps^T [F/m] (3, 3)) from the e-form tensors.
-
-    s^E = (c^E)^-1, d = e s^E, eps^T = eps^S + d e^T; IEEE Std 176-1987 (relations between
-    the four forms of the piezoelectric constitutive equations; exact matrix identities).
-    Voigt order xx, yy, zz, yz, xz, xy.
-    """
-    s_E = np.linalg.inv(np.asarray(c_E, dtype=float))
-    d = np.asarray(e, dtype=float) @ s_E
-    eps_T = np.asarray(eps_S, dtype=float) + d @ np.asarray(e, dtype=float).T
-    return s_E, d, eps_T
-
-
 @dataclass(frozen=True)
 class K31Bar:
     """Length-extensional bar poled and electroded through its thickness.
@@ -396,13 +377,7 @@ def k31_bar(*, length: float, c_E: np.ndarray, e: np.ndarray, eps_S: np.ndarray,
 
     x = brentq(zero, math.pi / 2, math.pi, xtol=1e-15, rtol=1e-15)
     fa = fr * x / (math.pi / 2)
-    return K31Bar(fr, fa, math.sqrt(k2), k_eff_from_frequencies(fr, fa), s11, d31, eps33)
-
-
-def k_eff_from_frequencies(fr: float, fa: float) -> float:
-    """Effective coupling factor k_eff = sqrt((fa^2 - fr^2) / fa^2) from fr, fa [Hz]
-    (IEEE Std 176-1987; the project's definition in its design notes)."""
-    return math.sqrt((fa**2 - fr**2) / fa**2)
+    return K31Bar(fr, fa, math.sqrt(k2), k_eff(fr, fa), s11, d31, eps33)
 
 
 # ---------------------------------------------------------------------------------------------

@@ -1,0 +1,371 @@
+"""Event and shooting kernel shared by the contact simulators (``foot``, ``finger``; ``texture`` uses
+their curves).
+
+Both contact models are piecewise linear: each phase (contact, flight) has a closed-form solution, and
+the phases switch at events where a scalar function of the state crosses zero.  This module holds the
+model-independent parts:
+
+- event location on a closed-form arc: ``first_crossing`` (first zero crossing in one direction, with
+  grazing extrema between grid samples found through the rate), ``sign_changes``;
+- quadrature: ``gauss_nodes`` (Gauss-Legendre, chunked);
+- periodic orbits: ``shoot_periodic`` (Newton on the period map with the exact monodromy matrix,
+  optionally deflated away from known orbits), ``find_orbit`` (period kT, k = 1..N, stable only);
+- averaging windows: ``landed_window`` (the window starts at a touchdown so every contact's
+  tangential history lies inside it) and ``touchdown_times``;
+- ``batch_ratio`` (uncertainty of a time average by batch means).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import brentq
+
+GAUSS_ORDER = 12  # Gauss-Legendre nodes per quadrature chunk
+_GAUSS_X, _GAUSS_W = np.polynomial.legendre.leggauss(GAUSS_ORDER)
+STABILITY_MARGIN = 1e-6  # |multiplier| below 1 + this counts as stable (rounding of the monodromy)
+
+
+# ----------------------------------------------------------------------------------------------
+# Events
+# ----------------------------------------------------------------------------------------------
+
+
+def _grid(t0: float, t1: float, step: float) -> np.ndarray:
+    return np.linspace(t0, t1, max(2, math.ceil((t1 - t0) / step) + 1))
+
+
+def _root(fun: Callable[[float], float], a: float, b: float) -> float:
+    """Brent's method to rounding accuracy on a bracket (the end nearer zero if rounding undid the bracket)."""
+    fa, fb = fun(a), fun(b)
+    if fa * fb > 0:
+        return a if abs(fa) < abs(fb) else b
+    return brentq(fun, a, b, xtol=4 * np.finfo(float).eps * max(abs(a), abs(b), 1e-300))
+
+
+def _newton_root(fr: Callable, a: float, b: float) -> float:
+    """Zero of f on [a, b] with f(a) <= 0 < f(b); ``fr(t) -> (f, f')``: Newton kept inside the bracket."""
+    fa, fb = fr(a)[0], fr(b)[0]
+    x = a - fa * (b - a) / (fb - fa) if fb > fa else 0.5 * (a + b)
+    tol = 4 * np.finfo(float).eps * max(abs(a), abs(b))
+    for _ in range(100):
+        f, d = fr(x)
+        if f > 0:
+            b = x
+        else:
+            a = x
+        xn = x - f / d if d != 0 else a - 1.0
+        if not a <= xn <= b:
+            xn = 0.5 * (a + b)
+        if abs(xn - x) <= tol or b - a <= tol:
+            return float(xn)
+        x = xn
+    return float(x)
+
+
+def first_crossing(fun_rate: Callable, t0: float, t1: float, step: float, *, upward: bool) -> float | None:
+    """First time in (t0, t1] where a function crosses zero upward (or downward), else None.
+
+    ``fun_rate(t) -> (f, df/dt)`` takes arrays and floats.  ``f`` is on the near side of zero at ``t0``
+    up to rounding (an arc starts at the previous event).  Sign changes are found on a grid of spacing
+    ``step``; a local extremum between two samples that reaches across zero (a grazing arc shorter than
+    ``step``) is found through the rate.  Roots are polished by Newton's method inside the bracket.
+    Returns ``t0`` when the arc leaves at once (it starts moving towards its exit).  A start where
+    both the function and its rate vanish to rounding is tangent: the samples after it decide.
+    """
+    sign = 1.0 if upward else -1.0
+
+    def fr(t):
+        f, d = fun_rate(t)
+        return sign * f, sign * d
+
+    def d(t):
+        return fr(t)[1]
+
+    t = _grid(t0, t1, step)
+    fv, dv = fr(t)
+    if abs(fv[0]) <= 1e-9 * np.max(np.abs(fv)) and abs(dv[0]) <= 1e-9 * np.max(np.abs(dv)):
+        fv[0] = dv[0] = 0.0  # a tangent start (a Kelvin-Voigt layer's separation): the grid decides
+    elif (fv[0] >= 0 and dv[0] > 0) or (fv[0] > 0 and dv[0] >= 0):
+        return t0
+    after = np.flatnonzero(fv[1:] > 0) + 1
+    last = after[0] if after.size else len(t) - 1
+
+    def low(i, b):
+        # a point of [t_i, b) where f <= 0 after the start; at t0, f is zero or a rounding residue
+        if i > 0 or fv[0] < 0:
+            return t[i]
+        tm = _root(d, t0, b) if d(b) > 0 else b
+        return tm if fr(tm)[0] < 0 else None
+
+    for i in np.flatnonzero((dv[:last] > 0) & (dv[1 : last + 1] < 0)):
+        tm = _root(d, t[i], t[i + 1])
+        if fr(tm)[0] > 0:
+            a = low(i, tm)
+            return t0 if a is None else _newton_root(fr, a, tm)
+    if not after.size:
+        return None
+    a = low(last - 1, t[last])
+    return t0 if a is None else _newton_root(fr, a, t[last])
+
+
+def sign_changes(fun: Callable, t0: float, t1: float, step: float) -> list[float]:
+    """All sign changes of ``fun`` in (t0, t1) seen on a grid of spacing ``step``, polished by Brent."""
+    t = _grid(t0, t1, step)
+    fv = fun(t)
+    idx = np.flatnonzero(np.sign(fv[:-1]) * np.sign(fv[1:]) < 0)
+    return [_root(fun, t[i], t[i + 1]) for i in idx]
+
+
+def gauss_nodes(a: float, b: float, chunk: float) -> tuple[np.ndarray, np.ndarray]:
+    """Gauss-Legendre nodes and weights on [a, b], split into chunks no longer than ``chunk``."""
+    if b <= a:
+        return np.empty(0), np.empty(0)
+    edges = np.linspace(a, b, max(1, math.ceil((b - a) / chunk)) + 1)
+    half = 0.5 * np.diff(edges)[:, None]
+    mid = 0.5 * (edges[:-1] + edges[1:])[:, None]
+    return (mid + half * _GAUSS_X).ravel(), (half * _GAUSS_W).ravel()
+
+
+# ----------------------------------------------------------------------------------------------
+# Periodic orbits
+# ----------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class PeriodicState:
+    """Fixed point of a period map found by Newton shooting.
+
+    state : the state at the start of the period; iterations : Newton steps taken;
+    residual : scaled |P(x) - x| at the end; multipliers : Floquet multipliers (eigenvalues of dP/dx);
+    converged : residual below tolerance.
+    """
+
+    state: np.ndarray
+    iterations: int
+    residual: float
+    multipliers: np.ndarray
+    converged: bool
+
+    @property
+    def stable(self) -> bool:
+        """Every Floquet multiplier inside the unit circle (with a margin for rounding)."""
+        return bool(np.all(np.abs(self.multipliers) < 1 + STABILITY_MARGIN))
+
+    @property
+    def largest_multiplier(self) -> float:
+        return float(np.max(np.abs(self.multipliers)))
+
+
+def shoot_periodic(period_map: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]], x0: np.ndarray,
+                   scale: np.ndarray, *, tol: float = 1e-11, max_iter: int = 40,
+                   deflate: Sequence[np.ndarray] = ()) -> PeriodicState:
+    """Periodic steady state x = P(x) by Newton's method (shooting).
+
+    ``period_map(x) -> (P(x), dP/dx)``: the state one period later and the monodromy matrix.
+    Works in the scaled variables ``x / scale``; ``tol`` bounds the scaled residual.  A Newton step
+    that does not reduce the residual is halved up to six times, then replaced by one step of the map
+    itself (time marching), which the physical attractor contracts.  ``deflate``: states of orbits
+    already known; Newton then solves ``m(x) (P(x) - x) = 0`` with ``m = prod(1/|x - r|^2 + 1)``
+    (Farrell, Birkisson and Funke, SIAM J. Sci. Comput. 37 (2015) A2026), which keeps it away from them.
+    """
+    scale = np.asarray(scale, float)
+    n = len(scale)
+    roots = [np.asarray(r, float) / scale for r in deflate]
+
+    def residual(y):
+        xT, Phi = period_map(y * scale)
+        F, J = xT / scale - y, Phi * scale[None, :] / scale[:, None] - np.eye(n)
+        m, grad = 1.0, np.zeros(n)
+        for r in roots:
+            d = y - r
+            dd = max(float(d @ d), 1e-300)
+            mi = 1 / dd + 1
+            grad = grad * mi - m * 2 * d / dd ** 2
+            m *= mi
+        return F, J, m * F, m * J + np.outer(F, grad)
+
+    y = np.asarray(x0, float) / scale
+    F, J, G, JG = residual(y)
+    steps = 0
+    while np.linalg.norm(F) >= tol and steps < max_iter:
+        steps += 1
+        try:
+            dy = np.linalg.solve(JG, -G)
+        except np.linalg.LinAlgError:
+            dy = F
+        norm = np.linalg.norm(G)
+        for _ in range(7):
+            new = residual(y + dy)
+            if np.linalg.norm(new[2]) < (1 - 1e-4) * norm:
+                y, (F, J, G, JG) = y + dy, new
+                break
+            dy = dy / 2
+        else:
+            y = y + F
+            F, J, G, JG = residual(y)
+    res = float(np.linalg.norm(F))
+    return PeriodicState(y * scale, steps, res, np.linalg.eigvals(J + np.eye(n)), res < tol)
+
+
+@dataclass(frozen=True)
+class OrbitSearch:
+    """Outcome of ``find_orbit``.
+
+    period : k of the stable periodic orbit of period k T found (its minimal period), 0 if none;
+    state : the state at t = 0 on that orbit, or (k = 0) a state reached by marching, to average from;
+    shooting : the accepted orbit's shooting result (or the period-1 attempt when k = 0);
+    unstable : (k, largest |multiplier|) of every periodic orbit found and rejected as unstable.
+    """
+
+    period: int
+    state: np.ndarray
+    shooting: PeriodicState
+    unstable: tuple[tuple[int, float], ...]
+
+
+def find_orbit(period_map: Callable[..., tuple[np.ndarray, np.ndarray | None]], x0: np.ndarray,
+               scale: np.ndarray, *, max_period: int = 8, march_periods: int = 300,
+               hints: Sequence[tuple[int, np.ndarray]] = ()) -> OrbitSearch:
+    """A stable periodic orbit of period k T, k = 1..``max_period``, by shooting on k T.
+
+    ``period_map(k, x, sensitivity) -> (x(k T), dx(k T)/dx(0) or None)``.  Order of the attempts:
+    k = 1 from ``x0``; each ``hints`` entry (k, state), e.g. a neighbouring amplitude's orbit; for
+    an unstable period-1 orbit with a multiplier below -1 (period doubling), k = 2 from both sides of
+    it along that eigenvector; then ``march_periods`` periods of time marching and, for each k, Newton
+    on k T from the marched state that comes back closest to itself after k periods.  Orbits already
+    found are deflated (a period-1 orbit is also a fixed point of the 2T map); an orbit is accepted
+    when Newton converged and every Floquet multiplier of its k T monodromy lies inside the unit circle,
+    and it is reported with its minimal period.  When none is found the caller averages in time from
+    the marched state (``period = 0``).
+    """
+    scale = np.asarray(scale, float)
+    known: list[np.ndarray] = []
+    unstable: list[tuple[int, float]] = []
+
+    def attempt(k: int, start: np.ndarray, max_iter: int):
+        sol = shoot_periodic(lambda x: period_map(k, x, True), start, scale, max_iter=max_iter, deflate=known)
+        if not sol.converged:
+            return sol, 0
+        points, x, minimal = [sol.state], sol.state, k
+        for j in range(1, k):
+            x = period_map(1, x, False)[0]
+            if np.linalg.norm((x - sol.state) / scale) < 1e-7:
+                minimal = j
+                break
+            points.append(x)
+        known.extend(points[:minimal])
+        if sol.stable:
+            return sol, minimal
+        unstable.append((minimal, sol.largest_multiplier))
+        return sol, 0
+
+    first, k = attempt(1, np.asarray(x0, float), 40)
+    if k:
+        return OrbitSearch(k, first.state, first, ())
+    for kh, xh in hints:
+        if 1 < kh <= max_period:
+            sol, k = attempt(kh, np.asarray(xh, float), 12)
+            if k:
+                return OrbitSearch(k, sol.state, sol, tuple(unstable))
+    start = first.state if first.converged else np.asarray(x0, float)
+    if first.converged and max_period >= 2:
+        _, Phi = period_map(1, first.state, True)
+        lam, vec = np.linalg.eig(Phi * scale[None, :] / scale[:, None])
+        i = int(np.argmin(lam.real))
+        if lam[i].real < -1 and abs(lam[i].imag) < 1e-12:  # a flip: the period-2 orbit lies along v
+            v = vec[:, i].real * scale / np.linalg.norm(vec[:, i].real)
+            for side in (0.3, -0.3):
+                sol, k = attempt(2, first.state + side * v, 12)
+                if k:
+                    return OrbitSearch(k, sol.state, sol, tuple(unstable))
+            start = first.state + 0.05 * v
+        i = int(np.argmax(np.abs(lam)))
+        if abs(lam[i]) > 1 and abs(lam[i].imag) < 1e-12:
+            start = first.state + 0.05 * vec[:, i].real * scale / np.linalg.norm(vec[:, i].real)
+    states = [start]
+    for _ in range(march_periods):
+        states.append(period_map(1, states[-1], False)[0])
+    marched = np.array(states) / scale
+    tail = marched[len(marched) // 2:]
+    for k in range(2, max_period + 1):
+        if len(tail) <= k:
+            break
+        gaps = np.linalg.norm(tail[k:] - tail[:-k], axis=1)
+        n = int(np.argmin(gaps))
+        if gaps[n] < 0.5:  # comes back near itself after k periods: a candidate orbit
+            sol, kk = attempt(k, tail[n] * scale, 8)
+            if kk:
+                return OrbitSearch(kk, sol.state, sol, tuple(unstable))
+    return OrbitSearch(0, states[-1], first, tuple(unstable))
+
+
+# ----------------------------------------------------------------------------------------------
+# Averaging windows
+# ----------------------------------------------------------------------------------------------
+
+
+def touchdown_times(pieces: Sequence, first: float = -math.inf) -> list[float | None]:
+    """Touchdown time t_c of the contact each piece belongs to (None for a flight piece).
+
+    ``pieces`` have ``contact``, ``t0`` and ``t1`` and follow each other in time.  A contact piece
+    after a flight of positive duration starts at a touchdown; one after a contact piece (a window
+    boundary, or a flight of zero length, i.e. a tangency that is no flight) continues that contact.
+    ``first``: t_c of a contact piece that opens the list (-inf: in contact since ever).
+    """
+    out: list[float | None] = []
+    tc, flew = first, False
+    for i, q in enumerate(pieces):
+        if not q.contact:
+            flew = flew or q.t1 > q.t0
+            out.append(None)
+            continue
+        if i > 0 and flew:
+            tc = q.t0
+        flew = False
+        out.append(tc)
+    return out
+
+
+def landed_window(advance: Callable[[float, float], list], span: float,
+                  periodic: bool) -> tuple[list, list[float | None]]:
+    """The pieces to average over and their touchdown times (``touchdown_times``).
+
+    ``advance(t0, t1)`` returns the pieces of the solution on [t0, t1] from the start state, which
+    on a periodic orbit of period ``span`` is the state at t0 = 0 and at t0 = span alike.  The window
+    starts at the first touchdown (a contact piece after a flight of positive duration), so each
+    contact's tangential history (Coulomb-Orowan displacement, stick phase) lies inside it.  On a
+    periodic orbit the window is [t_l, span] followed by [span, span + t_l] (the same orbit one
+    period on): no second integration of the whole period, so a touchdown that the shooting's
+    residual moves by a rounding error is neither counted twice nor lost.  A time average drops the
+    pieces before the first touchdown.  Without a touchdown the whole span is returned, contact
+    pieces with t_c = -inf (permanent contact).
+    """
+    pieces = [q for q in advance(0.0, span)]
+    tcs = touchdown_times(pieces)
+    i = next((j for j in range(1, len(pieces)) if pieces[j].contact and tcs[j] == pieces[j].t0), None)
+    if i is None:
+        return pieces, tcs
+    if not periodic:
+        window = pieces[i:]
+        return window, touchdown_times(window, first=window[0].t0)
+    end = span + pieces[i].t0
+    tail = advance(span, end)  # its last event, if any, is the window's first touchdown again
+    window = pieces[i:] + [q for q in tail if q.t1 > q.t0 and q.t0 < end - 1e-9 * span]
+    return window, touchdown_times(window, first=window[0].t0)
+
+
+def batch_ratio(numerators: np.ndarray, denominators: np.ndarray, batches: int = 8) -> tuple[float, float]:
+    """Ratio of sums and its standard error by batch means: the per-period (or per-piece) sums cut
+    into ``batches`` consecutive groups, std(ratio of each group) / sqrt(batches) (Law and Kelton,
+    Simulation Modeling and Analysis, 2000, sec. 9.5.3)."""
+    num, den = np.asarray(numerators, float), np.asarray(denominators, float)
+    ratio = float(num.sum() / den.sum())
+    groups = [g for g in np.array_split(np.arange(len(num)), batches) if len(g)]
+    if len(groups) < 2:
+        return ratio, math.inf
+    r = np.array([num[g].sum() / den[g].sum() for g in groups])
+    return ratio, float(np.std(r, ddof=1) / math.sqrt(len(r)))

@@ -1,0 +1,72 @@
+"""One entry that builds a scene's assembled model at a fidelity: the 3-D solid (mesh + assembly), the 2-D
+plate or the 1-D beam. Models are kept while the scene's physics and mesh are unchanged (a second window,
+the other circuit, a forced response reuse them); ``clear_cache`` drops them."""
+
+from __future__ import annotations
+
+import time
+from collections import OrderedDict
+
+import numpy as np
+
+from modalfe.errors import SceneError
+
+MODEL_FIDELITIES = ("beam", "plate", "solid")
+_KEPT = 3  # per kind of model: a fine and a coarse model of the scene in use, plus one
+_MODELS: OrderedDict = OrderedDict()  # solid models
+_LAYERED: OrderedDict = OrderedDict()  # plate and beam models
+
+
+def clear_cache() -> None:
+    """Forget every assembled model kept in memory (the mesh files on disk stay; see ``modalfe.models.mesh``)."""
+    _MODELS.clear()
+    _LAYERED.clear()
+
+
+def build_model(scene, fidelity: str = "solid", *, size_factor: float = 1.0, frame=None,
+                min_layers: int | None = None) -> tuple[object, dict[str, float]]:
+    """(assembled model, seconds spent on {"mesh", "assembly"}, zero for reused work) of ``scene`` at
+    ``fidelity``, element sizes scaled by ``size_factor``; ``frame`` (3, 3) rotates a solid device,
+    ``min_layers`` overrides the solid's element layers through the thinnest part."""
+    if fidelity not in MODEL_FIDELITIES:
+        raise SceneError(f"fidelity: must be one of {MODEL_FIDELITIES}, got '{fidelity}'")
+    if fidelity == "solid":
+        return _solid(scene, size_factor=size_factor, frame=frame, min_layers=min_layers)
+    key = repr((fidelity, scene, size_factor))
+    if key in _LAYERED:
+        _LAYERED.move_to_end(key)
+        return _LAYERED[key], {"mesh": 0.0, "assembly": 0.0}
+    if fidelity == "beam":
+        from modalfe.models.beam import assemble_beam as assemble
+    else:
+        from modalfe.models.plate import assemble_plate as assemble
+    model = assemble(scene, size_factor=size_factor)
+    _keep(_LAYERED, key, model)
+    return model, dict(model.timings)
+
+
+def _solid(scene, *, size_factor: float, frame, min_layers: int | None) -> tuple[object, dict[str, float]]:
+    from modalfe.models.mesh import build_mesh, element_sizes
+    from modalfe.models.solid import assemble
+
+    t0 = time.perf_counter()
+    sizes = {k: v * size_factor for k, v in element_sizes(scene).items()}
+    layers = scene.mesh.min_layers if min_layers is None else min_layers
+    fully_clamped = tuple(sorted(g for g, components in scene.clamps.items() if set(components) == set("xyz")))
+    dm = build_mesh(scene.assembly(), size=sizes, element=scene.mesh.element, min_layers=layers,
+                    graded_faces=fully_clamped, grading_layers=scene.mesh.clamp_grading)
+    t_mesh = (time.perf_counter() - t0) if dm.seconds else 0.0
+    key = repr((dm.key, scene.params, scene.materials, scene.springs, scene.masses, scene.electrodes,
+                scene.clamps, scene.mesh.order, None if frame is None else np.asarray(frame).tobytes()))
+    if key in _MODELS:
+        _MODELS.move_to_end(key)
+        return _MODELS[key], {"mesh": t_mesh, "assembly": 0.0}
+    model = assemble(scene, dm, frame=frame)
+    _keep(_MODELS, key, model)
+    return model, {"mesh": t_mesh, "assembly": model.timings["assembly"]}
+
+
+def _keep(cache: OrderedDict, key: str, model) -> None:
+    cache[key] = model
+    while len(cache) > _KEPT:
+        cache.popitem(last=False)

@@ -15,9 +15,8 @@ import argparse
 from dataclasses import dataclass
 from pathlib import Path
 
-import numpy as np
-
 import beam_design as bs
+import numpy as np
 
 SOLID_REFINED = {"mesh.elements_per_wavelength": 8.0}  # the 3-D reference of the default run
 # the coarse run checks the 3-D trends that need at most one new solve per value (e31 and E enter the

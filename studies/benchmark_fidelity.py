@@ -89,7 +89,7 @@ def measure(device: str, fidelity: str, size_factor: float, solver: str) -> dict
     selector, near = working_mode(scene)
     seconds = {k: float(modes.timings.get(k, 0.0)) for k in STAGES[:-1]}
     seconds["other"] = total - sum(seconds.values())
-    main = max(scene.assembly().parts, key=lambda p: p.volume).name
+    main = scene.assembly().main_part.name
     picked = select(modes, selector, near)
     return {"dofs": modes.dofs, "seconds": seconds, "total": total, "solver": modes.timings["solver"],
             "frequency": picked.frequency, "mode": picked.label, "spectrum": [[m.label, m.frequency] for m in modes],
@@ -231,8 +231,8 @@ class Benchmark:
 
 def run(devices, factors: dict, repeats: int, solver: str, out: Path) -> Benchmark:
     """Sweep every device and fidelity, write the CSV and the plot into ``out``."""
-    from modalfe.solve.fidelity import reduced_fidelities
     from modalfe.scene import load_scene
+    from modalfe.solve.fidelity import reduced_fidelities
 
     curves, references = {}, {}
     for device in devices:

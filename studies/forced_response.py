@@ -12,8 +12,8 @@ import argparse
 import math
 
 from modalfe.response.control import quasi_linear_region, track_amplitude
-from modalfe.response.forced import Damping
 from modalfe.response.figures import forced_figures
+from modalfe.response.forced import Damping
 from modalfe.response.placement import place_feet
 from modalfe.scene import load_scene
 
@@ -78,6 +78,7 @@ def ciliary_beam(quick: bool) -> None:
 def beam_acceleration_profile(quick: bool, volts: float = 100.0) -> None:
     """Half-period average acceleration (2 / pi) omega^2 |w| along the beam's top centre line."""
     import numpy as np
+
     from modalfe.solve.api import solve_modes
 
     scene = _scene("ciliary_beam", quick)

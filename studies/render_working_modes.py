@@ -37,7 +37,7 @@ def main() -> None:
             samples = []
             for _ in range(3):
                 start = time.perf_counter()
-                render_mode(modes, mode, out=str(path), window_size=(900, 560)).close()
+                render_mode(mode, out=str(path), window_size=(900, 560)).close()
                 samples.append(time.perf_counter() - start)
             print(f"{name:<16} {mode.label:<12} {mode.frequency:>10.1f} Hz  render {statistics.median(samples):.2f} s"
                   f"  -> {path}")

@@ -9,10 +9,14 @@ import argparse
 import itertools
 import logging
 import math
+import sys
+from pathlib import Path
 
 import numpy as np
 
 from modalfe.errors import ModalfeError
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root: tests.oracles
 
 ROWS: list[tuple[str, str, str]] = []
 
@@ -31,9 +35,9 @@ def case(name: str):
 
 @case("potential scaling: condition estimate")
 def conditioning(quick):
-    from modalfe.solve.linalg import condition_estimate, factorize
-    from modalfe.scene import load_scene
     from modalfe.models.build import build_model
+    from modalfe.scene import load_scene
+    from modalfe.solve.linalg import condition_estimate, factorize
 
     model, _ = build_model(load_scene("ciliary_beam", **{"mesh.elements_per_wavelength": 4.0}))
     a, b = model.shifted_matrix(20e3), model.shifted_matrix(20e3, scale=1.0)
@@ -151,7 +155,7 @@ def energy(quick):
     scene = load_scene("ciliary_beam", **{"mesh.elements_per_wavelength": 4.0})
     modes = solve_modes(scene, near=22e3, count=4, error_estimate=False)
     mode = modes.labelled("bending-z 6")
-    r = harmonic_response(scene, modes, [mode.frequency], outputs=[("tip", (0.1, 0.0025, 0.005))],
+    r = harmonic_response(modes.model, [mode.frequency], outputs=[("tip", (0.1, 0.0025, 0.005))],
                           damping=Damping(zeta=0.025), reference_omega=mode.omega)
     mismatch = abs(0.5 * r.admittance.real[0] / r.dissipated[0] - 1)
     return mismatch < 1e-8, f"input vs dissipated power {mismatch:.1e}"
@@ -175,7 +179,8 @@ def contact(quick):
 
 @case("contact vs brute force (RK23, 1e-7 s) across kn, W, Fn")
 def brute_force(quick):
-    from modalfe.contact.foot import FootParameters, brute_force_steady_state, steady_state
+    from modalfe.contact.foot import FootParameters, steady_state
+    from tests.oracles.contact_brute_force import brute_force_steady_state
 
     cases = [(1e7, 1e-6, 3.0)] if quick else [(1e5, 3e-6, 0.1), (1e7, 1e-7, 0.1), (1e7, 1e-6, 3.0), (1e7, 3e-6, 30.0),
                                               (1e9, 1e-7, 0.1), (1e7, 1e-6, 30.0)]

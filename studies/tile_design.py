@@ -8,13 +8,17 @@ project. The seed's own equations are cited in the docstrings that implement the
 from __future__ import annotations
 
 import math
+import sys
 from dataclasses import dataclass
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from modalfe.errors import SceneError, SolverError
 from modalfe.results.labels import RIGID_NAMES
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root: tests.oracles
 
 if TYPE_CHECKING:
     from modalfe.results.modes import Mode

@@ -15,8 +15,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-
 import tile_design as tile
+
 from modalfe.scene import load_scene
 from modalfe.solve.api import solve_modes
 

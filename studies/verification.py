@@ -15,13 +15,17 @@ from __future__ import annotations
 
 import argparse
 import math
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
 
-from tests.oracles import analytic
 from modalfe.scene.materials import MATERIALS
 from modalfe.solve.api import solve_modes
+from tests.oracles import analytic
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root: tests.oracles
 from tests.oracles.cases import cantilever_scene, diaphragm_plate_scene, k31_bar_scene
 
 CUBE = {"E": 123e9, "nu": 0.30, "rho": 8250.0}  # modalfe.scene.materials "CuBe" (seed 001)

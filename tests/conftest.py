@@ -1,6 +1,12 @@
-"""Shared test set-up: a private mesh cache per test session, so tests never touch ~/.cache."""
+"""Shared test set-up: a private mesh cache per test session, so tests never touch ~/.cache; the design
+studies' helper modules (studies/tile_design.py, studies/beam_design.py) importable as the studies import them."""
+
+import sys
+from pathlib import Path
 
 import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "studies"))
 
 
 @pytest.fixture(autouse=True, scope="session")

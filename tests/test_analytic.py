@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 from scipy.linalg import eig
 
-from tests.oracles import analytic
 from modalfe.scene.materials import EPS0, MATERIALS
+from tests.oracles import analytic
 
 # ciliary beam of seed 003 made uniform: 100 x 5 x 5 mm brass (materials "brass-seed003")
 BRASS = {"E": 105e9, "nu": 0.34, "rho": 8500.0}

@@ -4,10 +4,10 @@ beam against the 3-D solid."""
 
 import math
 
+import beam_design as bs
 import numpy as np
 import pytest
 
-import beam_design as bs
 from modalfe.errors import ModalfeError, SceneError
 from tests.helpers import assert_one_line_error, load_study
 

@@ -4,8 +4,8 @@ and foot placement."""
 import numpy as np
 import pytest
 
-from modalfe.response.control import quasi_linear_region, track_amplitude
 from modalfe.errors import SceneError
+from modalfe.response.control import quasi_linear_region, track_amplitude
 from modalfe.response.forced import Damping, ReducedModel, harmonic_response, reduce
 from modalfe.scene import load_scene
 from modalfe.solve.api import solve_modes
@@ -18,14 +18,14 @@ def beam():
     scene = load_scene("ciliary_beam")
     modes = solve_modes(scene, near=22e3, count=6, error_estimate=False)
     mode = modes.labelled("bending-z 6")
-    rom = reduce(scene, mode, modes, outputs=OUTPUTS, damping=Damping(zeta=0.025))
+    rom = reduce(mode, outputs=OUTPUTS, damping=Damping(zeta=0.025))
     return scene, modes, mode, rom
 
 
 def test_reduced_model_matches_the_full_fe_near_resonance(beam):
-    scene, modes, mode, rom = beam
+    _, modes, mode, rom = beam
     f = mode.frequency * np.linspace(0.98, 1.02, 5)
-    full = harmonic_response(scene, modes, f, outputs=OUTPUTS, damping=Damping(zeta=0.025),
+    full = harmonic_response(modes.model, f, outputs=OUTPUTS, damping=Damping(zeta=0.025),
                              reference_omega=mode.omega)
     for name in ("tip", "x_47mm"):
         ratio = np.abs(rom.frf(f, name)) / np.abs(full.displacement[name][:, 2])

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 from skfem import Basis, ElementHex1, ElementTetP1, Functional
 
-from modalfe.geometry import BUILDERS
 from modalfe.errors import MeshError
+from modalfe.geometry import BUILDERS
 from modalfe.models.mesh import build_mesh, element_sizes
 from modalfe.scene import load_scene
 from modalfe.scene.builtin import BUILTIN

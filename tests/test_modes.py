@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from modalfe.results.coupling import antiresonance, k_eff
 from modalfe.errors import SolverError
+from modalfe.results.coupling import antiresonance, k_eff
 from modalfe.scene import load_scene, scene_from_dict
 from modalfe.solve.api import solve_modes
 from tests.oracles.cases import free_plate_scene

@@ -3,10 +3,10 @@
 import numpy as np
 import pytest
 
-from modalfe.scene.materials import MATERIALS
-from modalfe.scene import scene_from_dict
 from modalfe.models.build import build_model
 from modalfe.response.superposition import static_voltage_response
+from modalfe.scene import scene_from_dict
+from modalfe.scene.materials import MATERIALS
 
 L, W, T = 0.02, 0.004, 0.001
 

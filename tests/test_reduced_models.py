@@ -15,11 +15,11 @@ import numpy as np
 import pytest
 
 from modalfe import load_scene
-from tests.oracles import analytic
-from modalfe.scene.materials import MATERIALS
 from modalfe.models.plate import Layer, shear_stiffness
 from modalfe.scene import scene_from_dict
+from modalfe.scene.materials import MATERIALS
 from modalfe.solve.api import solve_modes
+from tests.oracles import analytic
 from tests.oracles.cases import cantilever_scene, diaphragm_plate_scene, k31_bar_scene, reference_mesh
 
 CUBE = {"E": 123e9, "nu": 0.30, "rho": 8250.0}  # modalfe.scene.materials "CuBe" (seed 001)

@@ -18,7 +18,7 @@ def plate():
 def _image(modes, mode, **kwargs):
     from modalfe.plot.render import render_mode
 
-    plotter = render_mode(modes, mode, window_size=(500, 350), **kwargs)
+    plotter = render_mode(mode, window_size=(500, 350), **kwargs)
     image = plotter.screenshot(return_img=True)
     plotter.close()
     return image.astype(float)
@@ -60,7 +60,7 @@ def test_two_modes_give_different_pictures(plate):
 def test_animation_writes_a_gif(plate, tmp_path):
     from modalfe.plot.render import animate_mode
 
-    path = animate_mode(plate, plate.labelled("(0,6)"), str(tmp_path / "mode.gif"), frames=4,
+    path = animate_mode(plate.labelled("(0,6)"), str(tmp_path / "mode.gif"), frames=4,
                         window_size=(300, 200))
     with open(path, "rb") as f:
         assert f.read(6) in (b"GIF89a", b"GIF87a")

@@ -5,10 +5,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from modalfe.solve.linalg import condition_estimate, factorize
-from modalfe.scene import load_scene, scene_from_dict
 from modalfe.models.build import build_model
+from modalfe.scene import load_scene, scene_from_dict
 from modalfe.solve.api import solve_modes
+from modalfe.solve.linalg import condition_estimate, factorize
 
 
 def test_scaling_the_potentials_improves_the_conditioning():
@@ -76,7 +76,7 @@ def test_forced_response_balances_energy():
     modes = solve_modes(scene, near=22e3, count=4, error_estimate=False)
     mode = modes.labelled("bending-z 6")
     f = mode.frequency * np.array([0.9, 0.99, 1.0, 1.01, 1.1])
-    response = harmonic_response(scene, modes, f, outputs=[("tip", (0.1, 0.0025, 0.005))],
+    response = harmonic_response(modes.model, f, outputs=[("tip", (0.1, 0.0025, 0.005))],
                                  damping=Damping(zeta=0.025), reference_omega=mode.omega)
     supplied = 0.5 * np.real(response.admittance)  # time-averaged electrical input per volt^2
     # lossless piezoelectricity: every watt supplied is dissipated by the damping, to solver round-off
@@ -101,7 +101,7 @@ def test_random_piezo_bars_balance_energy_in_forced_response(length, width, thic
     fr = 1 / (2 * length * np.sqrt(7750.0 * 16.4e-12))  # k31 bar estimate (PZT-5A rho, s11E)
     modes = solve_modes(scene, near=fr, count=4, error_estimate=False)
     f = np.array([detuning * fr])
-    response = harmonic_response(scene, modes, f, outputs=[("end", (length, 0.5 * width, thickness))],
+    response = harmonic_response(modes.model, f, outputs=[("end", (length, 0.5 * width, thickness))],
                                  damping=Damping(zeta=zeta), reference_omega=2 * np.pi * fr)
     # whatever the size, poling and damping: the electrical power in equals the power the damping takes out
     np.testing.assert_allclose(0.5 * np.real(response.admittance), response.dissipated, rtol=1e-7)

@@ -5,8 +5,8 @@ import math
 
 import numpy as np
 import pytest
-
 import tile_design as tile
+
 from modalfe.errors import ModalfeError, SceneError
 from modalfe.results.labels import RIGID_NAMES
 from tests.helpers import assert_one_line_error, load_study

@@ -15,9 +15,9 @@ import math
 import numpy as np
 import pytest
 
-from tests.oracles import analytic
 from modalfe.scene.materials import MATERIALS
 from modalfe.solve.api import solve_modes
+from tests.oracles import analytic
 from tests.oracles.cases import cantilever_scene, diaphragm_plate_scene, k31_bar_scene
 
 # ---------------------------------------------------------------------------------------------

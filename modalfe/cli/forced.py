@@ -23,8 +23,8 @@ def register(subparsers) -> None:
 
 def _forced(args) -> int:
     from modalfe.cli.options import parse_overrides
-    from modalfe.response.forced import Damping
     from modalfe.response.figures import forced_figures
+    from modalfe.response.forced import Damping
     from modalfe.scene import load_scene
 
     scene = load_scene(args.scene, **parse_overrides(args.set))

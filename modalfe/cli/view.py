@@ -57,9 +57,9 @@ def _show(args) -> int:
     interactive = args.out is None and bool(os.environ.get("DISPLAY"))
     out = args.out or (None if interactive else f"{scene.name}.png")
     if out and out.endswith(".gif"):
-        animate_mode(modes, mode, out)
+        animate_mode(mode, out)
     else:
-        plotter = render_mode(modes, mode, out=out, view=args.view, off_screen=not interactive)
+        plotter = render_mode(mode, out=out, view=args.view, off_screen=not interactive)
         if interactive:
             plotter.show()
     if out:

@@ -79,13 +79,15 @@ Count = Annotated[int, AtLeast(1)]
 
 @dataclass(frozen=True)
 class Parameter:
-    """One builder parameter: ``kind`` is its annotation without the Annotated extras."""
+    """One builder parameter: ``kind`` is its annotation without the Annotated extras; ``default`` is
+    None for a ``required`` one."""
 
     name: str
     kind: Any
     default: Any
     unit: str = ""
     constraint: Constraint | None = None
+    required: bool = False
 
     @property
     def type_name(self) -> str:
@@ -119,8 +121,8 @@ def parameters_of(builder: Callable) -> dict[str, Parameter]:
                 elif isinstance(extra, Constraint):
                     constraint = extra
             hint = hint.__origin__
-        default = None if p.default is inspect.Parameter.empty else p.default
-        out[name] = Parameter(name, hint, default, unit, constraint)
+        required = p.default is inspect.Parameter.empty
+        out[name] = Parameter(name, hint, None if required else p.default, unit, constraint, required)
     return out
 
 

@@ -121,6 +121,12 @@ class Assembly:
         raise SceneError(f"no part named '{name}'")
 
     @property
+    def main_part(self) -> Box:
+        """The largest part by volume (the plate, the beam, the tile's core): the reference for element
+        counts, label grids and the device's thickness."""
+        return max(self.parts, key=lambda p: p.volume)
+
+    @property
     def regions(self) -> dict[str, tuple[str, ...]]:
         """Region -> names of its parts."""
         out: dict[str, list[str]] = {}

@@ -65,7 +65,7 @@ def divisions(assembly, axis: int, breaks: np.ndarray, sizes: Mapping[str, float
     asked for by any part spanning that interval; the main (largest) part gets at least
     ``min_layers`` elements across each of its dimensions, so bending through its thickness is
     resolved (one quadratic layer under-estimates shear and rotary effects)."""
-    main = max(assembly.parts, key=lambda p: p.volume)
+    main = assembly.main_part
     out = []
     for a, b in itertools.pairwise(breaks):
         mid = (a + b) / 2
@@ -202,7 +202,7 @@ def _gmsh_mesh(assembly, *, sizes: Mapping[str, float], element: str, min_layers
             if any(f.window is not None for faces in assembly.faces.values() for f in faces):
                 raise MeshError("mesh.element: face windows need element = 'hex'")
             add_parts(assembly)
-            main = max(assembly.parts, key=lambda p: p.volume)
+            main = assembly.main_part
             size = min(min(sizes.values()), min(main.size) / min_layers)
             gmsh.option.setNumber("Mesh.MeshSizeMax", size)
             gmsh.option.setNumber("Mesh.MeshSizeMin", size / 20)

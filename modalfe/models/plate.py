@@ -37,7 +37,6 @@ import numpy as np
 import scipy.sparse as sp
 
 from modalfe.errors import SceneError
-from modalfe.models.symmetry import fold, mirror_planes, mirrored
 from modalfe.models.layered import (
     LayeredModel,
     capacitance_matrix,
@@ -46,6 +45,7 @@ from modalfe.models.layered import (
     flexural_wavenumber,
     thin_layer_constants,
 )
+from modalfe.models.symmetry import fold, mirror_planes, mirrored
 
 SLENDERNESS = 5.0  # smaller in-plane side / mean section thickness below which a plate model is refused
 PLANE_STRESS = [0, 1, 5]  # Voigt xx, yy, xy

@@ -52,3 +52,38 @@ def unfold(scene, points: np.ndarray, *fields: np.ndarray) -> tuple[np.ndarray, 
             flipped.append(np.hstack([f, image]))
         fields = flipped
     return (points, *fields)
+
+
+def _cells(model) -> tuple[np.ndarray, int]:
+    """(connectivity in VTK order, VTK cell type) of the model's mesh."""
+    from skfem.io.meshio import HEX_MAPPING
+
+    dm = model.mesh
+    if dm.element == "hex":
+        return dm.mesh.t[HEX_MAPPING[:8]].T, 12  # VTK_HEXAHEDRON
+    return dm.mesh.t.T, 10  # VTK_TETRA
+
+
+def whole_device_mesh(model, fields: dict[str, np.ndarray]):
+    """(points (n, 3), cells in VTK vertex order, VTK cell type, per-point vector fields (n, 3) from ``fields``
+    (3, n_vertices) each, per-cell part ids, part names) of a solid model's whole device: a symmetric model is
+    mirrored, normal components of vector fields negated, mirrored cells reordered to keep a positive volume."""
+    scene = model.scene
+    points = model.mesh.mesh.p.T.copy()
+    cells, kind = _cells(model)
+    part_id = np.zeros(len(cells), dtype=int)
+    names = list(model.mesh.parts)
+    for i, name in enumerate(names):
+        part_id[model.mesh.parts[name]] = i
+    fields = {k: v.T.copy() for k, v in fields.items()}  # (n, 3)
+    for k, twice in mirror_planes(scene):
+        mirror = mirrored(points.T, k, twice).T
+        flipped = cells[:, [1, 0, 3, 2, 5, 4, 7, 6]] if kind == 12 else cells[:, [1, 0, 2, 3]]
+        cells = np.vstack([cells, flipped + len(points)])  # reordered: mirrored cells keep a positive volume
+        points = np.vstack([points, mirror])
+        part_id = np.concatenate([part_id, part_id])
+        for name, value in fields.items():
+            m = value.copy()
+            m[:, k] *= -1
+            fields[name] = np.vstack([value, m])
+    return points, cells, kind, fields, part_id, names

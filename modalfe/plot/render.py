@@ -9,55 +9,19 @@ from __future__ import annotations
 
 import numpy as np
 
+from modalfe.models.symmetry import mirror_planes, mirrored, whole_device_mesh
+
 MARKERS = {"foot": "limegreen", "electrode": "gold", "clamp": "black", "mount": "purple", "actuator": "orange"}
-_HEX_TO_VTK = [0, 3, 6, 2, 1, 5, 7, 4]  # skfem MeshHex1 vertex order -> VTK_HEXAHEDRON
 
 
-def _cells(model) -> tuple[np.ndarray, int]:
-    """(connectivity in VTK order, VTK cell type) of the model's mesh."""
-    from skfem.io.meshio import HEX_MAPPING
-
-    dm = model.mesh
-    if dm.element == "hex":
-        return dm.mesh.t[HEX_MAPPING[:8]].T, 12  # VTK_HEXAHEDRON
-    return dm.mesh.t.T, 10  # VTK_TETRA
-
-
-def unfolded(model, fields: dict[str, np.ndarray]):
-    """Points (n, 3), cells, cell type, per-point vector fields and per-cell part ids of the whole
-    device: a symmetric model is mirrored (normal components of vector fields negated)."""
-    scene = model.scene
-    points = model.mesh.mesh.p.T.copy()
-    cells, kind = _cells(model)
-    part_id = np.zeros(len(cells), dtype=int)
-    names = list(model.mesh.parts)
-    for i, name in enumerate(names):
-        part_id[model.mesh.parts[name]] = i
-    fields = {k: v.T.copy() for k, v in fields.items()}  # (n, 3)
-    lo, hi = scene.full_assembly().bounds
-    for axis in scene.symmetry:
-        k = "xyz".index(axis)
-        mirror = points.copy()
-        mirror[:, k] = lo[k] + hi[k] - points[:, k]
-        flipped = cells[:, [1, 0, 3, 2, 5, 4, 7, 6]] if kind == 12 else cells[:, [1, 0, 2, 3]]
-        cells = np.vstack([cells, flipped + len(points)])  # reordered: mirrored cells keep a positive volume
-        points = np.vstack([points, mirror])
-        part_id = np.concatenate([part_id, part_id])
-        for name, value in fields.items():
-            m = value.copy()
-            m[:, k] *= -1
-            fields[name] = np.vstack([value, m])
-    return points, cells, kind, fields, part_id, names
-
-
-def mode_grid(modes, mode):
+def mode_grid(mode):
     """``pyvista.UnstructuredGrid`` of the whole device with point data ``displacement`` (mass-
     normalised mode shape) and ``w`` (its z component), cell data ``part`` (index into field data)."""
     import pyvista as pv
 
-    model = modes.model
+    model = mode.model
     shape = model.nodal_displacement(mode.shape)
-    points, cells, kind, fields, part_id, names = unfolded(model, {"displacement": shape})
+    points, cells, kind, fields, part_id, names = whole_device_mesh(model, {"displacement": shape})
     n = cells.shape[1]
     grid = pv.UnstructuredGrid(np.hstack([np.full((len(cells), 1), n), cells]).ravel(),
                                np.full(len(cells), kind, dtype=np.uint8), points)
@@ -68,11 +32,10 @@ def mode_grid(modes, mode):
     return grid
 
 
-def _face_markers(modes, scale: float, displacement: np.ndarray):
+def _face_markers(model, scale: float, displacement: np.ndarray):
     """(name, colour, PolyData) of the marked face groups, deformed like the mode."""
     import pyvista as pv
 
-    model = modes.model
     scene = model.scene
     dm = model.mesh
     out = []
@@ -87,11 +50,9 @@ def _face_markers(modes, scale: float, displacement: np.ndarray):
         faces = np.hstack([np.full((len(facets), 1), facets.shape[1]), facets]).ravel()
         pts = dm.mesh.p.T + scale * displacement.T
         poly = pv.PolyData(pts, faces).clean()
-        for axis in scene.symmetry:
-            k = "xyz".index(axis)
-            lo, hi = scene.full_assembly().bounds
+        for axis, twice in mirror_planes(scene):
             mirror = poly.copy()
-            mirror.points[:, k] = lo[k] + hi[k] - mirror.points[:, k]
+            mirror.points = mirrored(mirror.points.T, axis, twice).T
             poly = poly.merge(mirror)
         out.append((group, MARKERS[kind], poly))
     return out
@@ -112,14 +73,14 @@ def _cyclic(points: np.ndarray, quads: np.ndarray) -> np.ndarray:
     return np.take_along_axis(quads, order, axis=1)
 
 
-def render_mode(modes, mode, *, out: str | None = None, window_size=(1000, 650), amplification: float = 0.05,
+def render_mode(mode, *, out: str | None = None, window_size=(1000, 650), amplification: float = 0.05,
                 view: str = "iso", off_screen: bool = True):
     """Render ``mode`` deformed (largest displacement = ``amplification`` x the device's size).
 
     ``view``: "iso", "top" or "bottom". Returns the Plotter; with ``out`` it also writes a PNG."""
     import pyvista as pv
 
-    grid = mode_grid(modes, mode)
+    grid = mode_grid(mode)
     size = float(np.ptp(grid.points, axis=0).max())
     peak = float(np.abs(grid.point_data["displacement"]).max()) or 1.0
     scale = amplification * size / peak
@@ -134,9 +95,9 @@ def render_mode(modes, mode, *, out: str | None = None, window_size=(1000, 650),
     nodal = surface.contour([0.0], scalars="w")
     if nodal.n_points:
         plotter.add_mesh(nodal, color="black", line_width=3)
-    model = modes.model
+    model = mode.model
     displacement = model.nodal_displacement(mode.shape)
-    for group, colour, poly in _face_markers(modes, scale, displacement):
+    for group, colour, poly in _face_markers(model, scale, displacement):
         lifted = poly.compute_normals(auto_orient_normals=True)  # lift off the surface: no z-fighting
         lifted.points = lifted.points + 4e-3 * size * lifted.point_data["Normals"]
         plotter.add_mesh(lifted, color=colour, label=group)
@@ -150,14 +111,14 @@ def render_mode(modes, mode, *, out: str | None = None, window_size=(1000, 650),
     return plotter
 
 
-def animate_mode(modes, mode, out: str, *, frames: int = 16, amplification: float = 0.08,
+def animate_mode(mode, out: str, *, frames: int = 16, amplification: float = 0.08,
                  window_size=(800, 520)) -> str:
     """Write an animated GIF of one period of ``mode`` to ``out``; returns the path."""
-    grid = mode_grid(modes, mode)
+    grid = mode_grid(mode)
     size = float(np.ptp(grid.points, axis=0).max())
     peak = float(np.abs(grid.point_data["displacement"]).max()) or 1.0
     scale = amplification * size / peak
-    plotter = render_mode(modes, mode, amplification=0.0, window_size=window_size)
+    plotter = render_mode(mode, amplification=0.0, window_size=window_size)
     surface = plotter.meshes[0]
     base = grid.extract_surface(algorithm=None)
     rest, u = base.points.copy(), base.point_data["displacement"]

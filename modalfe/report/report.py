@@ -10,6 +10,7 @@ import time
 from dataclasses import asdict, dataclass, field
 
 from modalfe.errors import SolverError
+from modalfe.results.labels import RIGID_NAMES
 from modalfe.results.modes import select
 from modalfe.solve.api import DEFAULT_TOL
 
@@ -55,8 +56,8 @@ def device_report(scene, *, error_estimate: bool = True, fidelity: str = "auto",
     answered, else from the solid's fa / fr at the cross-check level (``coupling_check_level``). With
     ``fidelity="auto"`` the working modes of the window must meet ``tol``."""
     from modalfe.results.coupling import antiresonance, k_eff
-    from modalfe.solve.fidelity import coupling_check_level
     from modalfe.solve.api import solve_modes
+    from modalfe.solve.fidelity import coupling_check_level
 
     rows = []
     start = time.perf_counter()
@@ -118,7 +119,7 @@ def device_notes(scene, modes, mode) -> list[str]:
         notes.append(f"symmetric model about the {'/'.join(scene.symmetry)} mid-plane(s): "
                      "modes antisymmetric about them are not computed (--set symmetry=[] for all)")
     if math.isfinite(mode.wavelength) and scene.kind == "plate":
-        main = max(scene.assembly().parts, key=lambda p: p.volume)
+        main = scene.assembly().main_part
         f_thin = kirchhoff_frequency(scene.material(main.material).C, scene.material(main.material).rho,
                                      main.size[2], mode.wavelength)
         notes.append(f"Kirchhoff thin-plate theory at this wavelength: {f_thin:.0f} Hz "
@@ -126,15 +127,21 @@ def device_notes(scene, modes, mode) -> list[str]:
                      f"thickness / wavelength "
                      f"{main.size[2] / mode.wavelength:.2f})")
     if scene.analysis.band is not None:
-        rigid = [m for m in modes if m.label in ("sway-x", "sway-y", "heave", "roll", "pitch", "yaw")]
+        rigid = [m for m in modes if m.label in RIGID_NAMES]
         if rigid and mode.label in ("heave",):
             notes.append("suspension modes: " + ", ".join(f"{m.label} {m.frequency:.1f} Hz" for m in rigid)
-                         + " (seed 002 FEM: 28, 45, 51, 77 Hz)")
+                         + _reference(scene, "suspension"))
         plate = [m for m in modes if m not in rigid]
         if plate and mode.label not in ("heave",):
             notes.append("plate modes: " + ", ".join(f"{m.label} {m.frequency:.0f} Hz" for m in plate[:6])
-                         + " (seed 002 FEM: 896, 1032 Hz)")
+                         + _reference(scene, "plate"))
     return notes
+
+
+def _reference(scene, family: str) -> str:
+    """`` (the seed's spectrum)`` of that family where the scene carries one, else nothing."""
+    text = scene.reference_spectra.get(family)
+    return f" ({text})" if text else ""
 
 
 def kirchhoff_frequency(C, rho: float, thickness: float, wavelength: float) -> float:

@@ -75,7 +75,7 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
         raise SolverError("forced: no outputs; give --outputs (face groups) or set drive.outputs")
     modes = solve_modes(scene, near=near, count=10, error_estimate=False)
     mode = select(modes, selector, near)
-    rom = reduce(scene, mode, modes, outputs=outputs, damping=damping)
+    rom = reduce(mode, outputs=outputs, damping=damping)
     amp = {o: float(abs(rom.frf(rom.frequency, o))) for o in rom.shapes}
     omega = rom.omega
     accel = {o: (omega**2 * a, 2 / np.pi * omega**2 * a) for o, a in amp.items()}
@@ -97,7 +97,7 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
     f = rom.frequency * np.linspace(1 - span, 1 + span, points)
     frf_full = None
     if full:
-        response = harmonic_response(scene, modes, f, outputs=[o for o in outputs if o == rom.reference or
+        response = harmonic_response(mode.model, f, outputs=[o for o in outputs if o == rom.reference or
                                      (not isinstance(o, str) and o[0] == rom.reference)],
                                      damping=damping, reference_omega=omega)
         frf_full = response.displacement[rom.reference][:, 2]
@@ -115,7 +115,7 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
             average = max(a[1] for a in accel.values()) * 100.0
             notes.append(f"half-period average acceleration at 100 V {average:.4g} m/s^2 vs {t.name} {t.value:.6g} "
                          f"({100 * (average / t.value - 1):+.0f}%; {t.source})")
-    peak, where = _face_peak(scene, modes, mode, rom)
+    peak, where = _face_peak(mode, rom)
     notes.append(f"largest normal amplitude on the top face: {1e9 * peak:.3g} nm/V (0-peak) at x = "
                  f"{1e3 * where[0]:.1f} mm, y = {1e3 * where[1]:.1f} mm")
     return ForcedFigures(scene.name, rom, scene.drive.damping_source, amp, volts_for, accel,
@@ -123,13 +123,13 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
                          peak)
 
 
-def _face_peak(scene, modes, mode, rom) -> tuple[float, tuple[float, float]]:
+def _face_peak(mode, rom) -> tuple[float, tuple[float, float]]:
     """Largest 0-peak normal amplitude per volt [m/V] on the top face of the main part, and where:
     modal amplitude at resonance |q| = |theta| / (2 zeta omega^2) times the mass-normalised shape."""
     from modalfe.response.placement import face_field
 
-    main = max(scene.full_assembly().parts, key=lambda p: p.volume)
-    xs, ys, W = face_field(modes, mode, part=main.name, side="zmax", spacing=max(main.size[:2]) / 200)
+    main = mode.scene.full_assembly().main_part
+    xs, ys, W = face_field(mode, part=main.name, side="zmax", spacing=max(main.size[:2]) / 200)
     i, j = np.unravel_index(np.argmax(np.abs(W)), W.shape)
     theta = abs(rom.force_factor) / np.sqrt(rom.modal_mass)
     q = theta / (2 * rom.zeta * rom.omega**2)

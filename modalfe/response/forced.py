@@ -26,6 +26,8 @@ import numpy as np
 import scipy.sparse as sp
 
 from modalfe.errors import SceneError, SolverError
+from modalfe.results.coupling import k_eff
+from modalfe.results.modes import Mode
 
 
 @dataclass(frozen=True)
@@ -168,8 +170,8 @@ class ReducedModel:
 
     @property
     def k_eff(self) -> float:
-        fa = self.antiresonance
-        return math.sqrt((fa**2 - self.frequency**2) / fa**2)
+        """Effective coupling factor of the circuit from its fr and fa (``modalfe.results.coupling.k_eff``)."""
+        return k_eff(self.frequency, self.antiresonance)
 
     @property
     def envelope_time_constant(self) -> float:
@@ -217,16 +219,18 @@ def _drive(model):
     return T, T.T @ load, float(x_v @ load), x_v
 
 
-def reduce(scene, mode, modes, *, outputs, damping: Damping, reference: str | None = None) -> ReducedModel:
-    """Reduced model of ``mode`` (one of ``modes``, short circuit) at the named ``outputs``; the
+def reduce(mode: Mode, *, outputs, damping: Damping, reference: str | None = None) -> ReducedModel:
+    """Reduced model of ``mode`` (short circuit, bound to its model) at the named ``outputs``; the
     ``reference`` output (default: the one with the largest normal motion) carries the modal mass."""
     from modalfe.solve.linalg import factorize
 
-    model = modes.model
+    if mode.circuit != "short":
+        raise SolverError(f"mode: the reduced model needs a short-circuit mode, got {mode.circuit}")
+    model = mode.model
     T, F, C_b, x_v = _drive(model)
     A = (T.T @ model.K @ T).tocsr()
     B = (T.T @ model.M @ T).tocsr()
-    points = output_points(scene, outputs)
+    points = output_points(model.scene, outputs)
     probes = {name: model.displacement_probes(p.reshape(1, 3)) for name, p in points.items()}
     v_free = _free_coordinates(model, T, mode.shape)
     theta = float(v_free @ F)
@@ -284,19 +288,18 @@ class HarmonicResponse:
         return 1.0 / self.admittance
 
 
-def harmonic_response(scene, modes, frequency, *, outputs, damping: Damping,
-                      reference_omega: float) -> HarmonicResponse:
+def harmonic_response(model, frequency, *, outputs, damping: Damping, reference_omega: float) -> HarmonicResponse:
     """Direct damped solve at each frequency [Hz] (one complex factorization each)."""
     from scipy.sparse.linalg import splu
 
-    model = modes.model
     T, F, C_b, x_v = _drive(model)
     A = (T.T @ model.K @ T).tocsc()
     B = (T.T @ model.M @ T).tocsc()
     K_mech = sp.block_diag([model.K[: model.n_u, : model.n_u], sp.csr_matrix((model.n_phi, model.n_phi))])
     alpha, beta = damping.rayleigh_at(reference_omega)
     C = (T.T @ (alpha * model.M + beta * K_mech) @ T).tocsc()
-    probes = {name: model.displacement_probes(p.reshape(1, 3)) for name, p in output_points(scene, outputs).items()}
+    points = output_points(model.scene, outputs)
+    probes = {name: model.displacement_probes(p.reshape(1, 3)) for name, p in points.items()}
     freqs = np.atleast_1d(np.asarray(frequency, dtype=float))
     disp = {name: np.zeros((len(freqs), 3), dtype=complex) for name in probes}
     Y = np.zeros(len(freqs), dtype=complex)

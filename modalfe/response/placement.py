@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from modalfe.errors import SolverError
+from modalfe.results.modes import Mode
 
 
 @dataclass(frozen=True)
@@ -23,11 +24,11 @@ class Antinode:
     w: float
 
 
-def face_field(modes, mode, *, part: str, side: str = "zmin", spacing: float = 0.5e-3):
+def face_field(mode: Mode, *, part: str, side: str = "zmin", spacing: float = 0.5e-3):
     """Normal displacement of ``mode`` on one face of a part (whole device, symmetry unfolded) on a
     grid of ``spacing`` [m]: returns (xs, ys, W)."""
 
-    model = modes.model
+    model = mode.model
     box = model.scene.full_assembly().part(part)
     axis, c, lo, hi = box.face_bounds(side)
     if axis != 2:
@@ -40,7 +41,7 @@ def face_field(modes, mode, *, part: str, side: str = "zmin", spacing: float = 0
     return xs, ys, w.reshape(X.shape)
 
 
-def antinodes(modes, mode, *, part: str, side: str = "zmin", threshold: float = 0.5,
+def antinodes(mode: Mode, *, part: str, side: str = "zmin", threshold: float = 0.5,
               spacing: float = 0.5e-3) -> list[Antinode]:
     """Local maxima of |w| above ``threshold`` x the face's peak, strongest first.
 
@@ -49,7 +50,7 @@ def antinodes(modes, mode, *, part: str, side: str = "zmin", threshold: float = 
     """
     from scipy.ndimage import maximum_filter
 
-    xs, ys, W = face_field(modes, mode, part=part, side=side, spacing=spacing)
+    xs, ys, W = face_field(mode, part=part, side=side, spacing=spacing)
     A = np.abs(W)
     window = (5, 5)
     if mode.label.startswith("(0,") and not mode.label.startswith("(0,0"):
@@ -95,7 +96,7 @@ def place_feet(scene, *, selector: str, near: float, contact_stiffness: float,
     bare = scene.with_overrides(feet=())
     modes = solve_modes(bare, near=near, count=8, error_estimate=False)
     mode = select(modes, selector, near)
-    candidates = antinodes(modes, mode, part=part)
+    candidates = antinodes(mode, part=part)
     box = scene.full_assembly().part(part)
     sign = np.sign(min(candidates, key=lambda a: np.hypot(a.x - feet[0][0], a.y - feet[0][1])).w)
     in_phase = [a for a in candidates if np.sign(a.w) == sign]

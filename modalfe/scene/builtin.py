@@ -24,7 +24,7 @@ def rubber_mount_stiffness(*, E: float, nu: float, area: float, height: float) -
     return (lateral, lateral, E * area / height)
 
 
-# seed 002: SBR E = 2 MPa, A = 8 cm^2, h = 2.5 cm; nu 0.49 (ASSUMPTIONS.md)
+# seed 002: SBR E = 2 MPa, A = 8 cm^2, h = 2.5 cm; nu 0.49 (docs/assumptions.md, Honeycomb tile)
 MOUNT_STIFFNESS = rubber_mount_stiffness(E=2.0e6, nu=0.49, area=8e-4, height=0.025)
 
 
@@ -39,7 +39,7 @@ def cube_plate() -> Scene:
         analysis=Analysis(near=40.7e3, count=8),
         drive=Drive(
             damping="Q=150",
-            damping_source="assumption: the seeds give no Q for the plate (ASSUMPTIONS.md default ~150)",
+            damping_source="assumption: the seeds give no Q for the plate (docs/assumptions.md, Damping: default ~150)",
             outputs=("foot_1", "foot_2", "foot_3", "foot_4"),
             targets=(
                 Target("amplitude_available", 1.7e-6, "m", "measured", "seed 001, 0-peak at the feet"),
@@ -55,7 +55,8 @@ def cube_plate() -> Scene:
             )),
         ),
         assumptions=(
-            "ceramics: 2 rows x 5 of 12 x 12 x 1 mm, x-pitch 12.4 mm, rows y = 12.5 / 25.5 mm (ASSUMPTIONS.md)",
+            "ceramics: 2 rows x 5 of 12 x 12 x 1 mm, x-pitch 12.4 mm, rows y = 12.5 / 25.5 mm "
+            "(docs/assumptions.md, Cu-Be plate)",
             "PZT grade not named by the seeds: PZT-4 (Berlincourt 1964)",
             "feet: 3 x 3 x 4 mm Cu-Be square columns at x = 20.35 / 43.65 mm, y = 6 / 32 mm",
             "no bond layer; free-free (feet not in contact)",
@@ -78,7 +79,7 @@ def glass_plate() -> Scene:
         analysis=Analysis(near=66e3, count=8),
         drive=Drive(
             damping="Q=150",
-            damping_source="ASSUMPTIONS.md: Q ~ pi f tau from seed 004's response times, default 150",
+            damping_source="docs/assumptions.md, Damping: Q ~ pi f tau from seed 004's response times, default 150",
             outputs=(("centre_top", (0.03, 0.01, 1.9e-3)), ("quarter_top", (0.015, 0.01, 1.9e-3))),
             targets=(
                 Target("amplitude_pp_66kHz", 2.8e-6, "m", "measured", "seed 004, peak-to-peak"),
@@ -115,6 +116,8 @@ def honeycomb_tile() -> Scene:
         # moving mass 2.7 kg (seed 002, M0) minus the 0.4 kg panel: actuator, bracket and rod
         masses={"actuator": 2.3},
         analysis=Analysis(band=(1.0, 1500.0)),
+        reference_spectra={"suspension": "seed 002 FEM: 28, 45, 51, 77 Hz",  # sec. 4.4.1
+                           "plate": "seed 002 FEM: 896, 1032 Hz"},  # sec. 4.4.1 and Fig. 10
         mesh=MeshSettings(elements_per_wavelength=6.0, max_frequency=1500.0, max_size=0.02),
         working_modes=(
             WorkingMode("heave", 45.0, (
@@ -211,7 +214,7 @@ def ciliary_beam() -> Scene:
             )),
         ),
         assumptions=(
-            "x0 = 68 mm (l1 / l2 / l3 = 63 / 10 / 27 mm), rigid clamp at x = 0 (ASSUMPTIONS.md)",
+            "x0 = 68 mm (l1 / l2 / l3 = 63 / 10 / 27 mm), rigid clamp at x = 0 (docs/assumptions.md, Ciliary beam)",
             "beam nu 0.34 (brass); sheets PZT-5A (seed gives only E 76.5 GPa, e31 2.0 C/m^2)",
             "why below 24,221 Hz: that is Euler-Bernoulli theory; at mode 6 (height / wavelength ~ 0.14) shear "
             "and rotary inertia lower the frequency (Timoshenko); the measured 23.2 kHz lies between",

@@ -48,8 +48,8 @@ class FrozenMap(Mapping):
     def __eq__(self, other: object) -> bool:
         if isinstance(other, FrozenMap):
             return self._data == other._data
-        if isinstance(other, Mapping):
-            return self._data == dict(other.items())
+        if isinstance(other, Mapping):  # compared frozen: {"k": [1, 2]} equals FrozenMap({"k": (1, 2)})
+            return self._data == FrozenMap(other)._data
         return NotImplemented
 
     def __repr__(self) -> str:

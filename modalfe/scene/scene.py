@@ -47,7 +47,7 @@ class Drive:
     to drive, and amplitude or time targets from the seeds."""
 
     damping: str = "Q=150"
-    damping_source: str = "assumption (docs/assumptions.md, damping: default Q ~ 150)"
+    damping_source: str = "assumption (docs/assumptions.md, Damping: default Q ~ 150)"
     outputs: tuple = ()
     targets: tuple[Target, ...] = ()
 
@@ -108,6 +108,9 @@ class Scene:
     kind: str = "plate"
     symmetry: tuple[str, ...] = ()
     drive: Drive = Drive()
+    # a seed's spectrum to print beside the computed one, by family: "suspension" (rigid-body modes on the
+    # supports) or "plate" (elastic modes), e.g. {"suspension": "seed 002 FEM: 28, 45, 51, 77 Hz"}
+    reference_spectra: Mapping[str, str] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         for name in _TABLES:
@@ -253,4 +256,4 @@ class Scene:
         return max(self.mesh.max_frequency, top)
 
 
-_TABLES = ("params", "electrodes", "clamps", "springs", "masses", "materials")
+_TABLES = ("params", "electrodes", "clamps", "springs", "masses", "materials", "reference_spectra")

@@ -57,5 +57,16 @@ def solve_modes(
     if a.band is not None and a.band[1] > scene.max_frequency:
         # a band is a frequency range the mesh must resolve; ``near`` is only the shift of the eigen solve
         scene = replace(scene, mesh=replace(scene.mesh, max_frequency=a.band[1]))
-    return solve_at_fidelity(scene, a, fidelity=fidelity, tol=tol, check=check, size_factor=size_factor,
-                             solver=solver, error_estimate=error_estimate, frame=frame)
+    with single_threaded_blas():
+        return solve_at_fidelity(scene, a, fidelity=fidelity, tol=tol, check=check, size_factor=size_factor,
+                                 solver=solver, error_estimate=error_estimate, frame=frame)
+
+
+def single_threaded_blas():
+    """Context with one BLAS thread. numpy's OpenBLAS threads spin while they wait; on a small machine shared
+    with MKL PARDISO's threads and other processes, the small dense operations of a solve (the labels'
+    interpolation) then ran up to 100x slower (measured: the Cu-Be plate's report row 6 s with one BLAS thread,
+    30-40 s with two under load). The heavy work is sparse (PARDISO has its own threads), so this costs nothing."""
+    from threadpoolctl import threadpool_limits
+
+    return threadpool_limits(limits=1, user_api="blas")

@@ -6,7 +6,6 @@ from __future__ import annotations
 import logging
 
 from modalfe.results.modes import Mode, Modes
-from modalfe.scene.scene import Analysis
 
 log = logging.getLogger(__name__)
 
@@ -65,5 +64,5 @@ def richardson(fine: Modes, coarse: Modes, ratio: float) -> dict[int, float]:
 
 def refinement_ratio(fine_mesh, coarse_mesh, scene) -> float:
     """Mean element-size ratio between two meshes of the main part: (n_fine / n_coarse)^(1/3)."""
-    main = max(scene.assembly().parts, key=lambda p: p.volume).name
+    main = scene.assembly().main_part.name
     return float((len(fine_mesh.parts[main]) / len(coarse_mesh.parts[main])) ** (1 / 3))

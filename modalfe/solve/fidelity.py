@@ -31,7 +31,6 @@ from scipy.spatial import cKDTree
 
 from modalfe.errors import SceneError, SolverError
 from modalfe.results.modes import Modes, select
-from modalfe.scene.scene import Analysis
 from modalfe.solve.estimates import (
     COARSE_FACTOR,
     CONVERGENCE_ORDER,

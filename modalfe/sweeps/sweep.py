@@ -67,7 +67,7 @@ def evaluate_point(scene_ref: str, params: dict, base: dict, selector: str, near
     modes = solve_modes(scene, near=near, count=count, error_estimate=False)
     working = select(modes, selector, near)
     full = scene.full_assembly()
-    main = max(full.parts, key=lambda p: p.volume)
+    main = full.main_part
     lo, hi = full.bounds
     U, V = np.meshgrid(np.linspace(0.02, 0.98, GRID[0]), np.linspace(0.05, 0.95, GRID[1]))
     points = np.vstack([lo[0] + U.ravel() * (hi[0] - lo[0]), lo[1] + V.ravel() * (hi[1] - lo[1]),
@@ -79,7 +79,7 @@ def evaluate_point(scene_ref: str, params: dict, base: dict, selector: str, near
     return {"point_id": point_id(params), "params": params, "label": working.label,
             "frequency_hz": working.frequency, "candidates": candidates, "dofs": modes.dofs,
             "seconds": time.perf_counter() - start,
-            "extra": extra(scene, modes, working) if extra is not None else {}}
+            "extra": extra(working) if extra is not None else {}}
 
 
 def read_table(path: Path) -> dict[str, dict]:
@@ -178,23 +178,24 @@ def track(rows: list[dict], selector: str) -> list[dict]:
     return out
 
 
-def coupling_extra(scene, modes, working) -> dict:
+def coupling_extra(working) -> dict:
     """k_eff of the working mode (an open-circuit solve beside the short-circuit one)."""
     from modalfe.results.coupling import antiresonance, k_eff
     from modalfe.solve.api import solve_modes
 
-    open_modes = solve_modes(scene, near=working.frequency, count=4, circuit="open", error_estimate=False)
+    open_modes = solve_modes(working.scene, near=working.frequency, count=4, circuit="open", error_estimate=False)
     return {"k_eff": k_eff(working.frequency, antiresonance(working, open_modes).frequency)}
 
 
-def friction_extra(scene, modes, working, *, volts: float = 10.0, preload: float = 3.0, speed: float = 0.01) -> dict:
+def friction_extra(working, *, volts: float = 10.0, preload: float = 3.0, speed: float = 0.01) -> dict:
     """Foot amplitude per volt (reduced model at the feet, the scene's damping) and the friction
     reduction it gives at ``volts`` [V], preload [N] and sliding speed [m/s] (seed 001's 3 N, 1 cm/s)."""
     from modalfe.contact import simulate_contact
     from modalfe.response.forced import Damping, reduce
 
+    scene = working.scene
     feet = [g for g in scene.full_assembly().faces if g.startswith("foot_")]
-    rom = reduce(scene, working, modes, outputs=feet, damping=Damping.parse(scene.drive.damping))
+    rom = reduce(working, outputs=feet, damping=Damping.parse(scene.drive.damping))
     per_volt = rom.amplitude_per_volt()
     curve = simulate_contact(voltage=[volts], amplitude_per_volt=per_volt, preload=preload, speed=speed)
     return {"amplitude_per_volt_m": per_volt, "friction_reduction": float(np.ravel(curve.friction_reduction)[0]),

@@ -4,7 +4,7 @@ never binds), so refinement by ``size_factor`` is uniform and element counts are
 
 from __future__ import annotations
 
-from modalfe.scene.scene.scene import scene_from_dict
+from modalfe.scene import scene_from_dict
 
 
 def reference_mesh(max_size: float, min_layers: int) -> dict:

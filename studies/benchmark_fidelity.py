@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import argparse
 import csv
-import importlib
 import json
 import math
 import os
@@ -65,11 +64,6 @@ def level_scene(device: str, size_factor: float):
     return load_scene(device, **{"mesh.min_layers": max(1, round(layers / size_factor))})
 
 
-def reduced_solver(fidelity: str):
-    """``solve_<fidelity>_modes`` of ``modalfe.<fidelity>``; ImportError when that module is missing."""
-    return getattr(importlib.import_module(f"modalfe.{fidelity}"), f"solve_{fidelity}_modes")
-
-
 def measure(device: str, fidelity: str, size_factor: float, solver: str) -> dict:
     """One sweep point solved in this process, with a fresh mesh cache: DOFs, seconds per stage, the
     working mode's frequency [Hz], main-part element count (solid) and RSS peaks [MB]."""
@@ -81,10 +75,9 @@ def measure(device: str, fidelity: str, size_factor: float, solver: str) -> dict
     with tempfile.TemporaryDirectory(prefix="modalfe-bench-") as cache:
         os.environ["MODALFE_CACHE"] = cache
         scene = level_scene(device, size_factor)
-        solve = solve_level if fidelity == "solid" else reduced_solver(fidelity)
         rss_imports = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
         start = time.perf_counter()
-        modes = solve(scene, scene.analysis, size_factor=size_factor, solver=solver)
+        modes = solve_level(scene, scene.analysis, fidelity=fidelity, size_factor=size_factor, solver=solver)
         total = time.perf_counter() - start
     selector, near = working_mode(scene)
     seconds = {k: float(modes.timings.get(k, 0.0)) for k in STAGES[:-1]}
@@ -137,8 +130,8 @@ def tracked(previous: Point | None, run: dict) -> tuple[str, float]:
     if previous is None:
         return run["mode"], run["frequency"]
     empty = np.empty(0)
-    found = partner(Mode(0, previous.frequency, previous.mode, empty),
-                    [Mode(i, f, label, empty) for i, (label, f) in enumerate(run["spectrum"])])
+    found = partner(Mode(0, previous.frequency, previous.mode, empty, None),
+                    [Mode(i, f, label, empty, None) for i, (label, f) in enumerate(run["spectrum"])])
     if found is None:
         print(f"  no partner of {previous.mode} at {previous.frequency:.1f} Hz: the selector picked "
               f"{run['mode']} at {run['frequency']:.1f} Hz")

@@ -229,14 +229,7 @@ def run(devices, factors: dict, repeats: int, solver: str, out: Path) -> Benchma
 
     curves, references = {}, {}
     for device in devices:
-        fidelities = ["solid"]
-        for fidelity in reduced_fidelities(load_scene(device)):
-            try:
-                reduced_solver(fidelity)
-                fidelities.append(fidelity)
-            except ImportError:
-                print(f"{device}: {fidelity}: not available")
-        for fidelity in fidelities:
+        for fidelity in ["solid", *reduced_fidelities(load_scene(device))]:
             curves[(device, fidelity)] = sweep(device, fidelity, factors[fidelity], repeats, solver)
         if len(curves[(device, "solid")]) < 2:
             print(f"{device}: fewer than two solid levels, no reference")

@@ -229,7 +229,8 @@ def run(devices, factors: dict, repeats: int, solver: str, out: Path) -> Benchma
 
     curves, references = {}, {}
     for device in devices:
-        for fidelity in ["solid", *reduced_fidelities(load_scene(device))]:
+        fidelities = ["solid", *reduced_fidelities(load_scene(device))]
+        for fidelity in fidelities:
             curves[(device, fidelity)] = sweep(device, fidelity, factors[fidelity], repeats, solver)
         if len(curves[(device, "solid")]) < 2:
             print(f"{device}: fewer than two solid levels, no reference")

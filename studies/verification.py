@@ -7,7 +7,7 @@ Timoshenko and Euler-Bernoulli, diaphragm-supported plates vs Kirchhoff, Mindlin
 k_eff, and invariance under a rotation of the whole model; then the seed 002 / 003 hand
 formulas against the seeds' numbers.
 
-    python studies/verification.py --quick     # ~20 s idle, the meshes of tests/test_verification.py
+    python studies/verification.py --quick     # ~20 s idle, the meshes of tests/models/test_verification.py
     python studies/verification.py             # ~3 minutes, adds one or two refinements per case
 """
 

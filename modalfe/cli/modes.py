@@ -61,10 +61,12 @@ def _modes(args) -> int:
              "wavelength_m": None if m.wavelength != m.wavelength else m.wavelength} for m in modes]
     if args.json:
         print(json.dumps({"scene": scene.name, "circuit": modes.circuit, "fidelity": modes.fidelity,
-                          "fidelity_note": modes.fidelity_note, "dofs": modes.dofs, "modes": rows,
+                          "fidelity_note": modes.fidelity_note, "dofs": modes.dofs,
+                          "mesh_frequency_hz": modes.mesh_frequency, "modes": rows,
                           "timings": {k: v for k, v in modes.timings.items()}}, indent=2))
         return 0
-    print(f"{scene.name}: {modes.dofs} DOFs, {modes.circuit} circuit, {modes.fidelity} fidelity")
+    print(f"{scene.name}: {modes.dofs} DOFs, {modes.circuit} circuit, {modes.fidelity} fidelity, mesh resolves "
+          f"up to {modes.mesh_frequency:.6g} Hz (mesh.max_frequency)")
     if modes.fidelity_note:
         print(modes.fidelity_note)
     print(f"{'#':>3} {'f [Hz]':>12} {'label':<14} {'err est':>8}")

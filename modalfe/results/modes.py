@@ -70,7 +70,8 @@ class Modes:
     circuit : ``short`` or ``open``; fidelity : ``beam``, ``plate`` or ``solid``; dofs : free unknowns
     solved for; timings : seconds per stage (mesh, assembly, factorization, eigensolve, error_estimate,
     cross_check); fidelity_note : which fidelity answered and why (``auto``); cross_check : the 3-D solid
-    levels (finer coarse level first) that a reduced model's model error was measured against, else empty
+    levels (finer coarse level first) that a reduced model's model error was measured against, else empty;
+    mesh_frequency : the highest frequency [Hz] the mesh resolves at the scene's elements per wavelength
     """
 
     modes: tuple[Mode, ...]
@@ -81,6 +82,7 @@ class Modes:
     timings: dict[str, float] = field(default_factory=dict)
     fidelity_note: str = ""
     cross_check: tuple[Modes, ...] = ()
+    mesh_frequency: float = float("nan")
 
     def __len__(self) -> int:
         return len(self.modes)

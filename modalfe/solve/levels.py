@@ -33,4 +33,5 @@ def modes_of(model, analysis, *, fidelity: str, solver: str = "auto", timings: d
         modes.append(Mode(i, frequency, name, shapes[:, i], model, analysis.circuit, wavelength=wavelength))
     seconds = {**(timings or {}), "factorization": solution.factorization_seconds,
                "eigensolve": solution.eigensolve_seconds, "solver": solution.solver}
-    return Modes(tuple(modes), model, analysis.circuit, fidelity, A.shape[0], seconds)
+    return Modes(tuple(modes), model, analysis.circuit, fidelity, A.shape[0], seconds,
+                 mesh_frequency=model.scene.max_frequency)

@@ -1,4 +1,4 @@
-"""Reference cases for verification against analytic theory, shared by tests/test_verification.py
+"""Reference cases for verification against analytic theory, shared by tests/models/test_verification.py
 and studies/verification.py: each scene is sized by ``max_size`` alone (one element per wavelength
 never binds), so refinement by ``size_factor`` is uniform and element counts are exact."""
 

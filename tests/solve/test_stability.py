@@ -133,7 +133,7 @@ def test_elongated_elements_still_give_the_thin_plate_answer():
     scene = diaphragm_plate_scene(a, b, h, max_size=0.004)  # elements 4 mm wide, 0.25 mm thick: 16:1
     modes = solve_modes(scene, near=1e3, count=4, error_estimate=False)
     f11 = kirchhoff_plate_ss(1, 1, a=a, b=b, h=h, E=123e9, nu=0.3, rho=8250.0)
-    # the (1,1) mode of a thin SS plate: Kirchhoff is within 0.1 % of 3-D here (tests/test_verification.py);
+    # the (1,1) mode of a thin SS plate: Kirchhoff is within 0.1 % of 3-D here (tests/models/test_verification.py);
     # 16:1 quadratic elements add at most ~1 %
     assert min(modes.frequencies, key=lambda f: abs(f - f11)) == pytest.approx(f11, rel=0.02)
 

@@ -13,7 +13,7 @@ from tests.helpers import load_study
 
 pytest.importorskip("ngsolve")
 
-SCRIPT = Path(__file__).resolve().parents[1] / "studies" / "benchmark_peer.py"
+SCRIPT = Path(__file__).resolve().parents[2] / "studies" / "benchmark_peer.py"
 
 
 def _study():

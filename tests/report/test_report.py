@@ -39,7 +39,7 @@ def test_glass_wavelengths_within_ten_percent(rows):
 def test_ciliary_beam_below_euler_bernoulli(rows):
     (row,) = _row(rows, "ciliary_beam")
     assert row.mode == "bending-z 6"
-    # shear and rotary inertia lower mode 6 by ~11 % from Euler-Bernoulli (tests/test_verification.py)
+    # shear and rotary inertia lower mode 6 by ~11 % from Euler-Bernoulli (tests/models/test_verification.py)
     assert -0.15 < _deviation(row, "f_analytic") < -0.05
 
 

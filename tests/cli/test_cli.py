@@ -6,7 +6,7 @@ import pytest
 
 from modalfe.cli.main import main
 from modalfe.cli.options import parse_overrides
-from tests.test_scenes import BEAM_FILE
+from tests.scene.test_scenes import BEAM_FILE
 
 REPORT_KEYS = {"scene", "mode", "frequency_hz", "targets", "error_estimate", "dofs", "fidelity", "seconds"}
 

@@ -18,11 +18,16 @@ from __future__ import annotations
 
 import argparse
 import statistics
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
 
-from modalfe.contact.foot import FootParameters, brute_force_steady_state, simulate_contact, steady_state
+from modalfe.contact.foot import FootParameters, simulate_contact, steady_state
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root: tests.oracles
+from tests.oracles.contact_brute_force import brute_force_steady_state
 
 FULL = [(3.0, w) for w in (0.2e-6, 0.4e-6, 0.65e-6, 1.0e-6, 1.5e-6, 2.0e-6)] + \
        [(10.0, w) for w in (0.6e-6, 1.2e-6, 2.0e-6)]

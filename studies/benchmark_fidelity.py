@@ -121,22 +121,18 @@ class Point:
 
 
 def tracked(previous: Point | None, run: dict) -> tuple[str, float]:
-    """(label, frequency [Hz]) of the working mode at a finer level: the partner of the coarser level's
-    mode (same label, nearest in frequency, within 10 %: ``modalfe.solve.estimates.partner``), else the
-    selector's pick (the coarsest level, or no partner: said)."""
-    from modalfe.results.modes import Mode
-    from modalfe.solve.estimates import partner
-
+    """(label, frequency [Hz]) of the working mode at a finer level: the mode of the same label nearest the
+    coarser level's frequency, within 10 % (the sweep keeps labels and frequencies only, no shapes), else the
+    selector's pick (the coarsest level, or no such mode: said)."""
     if previous is None:
         return run["mode"], run["frequency"]
-    empty = np.empty(0)
-    found = partner(Mode(0, previous.frequency, previous.mode, empty, None),
-                    [Mode(i, f, label, empty, None) for i, (label, f) in enumerate(run["spectrum"])])
-    if found is None:
+    same = [(label, f) for label, f in run["spectrum"] if label == previous.mode
+            and abs(f - previous.frequency) <= 0.1 * previous.frequency]
+    if not same:
         print(f"  no partner of {previous.mode} at {previous.frequency:.1f} Hz: the selector picked "
               f"{run['mode']} at {run['frequency']:.1f} Hz")
         return run["mode"], run["frequency"]
-    return found.label, found.frequency
+    return min(same, key=lambda s: abs(s[1] - previous.frequency))
 
 
 def sweep(device: str, fidelity: str, factors, repeats: int, solver: str) -> list[Point]:

@@ -11,6 +11,7 @@ import json
 
 import numpy as np
 
+from modalfe.contact.validation import require
 from modalfe.errors import ContactError
 
 RANGE_HELP = "a number, a list a,b,c or start:stop:count (linspace)"
@@ -92,22 +93,29 @@ def _friction(args) -> int:
               f"kn = {q.kn:g} N/m, dn = {q.dn:g} N s/m, m = {q.mass:g} kg, n = {q.n}, f = {q.frequency:g} Hz")
         print(f"friction without vibration mu0 (Fn + m g) = {curve.static_friction:.4f} N; "
               f"flight from W = {q.onset_amplitude(curve.preload) * 1e6:.4f} um")
+        if curve.speed == 0:
+            print("speed 0 (the limit V -> 0+): after a touchdown the foot sticks with no tangential force; "
+                  "without flight it slides with mu0 Rn, so the friction is mu0 (Fn + m g) up to the onset and 0 above")
         volts = curve.voltage is not None
         print(("  V [V] " if volts else "") + f"{'W [um]':>8} {'beta [%]':>9} {'F [N]':>8} {'reduction':>10} "
               f"{'contacts':>8}")
         for i, w in enumerate(curve.amplitude):
             lead = f"{curve.voltage[i]:7.2f} " if volts else ""
             note = "" if curve.periodic[i] else "  (time average)"
-            print(f"{lead}{w * 1e6:8.4f} {curve.flight_ratio[i]:9.3f} {curve.friction_force[i]:8.4f} "
-                  f"{100 * curve.friction_reduction[i]:9.2f}% {curve.contacts_per_period[i]:8.3g}{note}")
+            # rounded to what is printed, + 0.0: a rounding residue never shows as -0.0000 or -0.00 %
+            force = round(curve.friction_force[i], 4) + 0.0
+            reduction = round(100 * curve.friction_reduction[i], 2) + 0.0
+            print(f"{lead}{w * 1e6:8.4f} {curve.flight_ratio[i]:9.3f} {force:8.4f} "
+                  f"{reduction:9.2f}% {curve.contacts_per_period[i]:8.3g}{note}")
     if args.plot:
-        from modalfe.contact.plots import friction_figure
+        from modalfe.plot.contact import friction_figure
 
         _save_plot(friction_figure(curve), args.plot)
     return 0
 
 
 def _finger_amplitudes(args, frequencies: list[float]) -> list[np.ndarray]:
+    frequencies = [require("--frequency", f, positive=True) for f in frequencies]
     if not args.amplitude:
         # Table I: mu_US / mu reaches about 0.7 near 3.2 um pp at 66 kHz and 0.3 um pp at 225 kHz
         return [np.linspace(0, 3.2e-6 * (66e3 / f) ** 1.5, 25) for f in frequencies]
@@ -141,28 +149,29 @@ def _finger(args) -> int:
         print(f"bed-spring finger (seed 004 Table I, {p.reading} reading): f_p = {p.preload:g} N, "
               f"V_F = {p.speed:g} m/s, mu = {p.mu:g}, damping ratio {p.damping_ratio:g}")
         for c in curves:
-            print(f"{c.frequency / 1e3:g} kHz:  {'A [um pp]':>10} {'mu_US/mu':>9} {'contact [%]':>11}")
-            for a, r, cr, per in zip(c.amplitude_pp, c.friction_ratio, c.contact_ratio, c.periodic):
-                note = "" if per else "  (time average)"
-                print(f"{'':10}{a * 1e6:10.4f} {r:9.4f} {cr:11.2f}{note}")
+            print(f"{c.frequency / 1e3:g} kHz:  {'A [um pp]':>10} {'mu_US/mu':>9} {'+-':>8} {'contact [%]':>11}"
+                  "  method")
+            for a, r, u, cr, m in zip(c.amplitude_pp, c.friction_ratio, c.uncertainty, c.contact_ratio, c.method):
+                print(f"{'':10}{a * 1e6:10.4f} {r:9.4f} {u:8.1e} {cr:11.2f}  {m}")
         if equal is not None:
             lf, hf = (f / 1e3 for f in equal.frequencies)
             print(f"equal friction: amplitude at {hf:g} kHz / amplitude at {lf:g} kHz "
                   f"(equal velocity {equal.velocity_ratio:.3f}, equal acceleration {equal.acceleration_ratio:.3f})")
-            print(f"{'mu_US/mu':>9} {'A_low [um]':>11} {'A_high [um]':>12} {'ratio':>7}")
-            for x, lo, hi, r in zip(equal.level, equal.amplitude_low, equal.amplitude_high, equal.ratio):
-                print(f"{x:9.3f} {lo * 1e6:11.4f} {hi * 1e6:12.4f} {r:7.4f}")
+            print(f"{'mu_US/mu':>9} {'A_low [um]':>11} {'A_high [um]':>12} {'ratio':>7} {'+-':>7}")
+            for x, lo, hi, r, u in zip(equal.level, equal.amplitude_low, equal.amplitude_high, equal.ratio,
+                                       equal.ratio_uncertainty):
+                print(f"{x:9.3f} {lo * 1e6:11.4f} {hi * 1e6:12.4f} {r:7.4f} {u:7.4f}")
         if skipped:
             print(f"levels outside the curves (widen --amplitude): {', '.join(f'{x:g}' for x in skipped)}")
     if args.plot:
-        from modalfe.contact.plots import finger_figure
+        from modalfe.plot.contact import finger_figure
 
         _save_plot(finger_figure(curves, equal), args.plot)
     return 0
 
 
 def _texture(args) -> int:
-    from modalfe.contact.foot import FootParameters, require, simulate_contact
+    from modalfe.contact.foot import FootParameters, simulate_contact
     from modalfe.contact.texture import NotchTexture, render_texture
 
     texture = NotchTexture(period=args.period, notch_width=args.notch_width, track_length=args.track_length,
@@ -183,7 +192,7 @@ def _texture(args) -> int:
         print(f"friction {r.friction_force.min():.4f} to {r.friction_force.max():.4f} N "
               f"(static {curve.static_friction:.4f} N), contrast {r.contrast:.4f} N")
     if args.plot:
-        from modalfe.contact.plots import texture_figure
+        from modalfe.plot.contact import texture_figure
 
         _save_plot(texture_figure(r), args.plot)
     return 0
@@ -228,7 +237,7 @@ def register(subparsers) -> None:
                                                                        "(default 66e3 and 225e3)")
     p.add_argument("--amplitude", action="append", help=f"peak-to-peak amplitude [m]: {RANGE_HELP}; once, or "
                                                         "once per --frequency (default: a range per frequency)")
-    p.add_argument("--levels", default="0.9,0.85,0.8,0.75", help="friction levels mu_US/mu for the ratio")
+    p.add_argument("--levels", default="0.95,0.9,0.85,0.8,0.75", help="friction levels mu_US/mu for the ratio")
     p.add_argument("--reading", choices=("kelvin-voigt", "literal"), help="reading of seed 004 eq. (1)")
     _common(p)
     p.set_defaults(func=_finger)

@@ -4,15 +4,18 @@ from __future__ import annotations
 
 import json
 
+from modalfe.cli.options import frequency, positive_float
+from modalfe.errors import SceneError
+
 
 def register(subparsers) -> None:
     p = subparsers.add_parser("forced", help="forced response per volt of a scene's working mode")
     p.add_argument("scene", help="built-in scene name or .toml scene file")
     p.add_argument("--mode", help="working-mode label or family, e.g. '(0,6)' or 'bending-z 6'")
-    p.add_argument("--near", type=float, help="frequency [Hz] the mode is sought near")
+    p.add_argument("--near", type=frequency, help="frequency [Hz] the mode is sought near")
     p.add_argument("--damping", help="zeta=Z, Q=Q or rayleigh=ALPHA,BETA (default: the scene's)")
     p.add_argument("--outputs", help="comma-separated face groups (default: the scene's)")
-    p.add_argument("--volts", type=float, default=1.0, help="drive amplitude [V] for the printed curve")
+    p.add_argument("--volts", type=positive_float, default=1.0, help="drive amplitude [V] for the printed curve")
     p.add_argument("--full", action="store_true", help="also solve the full FE harmonic response")
     p.add_argument("--save-rom", metavar="FILE", help="write the reduced model as JSON")
     p.add_argument("--plot", metavar="FILE", help="write FRF and admittance plots (PNG)")
@@ -27,9 +30,13 @@ def _forced(args) -> int:
     from modalfe.response.forced import Damping
     from modalfe.scene import load_scene
 
+    damping = Damping.parse(args.damping) if args.damping is not None else None
+    outputs = None
+    if args.outputs is not None:
+        outputs = [o.strip() for o in args.outputs.split(",")]
+        if not all(outputs):
+            raise SceneError(f"--outputs: expected face groups separated by commas, got '{args.outputs}'")
     scene = load_scene(args.scene, **parse_overrides(args.set))
-    damping = Damping.parse(args.damping) if args.damping else None
-    outputs = args.outputs.split(",") if args.outputs else None
     fig = forced_figures(scene, selector=args.mode, near=args.near, damping=damping, outputs=outputs,
                          full=args.full)
     if args.save_rom:
@@ -40,7 +47,7 @@ def _forced(args) -> int:
         print(json.dumps(fig.to_json(), indent=2))
         return 0
     rom = fig.rom
-    print(f"{scene.name}: mode {rom.label} at {rom.frequency:.1f} Hz, {rom.damping_description}")
+    print(f"{scene.name}: mode {rom.label} at {rom.frequency:.1f} Hz, {rom.damping_description} ({fig.damping_source})")
     print(f"  reduced model at {rom.reference}: m {rom.modal_mass:.4g} kg, k {rom.stiffness:.4g} N/m, "
           f"c {rom.damping:.4g} N s/m, force factor {rom.force_factor:.4g} N/V")
     bvd = rom.bvd

@@ -6,38 +6,115 @@ not a missing command."""
 from __future__ import annotations
 
 import argparse
+import contextlib
+import io
+import json
 import logging
+import os
 import sys
+import traceback
 
 from modalfe.cli import contact, forced, modes, sweep, view
+from modalfe.cli.options import check_output_paths
 from modalfe.errors import ModalfeError, SceneError
 
 COMMAND_GROUPS = (modes, forced, contact, view, sweep)
+EXIT_INPUT, EXIT_FAILED, EXIT_INTERNAL, EXIT_INTERRUPTED = 2, 1, 70, 130
+
+
+class OneLineParser(argparse.ArgumentParser):
+    """argparse with one-line errors: ``modalfe: error: --count: must be ...`` and exit status 2."""
+
+    def error(self, message: str) -> None:
+        message = message.replace("argument ", "", 1)
+        self.exit(EXIT_INPUT, f"modalfe: error: {' '.join(message.split())}\n")
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="modalfe", description=__doc__)
+    parser = OneLineParser(prog="modalfe", description=__doc__)
     parser.add_argument("-v", "--verbose", action="store_true", help="log progress to stderr")
-    sub = parser.add_subparsers(dest="command", required=True)
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=OneLineParser)
     for group in COMMAND_GROUPS:
         group.register(sub)
     return parser
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Run one command; exit status 0 done, 1 failed solve, 2 bad input, 70 a bug, 130 interrupted.
+
+    With ``--json`` stdout carries only the JSON document; every other line goes to stderr."""
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except KeyboardInterrupt:
+        print("modalfe: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
     logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
                         format="%(levelname)s %(name)s: %(message)s")
+    captured = io.StringIO() if getattr(args, "json", False) else None
+    status = EXIT_INTERNAL
     try:
-        return args.func(args)
+        check_output_paths(args)  # a missing folder or an unwritable file fails now, before any work
+        with contextlib.redirect_stdout(captured) if captured is not None else contextlib.nullcontext():
+            status = args.func(args)
+    except KeyboardInterrupt:
+        status = _fail("interrupted", EXIT_INTERRUPTED, prefix="modalfe: ")
     except SceneError as exc:
-        print(f"modalfe: error: {exc}", file=sys.stderr)
-        return 2
+        status = _fail(exc, EXIT_INPUT)
     except ModalfeError as exc:
-        print(f"modalfe: error: {exc}", file=sys.stderr)
-        return 1
+        status = _fail(exc, EXIT_FAILED)
+    except MemoryError:
+        status = _fail("out of memory (coarsen the mesh: mesh.elements_per_wavelength, mesh.max_size)", EXIT_FAILED)
+    except OSError as exc:
+        where = f"{exc.filename}: " if getattr(exc, "filename", None) else ""
+        status = _fail(f"{where}{exc.strerror or exc}", EXIT_FAILED)
+    except Exception as exc:  # a bug: one line, the traceback with -v
+        if args.verbose:
+            traceback.print_exc()
+        status = _fail(f"internal error ({type(exc).__name__}: {' '.join(str(exc).split())}); this is a bug, "
+                       f"rerun with -v for the traceback", EXIT_INTERNAL, prefix="modalfe: ")
+    finally:
+        if captured is not None:
+            _emit_json(captured.getvalue(), status)
+    return status
+
+
+def _fail(exc: object, status: int, prefix: str = "modalfe: error: ") -> int:
+    print(f"{prefix}{' '.join(str(exc).split())}", file=sys.stderr)
+    return status
+
+
+def _emit_json(text: str, status: int) -> None:
+    """The JSON document of ``text`` to stdout, anything printed around it to stderr."""
+    document, rest = _split_json(text) if status == 0 else (None, text)
+    if rest.strip():
+        sys.stderr.write(rest if rest.endswith("\n") else rest + "\n")
+    if document is not None:
+        sys.stdout.write(document + "\n")
+        sys.stdout.flush()
+
+
+def _split_json(text: str) -> tuple[str | None, str]:
+    decoder = json.JSONDecoder()
+    start = 0
+    while start < len(text):
+        if text[start] in "[{":
+            try:
+                _, end = decoder.raw_decode(text, start)
+            except ValueError:
+                end = -1
+            if end > 0 and (end == len(text) or text[end:].split("\n", 1)[0].strip() == ""):
+                return text[start:end], text[:start] + text[end:].lstrip("\n")
+        newline = text.find("\n", start)
+        if newline < 0:
+            break
+        start = newline + 1
+    return None, text
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    try:
+        sys.exit(main())
+    except BrokenPipeError:  # `modalfe ... | head`
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        sys.exit(EXIT_FAILED)

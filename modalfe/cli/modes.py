@@ -5,7 +5,15 @@ from __future__ import annotations
 import json
 import math
 
-from modalfe.cli.options import fidelity_options, parse_overrides, positive_int
+from modalfe.cli.options import (
+    _float,
+    check_band,
+    fidelity_options,
+    frequency_or_zero,
+    parse_overrides,
+    positive_int,
+)
+from modalfe.errors import SceneError
 
 
 def register(sub) -> None:
@@ -22,9 +30,9 @@ def register(sub) -> None:
 
     p = sub.add_parser("modes", help="eigenmodes of a built-in scene or a TOML scene file")
     p.add_argument("scene", help="built-in scene name or path to a .toml scene file")
-    p.add_argument("--near", type=float, help="target frequency [Hz]")
-    p.add_argument("--count", type=int, help="number of modes nearest --near")
-    p.add_argument("--band", type=float, nargs=2, metavar=("F1", "F2"), help="all modes in [F1, F2] Hz")
+    p.add_argument("--near", type=frequency_or_zero, help="target frequency [Hz]")
+    p.add_argument("--count", type=positive_int, help="number of modes nearest --near")
+    p.add_argument("--band", type=_float, nargs=2, metavar=("F1", "F2"), help="all modes in [F1, F2] Hz")
     p.add_argument("--circuit", choices=("short", "open"), help="electrodes grounded or driven one floating")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene parameter")
     p.add_argument("--json", action="store_true")
@@ -50,8 +58,12 @@ def _modes(args) -> int:
     from modalfe.scene import load_scene
     from modalfe.solve.api import solve_modes
 
+    band = check_band(args.band)
+    if band is not None and args.near is not None:
+        raise SceneError("--near: give either --near (with --count) or --band, not both")
+    if band is not None and args.count is not None:
+        raise SceneError("--count: --band returns every mode in the band; --count goes with --near")
     scene = load_scene(args.scene, **parse_overrides(args.set))
-    band = tuple(args.band) if args.band else None
     modes = solve_modes(scene, near=args.near, count=args.count, band=band, circuit=args.circuit,
                         error_estimate=not args.no_error_estimate, fidelity=args.fidelity, tol=args.tol)
     rows = [{"index": m.index, "frequency_hz": m.frequency, "label": m.label,

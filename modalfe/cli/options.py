@@ -3,7 +3,11 @@
 from __future__ import annotations
 
 import argparse
+import math
+import os
+import re
 import sys
+from pathlib import Path
 
 from modalfe.errors import SceneError
 
@@ -12,18 +16,36 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover
     import tomli as tomllib
 
+# a number with a unit glued on (0.65mm, 40kHz, 200GPa): refused with a hint, never kept as a string
+_NUMBER_WITH_UNIT = re.compile(r"^\s*[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?\s*[A-Za-z%][A-Za-z0-9^/*%]*\s*$")
+# output options checked before any work: option -> (flag, allowed suffixes or None)
+MAX_SWEEP_POINTS = 10_000  # a sweep larger than this is almost certainly a typo in COUNT
+OUTPUT_OPTIONS = {"out": "--out", "plot": "--plot", "vtu": "--vtu", "save_rom": "--save-rom"}
+
 
 def parse_overrides(pairs: list[str] | None) -> dict:
-    """``key=value`` pairs; values are read as TOML literals (numbers, arrays, strings)."""
+    """``key=value`` pairs; values are read as TOML literals (numbers, arrays, strings, booleans). A bare
+    word that is not TOML is taken as a string (``plate_material=CuBe``); a number with a unit is refused."""
     out = {}
     for pair in pairs or []:
         key, sep, value = pair.partition("=")
+        key = key.strip()
         if not sep or not key:
             raise SceneError(f"--set: expected key=value, got '{pair}'")
+        if key in out:
+            raise SceneError(f"{key}: set twice with --set")
+        if not value.strip():
+            raise SceneError(f"{key}: --set needs a value after '='")
         try:
-            out[key.strip()] = tomllib.loads(f"v = {value}")["v"]
+            out[key] = tomllib.loads(f"v = {value}")["v"]
         except tomllib.TOMLDecodeError:
-            out[key.strip()] = value
+            if _NUMBER_WITH_UNIT.match(value):
+                raise SceneError(f"{key}: '{value}' is a number with a unit; --set takes plain SI numbers "
+                                 f"(metres, Hz, Pa, kg: e.g. 0.65mm -> 0.65e-3)") from None
+            if any(c in value for c in "[]{}=,\"'") or value != value.strip():
+                raise SceneError(f"{key}: '{value}' is not a TOML value (numbers, \"strings\", [lists], "
+                                 f"true/false)") from None
+            out[key] = value
     return out
 
 
@@ -38,10 +60,126 @@ def positive_int(text: str) -> int:
     return value
 
 
+def _float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a number, got '{text}'") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"must be a finite number, got '{text}'")
+    return value
+
+
+def frequency(text: str) -> float:
+    """argparse type: a frequency > 0 [Hz]."""
+    value = _float(text)
+    if not value > 0:
+        raise argparse.ArgumentTypeError(f"must be a positive frequency [Hz], got {value:g}")
+    return value
+
+
+def frequency_or_zero(text: str) -> float:
+    """argparse type: a frequency >= 0 [Hz] (0: the modes nearest zero, rigid-body modes of a free device)."""
+    value = _float(text)
+    if not value >= 0:
+        raise argparse.ArgumentTypeError(f"must be a frequency >= 0 [Hz], got {value:g}")
+    return value
+
+
+def positive_float(text: str) -> float:
+    """argparse type: a finite number > 0."""
+    value = _float(text)
+    if not value > 0:
+        raise argparse.ArgumentTypeError(f"must be positive, got {value:g}")
+    return value
+
+
+def check_band(band: list[float] | None) -> tuple[float, float] | None:
+    """``--band F1 F2`` as a tuple with 0 <= F1 < F2."""
+    if band is None:
+        return None
+    f1, f2 = band
+    if not (0 <= f1 < f2):
+        raise SceneError(f"--band: needs 0 <= F1 < F2 [Hz], got {f1:g} {f2:g}")
+    return (f1, f2)
+
+
+def check_output_path(flag: str, path: str, *, create_parents: bool = False) -> None:
+    """Refuse an output path that cannot be written, before any work: a directory, a missing folder
+    (unless ``create_parents``), a folder or file without write permission."""
+    if not path or not path.strip():
+        raise SceneError(f"{flag}: empty file name")
+    p = Path(path)
+    if p.is_dir():
+        raise SceneError(f"{flag}: '{path}' is a directory; give a file name")
+    parent = p.parent if str(p.parent) else Path(".")
+    if not parent.exists():
+        if not create_parents:
+            raise SceneError(f"{flag}: folder '{parent}' does not exist")
+        while not parent.exists():
+            parent = parent.parent
+    if not parent.is_dir():
+        raise SceneError(f"{flag}: '{parent}' is not a folder")
+    if p.exists():
+        if not os.access(p, os.W_OK):
+            raise SceneError(f"{flag}: '{path}' is not writable")
+    elif not os.access(parent, os.W_OK | os.X_OK):
+        raise SceneError(f"{flag}: folder '{parent}' is not writable")
+
+
+def check_output_paths(args: argparse.Namespace) -> None:
+    """Every output option of a parsed command line checked (``--out``, ``--plot``, ``--vtu``, ``--save-rom``)."""
+    for name, flag in OUTPUT_OPTIONS.items():
+        path = getattr(args, name, None)
+        if path is None:
+            continue
+        check_output_path(flag, path, create_parents=(args.command == "sweep" and name == "out"))
+        suffixes = {"vtu": (".vtu",), "save_rom": (".json",)}.get(name)
+        if args.command == "show" and name == "out":
+            suffixes = (".png", ".gif")
+        if suffixes and Path(path).suffix.lower() not in suffixes:
+            raise SceneError(f"{flag}: '{path}' must end in {' or '.join(suffixes)}")
+        if name == "plot" and args.command == "forced":
+            stem, dot, ext = path.rpartition(".")
+            check_output_path(flag, f"{stem}_admittance.{ext}" if dot else f"{path}_admittance")
+
+
+def parse_params(items: list[str]) -> dict[str, list[float]]:
+    """``--param NAME=START:STOP:COUNT`` specs -> evenly spaced values; every part checked, names unique."""
+    import numpy as np
+
+    params, total = {}, 1
+    for item in items:
+        name, sep, spec = item.partition("=")
+        name = name.strip()
+        parts = spec.split(":")
+        if not sep or not name or len(parts) != 3:
+            raise SceneError(f"--param: expected NAME=START:STOP:COUNT, got '{item}'")
+        if name in params:
+            raise SceneError(f"--param {name}: given twice")
+        try:
+            start, stop = float(parts[0]), float(parts[1])
+        except ValueError:
+            raise SceneError(f"--param {name}: START and STOP must be numbers, got '{spec}'") from None
+        if not (math.isfinite(start) and math.isfinite(stop)):
+            raise SceneError(f"--param {name}: START and STOP must be finite, got '{spec}'")
+        try:
+            count = int(parts[2])
+        except ValueError:
+            raise SceneError(f"--param {name}: COUNT must be an integer, got '{parts[2]}'") from None
+        if count < 1:
+            raise SceneError(f"--param {name}: COUNT must be at least 1, got {count}")
+        total *= count
+        if total > MAX_SWEEP_POINTS:
+            raise SceneError(f"--param {name}: the sweep would have {total} points or more (limit {MAX_SWEEP_POINTS})")
+        params[name] = [float(x) for x in np.linspace(start, stop, count)]
+    return params
+
+
 def fidelity_options(p: argparse.ArgumentParser) -> None:
     from modalfe.solve.api import DEFAULT_TOL, FIDELITIES
 
     p.add_argument("--fidelity", choices=FIDELITIES, default="auto",
                    help="model: 1-D beam, 2-D plate, 3-D solid, or auto: the cheapest meeting --tol (default)")
-    p.add_argument("--tol", type=float, default=DEFAULT_TOL,
+    p.add_argument("--tol", type=positive_float, default=DEFAULT_TOL,
                    help=f"relative frequency error asked of --fidelity auto (default {DEFAULT_TOL:g})")

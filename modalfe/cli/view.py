@@ -4,13 +4,15 @@ from __future__ import annotations
 
 import os
 
+from modalfe.cli.options import frequency, positive_int
+
 
 def register(subparsers) -> None:
     p = subparsers.add_parser("show", help="render a mode shape (PNG, GIF, or a window when there is a display)")
     p.add_argument("scene", help="built-in scene name or .toml scene file")
     p.add_argument("--mode", help="mode label (e.g. '(0,6)') or index among the computed modes "
                                   "(default: the scene's first working mode)")
-    p.add_argument("--near", type=float, help="frequency [Hz] to search near (default: the working mode's)")
+    p.add_argument("--near", type=frequency, help="frequency [Hz] to search near (default: the working mode's)")
     p.add_argument("--out", help="FILE.png or FILE.gif (default: a window if there is a display, "
                                  "else <scene>.png)")
     p.add_argument("--view", choices=("iso", "top", "bottom"), default="iso")
@@ -20,8 +22,8 @@ def register(subparsers) -> None:
     p = subparsers.add_parser("export", help="write every computed mode to a VTU file for ParaView")
     p.add_argument("scene")
     p.add_argument("--vtu", required=True, help="output file (.vtu)")
-    p.add_argument("--near", type=float)
-    p.add_argument("--count", type=int)
+    p.add_argument("--near", type=frequency)
+    p.add_argument("--count", type=positive_int)
     p.add_argument("--set", action="append", metavar="KEY=VALUE")
     p.set_defaults(func=_export)
 

@@ -1,5 +1,5 @@
 """Contact and friction simulators: feet on a substrate (seeds 000, 001), a fingertip on a plate
-(seed 004), notch textures (seed 001).  Figures are in ``modalfe.contact.plots``."""
+(seed 004), notch textures (seed 001).  Figures are in ``modalfe.plot.contact``."""
 
 from modalfe.contact.finger import (
     EqualFriction,
@@ -14,7 +14,6 @@ from modalfe.contact.foot import (
     ContactCurve,
     ContactOrbit,
     FootParameters,
-    brute_force_steady_state,
     simulate_contact,
     steady_state,
 )
@@ -22,6 +21,6 @@ from modalfe.contact.texture import NotchTexture, TextureRendering, render_textu
 
 __all__ = [
     "ContactCurve", "ContactOrbit", "EqualFriction", "FingerCurve", "FingerOrbit", "FingerParameters",
-    "FootParameters", "NotchTexture", "TextureRendering", "brute_force_steady_state", "equal_friction",
+    "FootParameters", "NotchTexture", "TextureRendering", "equal_friction",
     "finger_steady_state", "render_texture", "simulate_contact", "simulate_finger", "steady_state",
 ]

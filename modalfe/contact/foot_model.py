@@ -41,10 +41,9 @@ from dataclasses import dataclass, replace
 from functools import cached_property
 
 import numpy as np
-from scipy.optimize import brentq
 
-from modalfe.contact.kernel import first_crossing
-from modalfe.contact.validation import choice, replaced, require
+from modalfe.contact.kernel import bracketed_root, first_crossing
+from modalfe.contact.validation import choice, replaced, require, require_fields
 from modalfe.errors import ContactError
 
 # Seed 000, appendix (also seed 000 section 4.3.1.2, numerical example): the foot model's parameters.
@@ -93,10 +92,7 @@ class FootParameters:
 
     def __post_init__(self):
         choice("friction_law", self.friction_law, FRICTION_LAWS)
-        for name in ("kn", "mass", "frequency", "kt"):
-            require(name, getattr(self, name), positive=True)
-        for name in ("dn", "g", "mu0"):
-            require(name, getattr(self, name), nonnegative=True)
+        require_fields(self, positive=("kn", "mass", "frequency", "kt"), nonnegative=("dn", "g", "mu0"))
         n = require("n", self.n, positive=True) if not isinstance(self.n, bool) else 0.5
         if n != int(n):
             raise ContactError(f"n: number of feet must be a positive integer, got {self.n!r}")
@@ -328,6 +324,6 @@ def quasi_static_offset(W: float, P: float, kn: float) -> float:
     def mean(a):  # <(a - sin theta)^+> over theta, |a| <= 1
         return (a * (math.pi + 2 * math.asin(a)) + 2 * math.sqrt(1 - a * a)) / (2 * math.pi)
 
-    a = brentq(lambda a: kn * W * mean(a) - P, -1.0, 1.0, xtol=1e-15)
+    a = bracketed_root(lambda a: kn * W * mean(a) - P, -1.0, 1.0, xtol=1e-15)
     return -a * W
 

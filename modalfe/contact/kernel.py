@@ -22,11 +22,15 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
 GAUSS_ORDER = 12  # Gauss-Legendre nodes per quadrature chunk
 _GAUSS_X, _GAUSS_W = np.polynomial.legendre.leggauss(GAUSS_ORDER)
-STABILITY_MARGIN = 1e-6  # |multiplier| below 1 + this counts as stable (rounding of the monodromy)
+STABILITY_MARGIN = 1e-6
+# A march that ends within this scaled distance of its state k periods before seeds Newton on k T.
+# An attracting orbit is approached geometrically, so at the end of the march its states recur much
+# closer than this; chaotic motion has near-returns too (unstable orbits embedded in the attractor,
+# which Newton finds and the stability test rejects), and each costs a Newton run.
+RECURRENCE = 1e-2  # |multiplier| below 1 + this counts as stable (rounding of the monodromy)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -34,22 +38,73 @@ STABILITY_MARGIN = 1e-6  # |multiplier| below 1 + this counts as stable (roundin
 # ----------------------------------------------------------------------------------------------
 
 
-def _grid(t0: float, t1: float, step: float) -> np.ndarray:
-    return np.linspace(t0, t1, max(2, math.ceil((t1 - t0) / step) + 1))
+def _grid(t0: float, t1: float, step: float | tuple[float, float, float]) -> np.ndarray:
+    """Sample times on [t0, t1]: spacing ``step``, or for ``(step, fine_step, fine_span)`` spacing
+    ``fine_step`` over the first ``fine_span`` (where an arc's fast transients live) and ``step`` after."""
+    if isinstance(step, tuple):
+        step, fine_step, fine_span = step
+        tf = min(t0 + fine_span, t1)
+        if tf < t1:
+            return np.concatenate([_uniform(t0, tf, fine_step), _uniform(tf, t1, step)[1:]])
+    return _uniform(t0, t1, step)
 
 
-def _root(fun: Callable[[float], float], a: float, b: float) -> float:
-    """Brent's method to rounding accuracy on a bracket (the end nearer zero if rounding undid the bracket)."""
-    fa, fb = fun(a), fun(b)
+def _uniform(t0: float, t1: float, step: float) -> np.ndarray:
+    """Equally spaced times from t0 to t1 (both included), spacing at most ``step``."""
+    n = max(1, math.ceil((t1 - t0) / step))
+    t = t0 + (t1 - t0) / n * np.arange(n + 1.0)
+    t[-1] = t1
+    return t
+
+
+def bracketed_root(fun: Callable[[float], float], a: float, b: float, xtol: float | None = None) -> float:
+    """A zero of ``fun`` on a bracket [a, b] to rounding accuracy (or ``xtol``): the Illinois variant
+    of regula falsi, which keeps the bracket and converges superlinearly (Dowell and Jarratt, BIT 11
+    (1971) 168).  Without a sign change (rounding undid the bracket) the end nearer zero."""
+    fa, fb = float(fun(a)), float(fun(b))
+    if fa == 0:
+        return a
+    if fb == 0:
+        return b
     if fa * fb > 0:
         return a if abs(fa) < abs(fb) else b
-    return brentq(fun, a, b, xtol=4 * np.finfo(float).eps * max(abs(a), abs(b), 1e-300))
+    tol = xtol if xtol is not None else 4 * np.finfo(float).eps * max(abs(a), abs(b), 1e-300)
+    side, c = 0, a
+    for _ in range(200):
+        c = (fa * b - fb * a) / (fa - fb)
+        if not a <= c <= b:
+            c = 0.5 * (a + b)
+        fc = float(fun(c))
+        if fc * fb > 0:  # c replaces b
+            b, fb = c, fc
+            if side == -1:
+                fa /= 2  # Illinois: halve the value at the end kept twice
+            side = -1
+        elif fa * fc > 0:  # c replaces a
+            a, fa = c, fc
+            if side == 1:
+                fb /= 2
+            side = 1
+        else:
+            return c
+        if b - a <= tol:
+            return c
+    return c
 
 
-def _newton_root(fr: Callable, a: float, b: float) -> float:
-    """Zero of f on [a, b] with f(a) <= 0 < f(b); ``fr(t) -> (f, f')``: Newton kept inside the bracket."""
-    fa, fb = fr(a)[0], fr(b)[0]
+_root = bracketed_root
+
+
+def _newton_root(fr: Callable, a: float, b: float, fa: float | None = None, fb: float | None = None,
+                 da: float | None = None, db: float | None = None) -> float:
+    """Zero of f on [a, b] with f(a) <= 0 < f(b); ``fr(t) -> (f, f')``: Newton kept inside the bracket,
+    from the secant point, or, with the rates ``da``, ``db`` at the ends, from the root of the cubic
+    Hermite interpolant (``fa``, ``fb``: f at the ends when known)."""
+    fa = fr(a)[0] if fa is None else fa
+    fb = fr(b)[0] if fb is None else fb
     x = a - fa * (b - a) / (fb - fa) if fb > fa else 0.5 * (a + b)
+    if da is not None and db is not None and fb > fa:
+        x = _hermite_root(a, b, fa, fb, da, db, x)
     tol = 4 * np.finfo(float).eps * max(abs(a), abs(b))
     for _ in range(100):
         f, d = fr(x)
@@ -66,13 +121,33 @@ def _newton_root(fr: Callable, a: float, b: float) -> float:
     return float(x)
 
 
-def first_crossing(fun_rate: Callable, t0: float, t1: float, step: float, *, upward: bool) -> float | None:
+def _hermite_root(a: float, b: float, fa: float, fb: float, da: float, db: float, x: float) -> float:
+    """Root in [a, b] of the cubic Hermite interpolant of (f, f') at a and b, by a few Newton steps
+    from ``x`` in the unit variable; ``x`` itself if that leaves the bracket."""
+    h = b - a
+    ma, mb = da * h, db * h
+    s = (x - a) / h
+    for _ in range(4):
+        s2, s3 = s * s, s * s * s
+        p = (2 * s3 - 3 * s2 + 1) * fa + (s3 - 2 * s2 + s) * ma + (-2 * s3 + 3 * s2) * fb + (s3 - s2) * mb
+        dp = (6 * s2 - 6 * s) * fa + (3 * s2 - 4 * s + 1) * ma + (-6 * s2 + 6 * s) * fb + (3 * s2 - 2 * s) * mb
+        if dp == 0:
+            return x
+        s -= p / dp
+        if not 0 <= s <= 1:
+            return x
+    return a + s * h
+
+
+def first_crossing(fun_rate: Callable, t0: float, t1: float, step: float | tuple[float, float, float], *,
+                   upward: bool) -> float | None:
     """First time in (t0, t1] where a function crosses zero upward (or downward), else None.
 
     ``fun_rate(t) -> (f, df/dt)`` takes arrays and floats.  ``f`` is on the near side of zero at ``t0``
     up to rounding (an arc starts at the previous event).  Sign changes are found on a grid of spacing
-    ``step``; a local extremum between two samples that reaches across zero (a grazing arc shorter than
-    ``step``) is found through the rate.  Roots are polished by Newton's method inside the bracket.
+    ``step`` (or finer at the start, see ``_grid``); a local extremum between two samples that reaches
+    across zero (a grazing arc shorter than ``step``) is found through the rate.  Roots are polished by
+    Newton's method inside the bracket, started from the cubic Hermite interpolant of the samples.
     Returns ``t0`` when the arc leaves at once (it starts moving towards its exit).  A start where
     both the function and its rate vanish to rounding is tangent: the samples after it decide.
     """
@@ -95,21 +170,35 @@ def first_crossing(fun_rate: Callable, t0: float, t1: float, step: float, *, upw
     last = after[0] if after.size else len(t) - 1
 
     def low(i, b):
-        # a point of [t_i, b) where f <= 0 after the start; at t0, f is zero or a rounding residue
+        # a point of [t_i, b) where f <= 0 after the start, with f there; at t0, f is zero or a
+        # rounding residue
         if i > 0 or fv[0] < 0:
-            return t[i]
+            return t[i], fv[i]
         tm = _root(d, t0, b) if d(b) > 0 else b
-        return tm if fr(tm)[0] < 0 else None
+        fm = fr(tm)[0]
+        return (tm, fm) if fm < 0 else (None, None)
 
-    for i in np.flatnonzero((dv[:last] > 0) & (dv[1 : last + 1] < 0)):
+    peaks = np.flatnonzero((dv[:last] > 0) & (dv[1 : last + 1] < 0))
+    if peaks.size:
+        # f is concave between two samples where f' falls from + to -: below both tangent lines,
+        # so a peak whose tangent-line bound stays below zero cannot cross and needs no root
+        h = t[peaks + 1] - t[peaks]
+        bound = np.minimum(fv[peaks] + dv[peaks] * h, fv[peaks + 1] - dv[peaks + 1] * h)
+        peaks = peaks[bound >= 0]
+    for i in peaks:
         tm = _root(d, t[i], t[i + 1])
-        if fr(tm)[0] > 0:
-            a = low(i, tm)
-            return t0 if a is None else _newton_root(fr, a, tm)
+        fm = fr(tm)[0]
+        if fm > 0:
+            a, fa = low(i, tm)
+            return t0 if a is None else _newton_root(fr, a, tm, fa, fm)
     if not after.size:
         return None
-    a = low(last - 1, t[last])
-    return t0 if a is None else _newton_root(fr, a, t[last])
+    a, fa = low(last - 1, t[last])
+    if a is None:
+        return t0
+    if a == t[last - 1]:
+        return _newton_root(fr, a, t[last], fa, fv[last], dv[last - 1], dv[last])
+    return _newton_root(fr, a, t[last], fa, fv[last])
 
 
 def sign_changes(fun: Callable, t0: float, t1: float, step: float) -> list[float]:
@@ -182,7 +271,7 @@ def shoot_periodic(period_map: Callable[[np.ndarray], tuple[np.ndarray, np.ndarr
         m, grad = 1.0, np.zeros(n)
         for r in roots:
             d = y - r
-            dd = max(float(d @ d), 1e-300)
+            dd = min(max(float(d @ d), 1e-30), 1e30)
             mi = 1 / dd + 1
             grad = grad * mi - m * 2 * d / dd ** 2
             m *= mi
@@ -229,14 +318,16 @@ class OrbitSearch:
 
 def find_orbit(period_map: Callable[..., tuple[np.ndarray, np.ndarray | None]], x0: np.ndarray,
                scale: np.ndarray, *, max_period: int = 8, march_periods: int = 300,
-               hints: Sequence[tuple[int, np.ndarray]] = ()) -> OrbitSearch:
+               hints: Sequence[tuple[int, np.ndarray]] = (), march_from: np.ndarray | None = None) -> OrbitSearch:
     """A stable periodic orbit of period k T, k = 1..``max_period``, by shooting on k T.
 
     ``period_map(k, x, sensitivity) -> (x(k T), dx(k T)/dx(0) or None)``.  Order of the attempts:
     k = 1 from ``x0``; each ``hints`` entry (k, state), e.g. a neighbouring amplitude's orbit; for
     an unstable period-1 orbit with a multiplier below -1 (period doubling), k = 2 from both sides of
-    it along that eigenvector; then ``march_periods`` periods of time marching and, for each k, Newton
-    on k T from the marched state that comes back closest to itself after k periods.  Orbits already
+    it along that eigenvector (cold starts only, without ``march_from``); then ``march_periods``
+    periods of time marching (from ``march_from`` if given: a state on a neighbouring amplitude's
+    attractor) and, for each k, Newton on k T from the last marched state if it came back within
+    RECURRENCE of itself after k periods.  Orbits already
     found are deflated (a period-1 orbit is also a fixed point of the 2T map); an orbit is accepted
     when Newton converged and every Floquet multiplier of its k T monodromy lies inside the unit circle,
     and it is reported with its minimal period.  When none is found the caller averages in time from
@@ -272,21 +363,23 @@ def find_orbit(period_map: Callable[..., tuple[np.ndarray, np.ndarray | None]], 
             if k:
                 return OrbitSearch(k, sol.state, sol, tuple(unstable))
     start = first.state if first.converged else np.asarray(x0, float)
-    if first.converged and max_period >= 2:
+    if first.converged and max_period >= 2 and march_from is None:
         _, Phi = period_map(1, first.state, True)
         lam, vec = np.linalg.eig(Phi * scale[None, :] / scale[:, None])
         i = int(np.argmin(lam.real))
         if lam[i].real < -1 and abs(lam[i].imag) < 1e-12:  # a flip: the period-2 orbit lies along v
             v = vec[:, i].real * scale / np.linalg.norm(vec[:, i].real)
-            for side in (0.3, -0.3):
+            for side in (0.3, -0.3):  # the two sides lead to the two phases of one period-2 orbit
                 sol, k = attempt(2, first.state + side * v, 12)
                 if k:
                     return OrbitSearch(k, sol.state, sol, tuple(unstable))
+                if sol.converged:
+                    break
             start = first.state + 0.05 * v
         i = int(np.argmax(np.abs(lam)))
         if abs(lam[i]) > 1 and abs(lam[i].imag) < 1e-12:
             start = first.state + 0.05 * vec[:, i].real * scale / np.linalg.norm(vec[:, i].real)
-    states = [start]
+    states = [start if march_from is None else np.asarray(march_from, float)]
     for _ in range(march_periods):
         states.append(period_map(1, states[-1], False)[0])
     marched = np.array(states) / scale
@@ -294,10 +387,9 @@ def find_orbit(period_map: Callable[..., tuple[np.ndarray, np.ndarray | None]], 
     for k in range(2, max_period + 1):
         if len(tail) <= k:
             break
-        gaps = np.linalg.norm(tail[k:] - tail[:-k], axis=1)
-        n = int(np.argmin(gaps))
-        if gaps[n] < 0.5:  # comes back near itself after k periods: a candidate orbit
-            sol, kk = attempt(k, tail[n] * scale, 8)
+        gap = np.linalg.norm(tail[-1] - tail[-1 - k])
+        if gap < RECURRENCE:  # the march ends coming back near itself after k periods: a candidate
+            sol, kk = attempt(k, tail[-1] * scale, 6)
             if kk:
                 return OrbitSearch(kk, sol.state, sol, tuple(unstable))
     return OrbitSearch(0, states[-1], first, tuple(unstable))

@@ -24,7 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from modalfe.contact.foot import ContactCurve, require
+from modalfe.contact.foot import ContactCurve
+from modalfe.contact.validation import require
 from modalfe.errors import ContactError
 
 TRACK_LENGTH = 87e-3  # m, seed 001 section 9: gratings rendered along 87 mm

@@ -26,6 +26,14 @@ def require(name: str, value, *, positive: bool = False, nonnegative: bool = Fal
     return x
 
 
+def require_fields(obj, *, positive: tuple[str, ...] = (), nonnegative: tuple[str, ...] = ()) -> None:
+    """``require`` on the named fields of a parameter dataclass."""
+    for name in positive:
+        require(name, getattr(obj, name), positive=True)
+    for name in nonnegative:
+        require(name, getattr(obj, name), nonnegative=True)
+
+
 def values(name: str, x, *, nonnegative: bool = True) -> np.ndarray:
     """A 1-D array of finite numbers (>= 0 unless told), or a one-line ContactError naming the entry."""
     try:

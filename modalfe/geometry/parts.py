@@ -195,6 +195,68 @@ class Assembly:
         hi = tuple(max(p.hi[i] for p in self.parts) for i in range(3))
         return lo, hi
 
+    @property
+    def tolerance(self) -> float:
+        """Length below which two coordinates are the same [m]: 1e-9 of the device's largest extent."""
+        lo, hi = self.bounds
+        return 1e-9 * max(b - a for a, b in zip(lo, hi))
+
+    def components(self) -> list[tuple[str, ...]]:
+        """The bonded groups of parts, largest first: parts sharing a face patch of positive area
+        (``contact_area`` > 0) are bonded, through any chain of such patches. An edge or a corner
+        bonds nothing (the mesh would join the parts along a line, a hinge of zero stiffness)."""
+        tol = self.tolerance
+        names = [p.name for p in self.parts]
+        parent = list(range(len(names)))
+
+        def root(i: int) -> int:
+            while parent[i] != i:
+                parent[i] = parent[parent[i]]
+                i = parent[i]
+            return i
+
+        for i, a in enumerate(self.parts):
+            for j in range(i + 1, len(self.parts)):
+                if contact_area(a, self.parts[j], tol) > 0:
+                    parent[root(j)] = root(i)
+        groups: dict[int, list[str]] = {}
+        for i, n in enumerate(names):
+            groups.setdefault(root(i), []).append(n)
+        return sorted((tuple(g) for g in groups.values()), key=len, reverse=True)
+
+    def check_connected(self) -> None:
+        """Raise SceneError naming the parts not bonded to the device's main group (see ``components``)."""
+        groups = self.components()
+        if len(groups) == 1:
+            return
+        main = next(g for g in groups if self.main_part.name in g)
+        loose = [n for g in groups if g is not main for n in g]
+        tol = self.tolerance
+        first = self.part(loose[0])
+        near = [p.name for p in self.parts if p.name in main and _touching(first, p, tol)]
+        how = (f"'{first.name}' touches '{near[0]}' only along an edge or at a corner" if near
+               else f"'{first.name}' touches no part of it")
+        shown = ", ".join(f"'{n}'" for n in loose[:6]) + (f" and {len(loose) - 6} more" if len(loose) > 6 else "")
+        raise SceneError(f"parts: {shown} not bonded to '{self.main_part.name}' and the parts joined to it "
+                         f"({how}); bonded parts must share a face patch of positive area")
+
+
+def contact_area(a: Box, b: Box, tol: float = 0.0) -> float:
+    """Area [m^2] of the face patch two boxes share: one of them ends where the other begins along one
+    axis (within ``tol``) and they overlap by more than ``tol`` along the other two; 0 otherwise."""
+    for axis in range(3):
+        if abs(a.hi[axis] - b.lo[axis]) <= tol or abs(b.hi[axis] - a.lo[axis]) <= tol:
+            others = [k for k in range(3) if k != axis]
+            overlap = [min(a.hi[k], b.hi[k]) - max(a.lo[k], b.lo[k]) for k in others]
+            if all(o > tol for o in overlap):
+                return float(overlap[0] * overlap[1])
+    return 0.0
+
+
+def _touching(a: Box, b: Box, tol: float) -> bool:
+    """The closed boxes meet (a face, an edge or a corner in common)."""
+    return all(min(a.hi[k], b.hi[k]) - max(a.lo[k], b.lo[k]) >= -tol for k in range(3))
+
 
 def _check_overlaps(parts: tuple[Box, ...]) -> None:
     """Bonded parts may touch but not interpenetrate."""

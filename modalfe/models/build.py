@@ -30,6 +30,9 @@ def build_model(scene, fidelity: str = "solid", *, size_factor: float = 1.0, fra
     ``min_layers`` overrides the solid's element layers through the thinnest part."""
     if fidelity not in MODEL_FIDELITIES:
         raise SceneError(f"fidelity: must be one of {MODEL_FIDELITIES}, got '{fidelity}'")
+    from modalfe.models.estimate import check_size
+
+    check_size(scene, fidelity, size_factor=size_factor, min_layers=min_layers)  # refuse before meshing
     if fidelity == "solid":
         return _solid(scene, size_factor=size_factor, frame=frame, min_layers=min_layers)
     key = repr((fidelity, scene, size_factor))

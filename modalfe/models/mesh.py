@@ -7,10 +7,12 @@ fields come from the element chosen in the model (serendipity hex or P2 tet), ex
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import itertools
 import logging
 import os
+import tempfile
 import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -22,7 +24,7 @@ from modalfe.errors import MeshError
 
 log = logging.getLogger(__name__)
 
-MESH_FORMAT_VERSION = 2
+MESH_FORMAT_VERSION = 3  # 3: key, element and checksum stored inside the file
 GRADING_RATIO = 0.4  # size ratio of neighbouring element layers toward a clamped face
 _memory_cache: dict[str, DeviceMesh] = {}
 
@@ -51,9 +53,15 @@ class DeviceMesh:
         return self.mesh.t.shape[1]
 
 
-def cache_dir() -> Path:
-    """Where meshes are cached: $MODALFE_CACHE, else $XDG_CACHE_HOME/modalfe, else ~/.cache/modalfe."""
+CACHE_OFF = ("off", "none", "0", "false", "no")
+
+
+def cache_dir() -> Path | None:
+    """Where meshes are cached: $MODALFE_CACHE, else $XDG_CACHE_HOME/modalfe, else ~/.cache/modalfe;
+    None when ``MODALFE_CACHE=off`` (or none, 0, false, no): no disk cache."""
     root = os.environ.get("MODALFE_CACHE")
+    if root and root.strip().lower() in CACHE_OFF:
+        return None
     if root:
         return Path(root)
     return Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / "modalfe"
@@ -159,21 +167,26 @@ def build_mesh(assembly, *, size: float | Mapping[str, float], element: str = "h
     ).hexdigest()[:20]
     if use_cache and key in _memory_cache:
         return _memory_cache[key]
-    path = cache_dir() / "meshes" / f"{key}.npz"
-    if use_cache and path.exists():
+    folder = cache_dir() if use_cache else None
+    path = folder / "meshes" / f"{key}.npz" if folder is not None else None
+    if path is not None and path.exists():
         try:
             result = _load(path, key, element, size)
+            _check(result, assembly)
+            if set(result.parts) != {p.name for p in assembly.parts} or set(result.faces) != set(assembly.faces):
+                raise ValueError("its parts or face groups are not the assembly's")
             _memory_cache[key] = result
             return result
-        except (OSError, ValueError, KeyError) as exc:
-            log.warning("ignoring unreadable mesh cache %s: %s", path, exc)
+        except Exception as exc:  # any damage (truncated zip, bad CRC, wrong content): rebuild and overwrite
+            log.warning("mesh cache: rebuilding damaged or foreign %s (%s: %s)", path, type(exc).__name__, exc)
     start = time.perf_counter()
     meshio_mesh = _gmsh_mesh(assembly, sizes=sizes, element=element, min_layers=min_layers, grading=grading)
     mesh, parts, faces = _to_skfem(meshio_mesh, assembly)
     result = DeviceMesh(mesh, parts, faces, element, float(size), key, time.perf_counter() - start)
     _check(result, assembly)
     if use_cache:
-        _save(path, result)
+        if path is not None:
+            _save(path, result)
         _memory_cache[key] = result
     return result
 
@@ -291,21 +304,70 @@ def _check(result: DeviceMesh, assembly) -> None:
             raise MeshError(f"face group '{name}' got no facets")
 
 
+_unwritable: set[Path] = set()  # cache folders already warned about (one warning per folder and process)
+
+
+def _checksum(arrays: Mapping[str, np.ndarray]) -> str:
+    """SHA-256 of the arrays' names, dtypes, shapes and bytes, in name order."""
+    h = hashlib.sha256()
+    for name in sorted(arrays):
+        a = np.ascontiguousarray(arrays[name])
+        h.update(f"{name}|{a.dtype.str}|{a.shape}|".encode())
+        h.update(a.tobytes())
+    return h.hexdigest()
+
+
 def _save(path: Path, result: DeviceMesh) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
+    """Write ``result`` to ``path`` atomically (a unique temporary file in the same folder, then os.replace),
+    with its key and a checksum of its content inside; a folder that cannot be written is skipped with one
+    warning (the run goes on without the cache)."""
     arrays = {"p": result.mesh.p, "t": result.mesh.t}
     arrays.update({f"part:{k}": v for k, v in result.parts.items()})
     arrays.update({f"face:{k}": v for k, v in result.faces.items()})
-    tmp = path.with_suffix(".tmp.npz")
-    np.savez(tmp, **arrays)
-    os.replace(tmp, path)
+    meta = {"__key__": np.array(result.key), "__element__": np.array(result.element),
+            "__version__": np.array(MESH_FORMAT_VERSION), "__checksum__": np.array(_checksum(arrays))}
+    tmp = None
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=".tmp", dir=path.parent)
+        with os.fdopen(fd, "wb") as f:
+            np.savez(f, **arrays, **meta)
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+        tmp = None
+    except OSError as exc:
+        folder = path.parent
+        if folder not in _unwritable:
+            _unwritable.add(folder)
+            log.warning("mesh cache: cannot write %s (%s); going on without the disk cache", folder, exc)
+    finally:
+        if tmp is not None:
+            with contextlib.suppress(OSError):
+                os.unlink(tmp)
 
 
 def _load(path: Path, key: str, element: str, size: float) -> DeviceMesh:
+    """Read a cached mesh; ValueError unless the file holds ``key``, ``element``, this format version and
+    content matching its checksum."""
     from skfem import MeshHex1, MeshTet1
 
-    with np.load(path) as data:
-        mesh = (MeshHex1 if element == "hex" else MeshTet1)(data["p"], data["t"])
-        parts = {k[5:]: data[k] for k in data.files if k.startswith("part:")}
-        faces = {k[5:]: data[k] for k in data.files if k.startswith("face:")}
+    with np.load(path, allow_pickle=False) as data:
+        files = set(data.files)
+        missing = {"__key__", "__element__", "__version__", "__checksum__", "p", "t"} - files
+        if missing:
+            raise ValueError(f"missing {sorted(missing)}")
+        if int(data["__version__"]) != MESH_FORMAT_VERSION:
+            raise ValueError(f"format version {int(data['__version__'])}, expected {MESH_FORMAT_VERSION}")
+        if str(data["__key__"]) != key or str(data["__element__"]) != element:
+            raise ValueError(f"holds mesh {data['__key__']} ({data['__element__']}), expected {key} ({element})")
+        arrays = {k: data[k] for k in files if not k.startswith("__")}
+        if _checksum(arrays) != str(data["__checksum__"]):
+            raise ValueError("checksum mismatch")
+    p, t = arrays["p"], arrays["t"]
+    if p.ndim != 2 or p.shape[0] != 3 or t.ndim != 2 or t.shape[0] != (8 if element == "hex" else 4):
+        raise ValueError(f"arrays of shapes p {p.shape}, t {t.shape} are not a {element} mesh")
+    mesh = (MeshHex1 if element == "hex" else MeshTet1)(p, t)
+    parts = {k[5:]: v for k, v in arrays.items() if k.startswith("part:")}
+    faces = {k[5:]: v for k, v in arrays.items() if k.startswith("face:")}
     return DeviceMesh(mesh, parts, faces, element, size, key, 0.0)

@@ -37,6 +37,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from modalfe.errors import SceneError
+from modalfe.geometry.parts import contact_area
 from modalfe.models.layered import (
     LayeredModel,
     capacitance_matrix,
@@ -158,11 +159,25 @@ def widest_part(assembly):
     return max(assembly.parts, key=lambda p: ((p.hi[0] - p.lo[0]) * (p.hi[1] - p.lo[1]), p.hi[2] - p.lo[2]))
 
 
-def is_post(part, widest) -> bool:
-    """A part standing off the plate taller than its footprint is wide (a foot, a pillar): plane sections
-    cannot hold through it, so the plate model carries it as non-structural mass with its rotary inertia and
-    leaves out how it stiffens its footprint (for the Cu-Be plate's feet the cross-check measures the cost)."""
-    return part is not widest and part.hi[2] - part.lo[2] > min(part.hi[0] - part.lo[0], part.hi[1] - part.lo[1])
+def is_post(part, assembly, widest=None) -> bool:
+    """A part standing off the plate (a foot, a pillar): it stands on (or hangs from) another part's z face, is
+    bonded to no part along its sides, and is taller than its footprint is wide. Plane sections cannot hold
+    through it, so the plate model carries it as non-structural mass with its rotary inertia and leaves out how
+    it stiffens its footprint (for the Cu-Be plate's feet the cross-check measures the cost). A box of a plate
+    built side by side from narrow strips is no post: its neighbours hold its sides."""
+    widest = widest_part(assembly) if widest is None else widest
+    if part is widest or part.hi[2] - part.lo[2] <= min(part.hi[0] - part.lo[0], part.hi[1] - part.lo[1]):
+        return False
+    tol = assembly.tolerance
+    stands, held = False, False
+    for other in assembly.parts:
+        if other is part or contact_area(part, other, tol) <= 0:
+            continue
+        if abs(part.lo[2] - other.hi[2]) <= tol or abs(part.hi[2] - other.lo[2]) <= tol:
+            stands = True
+        else:
+            held = True  # bonded through an x or y face
+    return stands and not held
 
 
 def _layer(part, material, structural: bool) -> Layer:
@@ -234,7 +249,11 @@ def plate_stacks(scene) -> Stacks:
                                      f"({x:g}, {y:g}) m (the plate model needs one bonded stack)")
             for p in parts:
                 if p.name not in layers:
-                    layers[p.name] = _layer(p, scene.material(p.material), not is_post(p, widest))
+                    layers[p.name] = _layer(p, scene.material(p.material), not is_post(p, assembly, widest))
+            if not any(layers[p.name].structural for p in parts):
+                raise SceneError(f"parts: '{parts[0].name}' is a post (taller than wide, standing on another part) "
+                                 f"but reaches beyond it at (x, y) = ({x:g}, {y:g}) m; the plate model cannot carry "
+                                 f"it (use --fidelity solid)")
             key = tuple((p.material, p.lo[2], p.hi[2], p.poling) for p in parts)
             if key not in signatures:
                 signatures[key] = len(sections_raw)

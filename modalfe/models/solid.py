@@ -177,9 +177,14 @@ class Constraints:
 
 
 def element_for(kind: str, order: int):
-    """The scikit-fem scalar element for a mesh kind and field order."""
+    """The scikit-fem scalar element for a mesh kind and field order: hexahedra of order 3 and up are
+    Lagrange on Gauss-Lobatto nodes (``modalfe.models.hex_elements``), order 2 the 20-node serendipity."""
     from skfem import ElementHex1, ElementHexS2, ElementTetP1, ElementTetP2
 
+    if kind == "hex" and order >= 3:
+        from modalfe.models.hex_elements import ElementHexGLL
+
+        return ElementHexGLL(order)
     table = {("hex", 1): ElementHex1, ("hex", 2): ElementHexS2, ("tet", 1): ElementTetP1, ("tet", 2): ElementTetP2}
     return table[(kind, order)]()
 
@@ -191,6 +196,7 @@ def assemble(scene, device_mesh, *, frame: np.ndarray | None = None) -> Model:
     frame invariance); face springs are axis-aligned and refuse a frame.
     """
     from skfem import Basis, ElementVector
+    from skfem.quadrature import get_quadrature
 
     start = time.perf_counter()
     assembly = scene.assembly()
@@ -206,7 +212,9 @@ def assemble(scene, device_mesh, *, frame: np.ndarray | None = None) -> Model:
         device_mesh = replace(device_mesh, mesh=mesh)
     scalar = element_for(device_mesh.element, scene.mesh.order)
     intorder = 2 * scene.mesh.order
-    u_basis = Basis(mesh, ElementVector(scalar), intorder=intorder)
+    u_basis = Basis(mesh, ElementVector(scalar), intorder=1)  # DOF numbering and probes only: one point
+    # batches hold (3 nloc) x nq basis values per element: keep the serendipity's 60 x 27 memory per batch
+    chunk_size = max(1, _CHUNK * 60 * 27 // (u_basis.Nbfun * len(get_quadrature(mesh.refdom, intorder)[1])))
     n_u = u_basis.N
     K_blocks, M_blocks = [], []
     piezo_parts = []
@@ -219,7 +227,7 @@ def assemble(scene, device_mesh, *, frame: np.ndarray | None = None) -> Model:
         if part.poling:
             piezo_parts.append((part, mat))
         elements = device_mesh.parts[part.name]
-        for chunk in np.array_split(elements, max(1, int(np.ceil(len(elements) / _CHUNK)))):
+        for chunk in np.array_split(elements, max(1, int(np.ceil(len(elements) / chunk_size)))):
             b = Basis(mesh, ElementVector(scalar), intorder=intorder, elements=chunk)
             Bv, V = _strain_and_value(b)
             K_blocks.append(_scatter(b.element_dofs, b.element_dofs, _contract(Bv, mat.C, Bv, b.dx), n_u, n_u))

@@ -6,10 +6,11 @@ import functools
 import math
 import multiprocessing
 import os
+import signal
 import time
 from dataclasses import asdict, dataclass, field
 
-from modalfe.errors import SolverError
+from modalfe.errors import SceneError, SolverError
 from modalfe.results.labels import RIGID_NAMES
 from modalfe.results.modes import select
 from modalfe.solve.api import DEFAULT_TOL
@@ -162,7 +163,7 @@ def run_report(names: list[str] | None = None, *, progress: bool = True, error_e
     from modalfe.scene.builtin import BUILTIN
 
     if jobs is not None and not (isinstance(jobs, int) and jobs >= 1):
-        raise ValueError(f"jobs: must be a positive integer, got {jobs!r}")
+        raise SceneError(f"jobs: must be a positive integer, got {jobs!r}")
     names = names or list(BUILTIN)
     for name in names:
         load_scene(name, **(overrides or {}))  # a bad name or override fails here, before any solve
@@ -174,16 +175,18 @@ def run_report(names: list[str] | None = None, *, progress: bool = True, error_e
         from tqdm import tqdm
 
         bar = tqdm(total=len(names), desc="modalfe report", unit="device", leave=False)
-    if jobs == 1:
-        results = {}
-        for name in names:
-            results[name] = task(name)
-            if bar is not None:
-                bar.update()
-    else:
-        results = _in_processes(task, names, jobs, bar)
-    if bar is not None:
-        bar.close()
+    try:
+        if jobs == 1:
+            results = {}
+            for name in names:
+                results[name] = task(name)
+                if bar is not None:
+                    bar.update()
+        else:
+            results = _in_processes(task, names, jobs, bar)
+    finally:
+        if bar is not None:
+            bar.close()  # clears its line: an error or "interrupted" starts on a clean line
     return [row for name in names for row in results[name]]
 
 
@@ -195,19 +198,36 @@ def _in_processes(task, names: list[str], jobs: int, bar) -> dict[str, list[Repo
     saved = os.environ.get("MKL_NUM_THREADS")
     os.environ["MKL_NUM_THREADS"] = "1"  # inherited by the workers, read when they load MKL
     try:
-        with ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context("spawn")) as pool:
-            futures = {pool.submit(task, name): name for name in names}
+        pool = ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context("spawn"), initializer=_ignore_sigint)
+        try:
+            # the workers start with SIGINT ignored (inherited): a Ctrl-C while they import prints nothing
+            previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+            try:
+                futures = {pool.submit(task, name): name for name in names}
+            finally:
+                signal.signal(signal.SIGINT, previous)
             results = {}
             for future in as_completed(futures):
                 results[futures[future]] = future.result()
                 if bar is not None:
                     bar.update()
+        except BaseException:  # Ctrl-C or a failed device: stop the workers now, not after their solves
+            for process in list(getattr(pool, "_processes", {}).values()):
+                process.terminate()
+            pool.shutdown(wait=False, cancel_futures=True)
+            raise
+        pool.shutdown()
     finally:
         if saved is None:
             os.environ.pop("MKL_NUM_THREADS")
         else:
             os.environ["MKL_NUM_THREADS"] = saved
     return results
+
+
+def _ignore_sigint() -> None:
+    """Workers leave Ctrl-C to the parent, which stops them (no traceback from every worker)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
 def device_rows(name: str, *, overrides: dict, error_estimate: bool, fidelity: str, tol: float) -> list[ReportRow]:

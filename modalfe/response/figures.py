@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from modalfe.errors import SolverError
+from modalfe.errors import SceneError, SolverError
 
 
 @dataclass(frozen=True)
@@ -67,9 +67,20 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
     if not scene.working_modes and selector is None:
         raise SolverError("forced: the scene names no working mode; give --mode and --near")
     wm = scene.working_modes[0] if scene.working_modes else None
+    if near is not None:
+        from modalfe.scene.values import number
+
+        number("near", near, unit="Hz", positive=True)
+    if selector is not None and (not isinstance(selector, str) or not selector.strip()):
+        raise SceneError(f"mode: must be a label such as '(0,6)' or 'bending-z 6', got {selector!r}")
     selector = selector or wm.selector
     near = near or wm.near
-    damping = damping or Damping.parse(scene.drive.damping)
+    if damping is not None:
+        if not isinstance(damping, Damping):
+            raise SceneError(f"damping: must be a Damping (Damping.parse('Q=150')), got {damping!r}")
+        source = "set by the user"
+    else:
+        damping, source = Damping.parse(scene.drive.damping), scene.drive.damping_source
     outputs = tuple(outputs or scene.drive.outputs)
     if not outputs:
         raise SolverError("forced: no outputs; give --outputs (face groups) or set drive.outputs")
@@ -101,7 +112,7 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
                                      (not isinstance(o, str) and o[0] == rom.reference)],
                                      damping=damping, reference_omega=omega)
         frf_full = response.displacement[rom.reference][:, 2]
-    notes = [f"damping {rom.damping_description} ({scene.drive.damping_source})"]
+    notes = [f"damping {rom.damping_description} ({source})"]
     for t in scene.drive.targets:
         at = re.search(r"_(\d+)kHz$", t.name)
         if at and abs(1e3 * float(at.group(1)) / rom.frequency - 1) > 0.2:
@@ -118,7 +129,7 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
     peak, where = _face_peak(mode, rom)
     notes.append(f"largest normal amplitude on the top face: {1e9 * peak:.3g} nm/V (0-peak) at x = "
                  f"{1e3 * where[0]:.1f} mm, y = {1e3 * where[1]:.1f} mm")
-    return ForcedFigures(scene.name, rom, scene.drive.damping_source, amp, volts_for, accel,
+    return ForcedFigures(scene.name, rom, source, amp, volts_for, accel,
                          rom.envelope_time_constant, f, rom.frf(f), rom.admittance(f), frf_full, notes, amplitude_at,
                          peak)
 

@@ -29,6 +29,10 @@ from modalfe.errors import SceneError, SolverError
 from modalfe.results.coupling import k_eff
 from modalfe.results.modes import Mode
 
+# outputs whose normal motion is within this fraction of the largest count as equal when the reference is
+# chosen: symmetric outputs differ by the solver's rounding (~1e-10), real differences are >1e-3
+REFERENCE_TIE = 1e-6
+
 
 @dataclass(frozen=True)
 class Damping:
@@ -54,17 +58,17 @@ class Damping:
     @classmethod
     def parse(cls, text: str) -> Damping:
         """``zeta=0.025``, ``Q=150`` or ``rayleigh=ALPHA,BETA``."""
-        key, _, value = text.partition("=")
+        key, _, value = str(text).partition("=")
         try:
-            if key == "zeta":
-                return cls(zeta=float(value))
-            if key == "Q":
-                return cls(Q=float(value))
-            if key == "rayleigh":
-                a, b = (float(v) for v in value.split(","))
-                return cls(alpha=a, beta=b)
+            numbers = [float(v) for v in value.split(",")]
         except ValueError:
-            pass
+            numbers = []
+        if key == "zeta" and len(numbers) == 1:
+            return cls(zeta=numbers[0])
+        if key == "Q" and len(numbers) == 1:
+            return cls(Q=numbers[0])
+        if key == "rayleigh" and len(numbers) == 2:
+            return cls(alpha=numbers[0], beta=numbers[1])
         raise SceneError(f"damping: expected zeta=Z, Q=Q or rayleigh=ALPHA,BETA, got '{text}'")
 
     def ratio(self, omega: float) -> float:
@@ -241,7 +245,12 @@ def reduce(mode: Mode, *, outputs, damping: Damping, reference: str | None = Non
     x_d = solve(F)
     modal_d = theta / (omega_r**2 - omega_d**2)
     phi = {name: P @ mode.shape for name, P in probes.items()}
-    reference = reference or max(phi, key=lambda name: abs(phi[name][2]))  # the output that moves most
+    if reference is None:  # the output that moves most; among equals (symmetric feet) the first listed, so the
+        # choice does not depend on the eigen solver's rounding (it changed between runs before)
+        largest = max(abs(phi[name][2]) for name in phi)
+        reference = next(name for name in phi if abs(phi[name][2]) >= (1 - REFERENCE_TIE) * largest)
+    elif reference not in phi:
+        raise SceneError(f"reference: no output '{reference}'; outputs: {sorted(phi)}")
     full_d = {name: P @ (T @ x_d + x_v) for name, P in probes.items()}
     feed = {name: (full_d[name] - phi[name] * modal_d) for name in probes}
     capacitance = float(F @ x_d + C_b - theta * modal_d)

@@ -54,15 +54,8 @@ def cube_plate() -> Scene:
                 Target("f_reference_fe", 42.7e3, "Hz", "reference", "seed 001, Abaqus C3D8E, no bond layer"),
             )),
         ),
-        assumptions=(
-            "ceramics: 2 rows x 5 of 12 x 12 x 1 mm, x-pitch 12.4 mm, rows y = 12.5 / 25.5 mm "
-            "(docs/assumptions.md, Cu-Be plate)",
-            "PZT grade not named by the seeds: PZT-4 (Berlincourt 1964)",
-            "feet: 3 x 3 x 4 mm Cu-Be square columns at x = 20.35 / 43.65 mm, y = 6 / 32 mm",
-            "no bond layer; free-free (feet not in contact)",
-            "why below the seed's Abaqus 42.7 kHz: see studies/cube_plate_sensitivity.py (PZT grade, ceramic "
-            "thickness and layout, bond layer, feet and contact stiffness each move the (0,6) mode by 1-6 %)",
-        ),
+        assumptions=_cube_plate_assumptions({}),
+        assumption_writer=builtin_assumptions,
     )
 
 
@@ -99,10 +92,8 @@ def glass_plate() -> Scene:
                 Target("wavelength_measured", 7.5e-3, "m", "measured", "seed 004"),
             )),
         ),
-        assumptions=(
-            "in-plane size 60 x 20 mm and piezo positions not in the seed's text (figure lost)",
-            "soda-lime glass (EN 572-1), piezos PZT-4, driven in phase",
-        ),
+        assumptions=_glass_plate_assumptions({}),
+        assumption_writer=builtin_assumptions,
     )
 
 
@@ -129,20 +120,8 @@ def honeycomb_tile() -> Scene:
                 Target("f_reference_fe", 896.0, "Hz", "reference", "seed 002, FEM (1,1)"),
             )),
         ),
-        assumptions=(
-            "core: homogenised HexWeb 5052 1/4-.001 honeycomb (Hexcel catalogue values)",
-            "mounts: springs kz = EA/h, kx = ky = shear + bending of a bonded block (E 2 MPa, "
-            "nu 0.49, A 8 cm^2, h 2.5 cm), centres 20 mm in from the edges",
-            "actuator: 2.3 kg smeared over a 40 x 40 mm patch at the centre of the bottom facing",
-            "why roll/pitch differ from the seed's 51/77 Hz: the seed's actuator hangs below the plate on a "
-            "bracket and rod, so sway and rocking couple through its offset mass; here the mass sits on the "
-            "underside (lumped estimate for pure rocking: 4 kz d^2 / I ~ 180 Hz)",
-            "why the plate modes differ from the seed's 896/1032 Hz: the seed's FE replaced the honeycomb by a "
-            "homogeneous solid of equivalent density with unstated stiffness; here the core carries catalogue "
-            "transverse shear moduli (twisting (1,1) at ~1.1 kHz); the modes at 797-883 Hz are local: the 2.3 kg "
-            "actuator mass bouncing and rocking on the core's compression stiffness under its 40 x 40 mm pad, "
-            "which the seed's bonded bracket would spread",
-        ),
+        assumptions=_honeycomb_tile_assumptions({}),
+        assumption_writer=builtin_assumptions,
         kind="plate",
     )
 
@@ -213,12 +192,8 @@ def ciliary_beam() -> Scene:
                 Target("f_measured", 23.2e3, "Hz", "measured", "seed 003"),
             )),
         ),
-        assumptions=(
-            "x0 = 68 mm (l1 / l2 / l3 = 63 / 10 / 27 mm), rigid clamp at x = 0 (docs/assumptions.md, Ciliary beam)",
-            "beam nu 0.34 (brass); sheets PZT-5A (seed gives only E 76.5 GPa, e31 2.0 C/m^2)",
-            "why below 24,221 Hz: that is Euler-Bernoulli theory; at mode 6 (height / wavelength ~ 0.14) shear "
-            "and rotary inertia lower the frequency (Timoshenko); the measured 23.2 kHz lies between",
-        ),
+        assumptions=_ciliary_beam_assumptions({}),
+        assumption_writer=builtin_assumptions,
         kind="beam",
     )
 
@@ -230,3 +205,119 @@ BUILTIN = {
     "tile_eq5": tile_eq5,
     "ciliary_beam": ciliary_beam,
 }
+
+
+def _mm(x: float) -> str:
+    return f"{1e3 * x:.4g}"
+
+
+def _effective(device: str, params) -> tuple[dict, list[str]]:
+    """(every builder parameter with its value, names of those changed from the default)."""
+    from modalfe.geometry import builder_parameters
+
+    defaults = {k: p.default for k, p in builder_parameters(device).items()}
+    changed = sorted(k for k, value in params.items() if k in defaults and value != defaults[k])
+    return {**defaults, **params}, changed
+
+
+def _dropped(changed: list[str], what: str) -> str:
+    return f"{what}: explained for the default geometry, not for {', '.join(changed)} as set by the user"
+
+
+def _cube_plate_assumptions(params) -> tuple[str, ...]:
+    p, changed = _effective("cube_plate", params)
+    rows = " / ".join(_mm(y) for y in p["ceramic_rows"])
+    xs = " / ".join(_mm(x) for x in sorted({f[0] for f in p["feet"]}))
+    ys = " / ".join(_mm(y) for y in sorted({f[1] for f in p["feet"]}))
+    grade = ("PZT grade not named by the seeds: PZT-4 (Berlincourt 1964)" if p["ceramic_material"] == "PZT-4"
+             else f"ceramics: {p['ceramic_material']} (set by the user)")
+    bond = ("no bond layer" if p["bond_thickness"] == 0
+            else f"bond layer {_mm(p['bond_thickness'])} mm of {p['bond_material']}")
+    lines = [
+        f"ceramics: {len(p['ceramic_rows'])} rows x {p['ceramic_columns']} of {_mm(p['ceramic_length'])} x "
+        f"{_mm(p['ceramic_width'])} x {_mm(p['ceramic_thickness'])} mm, x-pitch {_mm(p['ceramic_pitch'])} mm, "
+        f"rows y = {rows} mm (docs/assumptions.md, Cu-Be plate)",
+        grade,
+        f"feet: {_mm(p['foot_size'])} x {_mm(p['foot_size'])} x {_mm(p['foot_height'])} mm "
+        f"{'Cu-Be' if p['foot_material'] == 'CuBe' else p['foot_material']} square columns at x = {xs} mm, "
+        f"y = {ys} mm",
+        f"{bond}; free-free (feet not in contact)",
+    ]
+    if changed:
+        lines.append(_dropped(changed, "the gap to the seed's Abaqus 42.7 kHz"))
+    else:
+        lines.append("why below the seed's Abaqus 42.7 kHz: see studies/cube_plate_sensitivity.py (PZT grade, "
+                     "ceramic thickness and layout, bond layer, feet and contact stiffness each move the (0,6) "
+                     "mode by 1-6 %)")
+    return tuple(lines)
+
+
+def _glass_plate_assumptions(params) -> tuple[str, ...]:
+    p, _ = _effective("glass_plate", params)
+    glass = "soda-lime glass (EN 572-1)" if p["glass_material"] == "soda-lime-glass" else p["glass_material"]
+    return (
+        f"in-plane size {_mm(p['length'])} x {_mm(p['width'])} mm and piezo positions not in the seed's text "
+        f"(figure lost)",
+        f"{glass}, piezos {p['piezo_material']}, driven in phase",
+    )
+
+
+def _honeycomb_tile_assumptions(params) -> tuple[str, ...]:
+    p, changed = _effective("honeycomb_tile", params)
+    core = ("homogenised HexWeb 5052 1/4-.001 honeycomb (Hexcel catalogue values)"
+            if p["core_material"] == "honeycomb-5052-1/4-.001" else f"{p['core_material']} (set by the user)")
+    side = _mm(p["actuator_side"])
+    lines = [
+        f"core: {core}",
+        "mounts: springs kz = EA/h, kx = ky = shear + bending of a bonded block (E 2 MPa, nu 0.49, A 8 cm^2, "
+        f"h 2.5 cm), centres {_mm(p['mount_inset'])} mm in from the edges"
+        + ("" if "mount_side" not in changed else
+           f"; the spring stiffness stays that of the seed's 8 cm^2 block, mount_side only sets the "
+           f"{_mm(p['mount_side'])} mm pad"),
+        f"actuator: 2.3 kg smeared over a {side} x {side} mm patch at the centre of the bottom facing",
+    ]
+    if changed:
+        lines.append(_dropped(changed, "the differences from the seed's 51/77 Hz and 896/1032 Hz"))
+        return tuple(lines)
+    return (*lines,
+            "why roll/pitch differ from the seed's 51/77 Hz: the seed's actuator hangs below the plate on a "
+            "bracket and rod, so sway and rocking couple through its offset mass; here the mass sits on the "
+            "underside (lumped estimate for pure rocking: 4 kz d^2 / I ~ 180 Hz)",
+            "why the plate modes differ from the seed's 896/1032 Hz: the seed's FE replaced the honeycomb by a "
+            "homogeneous solid of equivalent density with unstated stiffness; here the core carries catalogue "
+            "transverse shear moduli (twisting (1,1) at ~1.1 kHz); the modes at 797-883 Hz are local: the 2.3 kg "
+            "actuator mass bouncing and rocking on the core's compression stiffness under its 40 x 40 mm pad, "
+            "which the seed's bonded bracket would spread")
+
+
+def _ciliary_beam_assumptions(params) -> tuple[str, ...]:
+    p, changed = _effective("ciliary_beam", params)
+    l1 = p["x0"] - p["sheet_length"] / 2
+    l3 = p["length"] - p["x0"] - p["sheet_length"] / 2
+    beam = "beam nu 0.34 (brass)" if p["beam_material"] == "brass-seed003" else f"beam {p['beam_material']}"
+    sheets = ("sheets PZT-5A (seed gives only E 76.5 GPa, e31 2.0 C/m^2)" if p["sheet_material"] == "PZT-5A"
+              else f"sheets {p['sheet_material']} (set by the user)")
+    lines = [
+        f"x0 = {_mm(p['x0'])} mm (l1 / l2 / l3 = {_mm(l1)} / {_mm(p['sheet_length'])} / {_mm(l3)} mm), rigid "
+        f"clamp at x = 0 (docs/assumptions.md, Ciliary beam)",
+        f"{beam}; {sheets}",
+    ]
+    if changed:
+        lines.append(_dropped(changed, "the gap to the seed's 24,221 Hz"))
+    else:
+        lines.append("why below 24,221 Hz: that is Euler-Bernoulli theory; at mode 6 (height / wavelength ~ 0.14) "
+                     "shear and rotary inertia lower the frequency (Timoshenko); the measured 23.2 kHz lies between")
+    return tuple(lines)
+
+
+_ASSUMPTIONS = {"cube_plate": _cube_plate_assumptions, "glass_plate": _glass_plate_assumptions,
+                "honeycomb_tile": _honeycomb_tile_assumptions, "ciliary_beam": _ciliary_beam_assumptions}
+
+
+def builtin_assumptions(scene: Scene) -> tuple[str, ...]:
+    """The assumption lines of a built-in scene written from its current parameters."""
+    lines = _ASSUMPTIONS[scene.name](dict(scene.params))
+    user_materials = sorted(scene.materials)
+    if user_materials:
+        lines = (*lines, f"materials set by the user: {', '.join(user_materials)}")
+    return lines

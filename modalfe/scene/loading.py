@@ -4,12 +4,14 @@ from __future__ import annotations
 
 import sys
 from collections.abc import Mapping
+from dataclasses import fields
 from pathlib import Path
 from typing import Any
 
+import modalfe.scene.values as v
 from modalfe.errors import SceneError
 from modalfe.scene.builtin import BUILTIN
-from modalfe.scene.scene import Analysis, MeshSettings, Scene, Target, WorkingMode
+from modalfe.scene.scene import KINDS, Analysis, MeshSettings, Scene, Target, WorkingMode
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -19,12 +21,14 @@ else:  # pragma: no cover
 
 def load_scene(name_or_path: str | Path, **overrides: Any) -> Scene:
     """A built-in scene by name (``cube_plate``...) or a TOML scene file, with overrides applied."""
+    if not isinstance(name_or_path, (str, Path)):
+        raise SceneError(f"scene: must be a built-in name or a path to a .toml file, got {name_or_path!r}")
     key = str(name_or_path)
     if key in BUILTIN:
         scene = BUILTIN[key]()
     else:
         path = Path(key)
-        if path.suffix != ".toml" or not path.exists():
+        if path.suffix.lower() != ".toml":
             raise SceneError(
                 f"scene: '{key}' is neither a built-in scene ({', '.join(sorted(BUILTIN))}) nor a .toml file"
             )
@@ -32,69 +36,99 @@ def load_scene(name_or_path: str | Path, **overrides: Any) -> Scene:
     return scene.with_overrides(**overrides)
 
 
-def scene_from_toml(path: Path) -> Scene:
+def scene_from_toml(path: str | Path) -> Scene:
     """Read a box-built device (see README, 'Scene files')."""
+    path = Path(path)
     try:
-        data = tomllib.loads(Path(path).read_text())
+        raw = path.read_bytes()
+    except FileNotFoundError:
+        raise SceneError(f"scene: '{path}': no such file") from None
+    except IsADirectoryError:
+        raise SceneError(f"scene: '{path}' is a directory, not a scene file") from None
+    except OSError as exc:
+        raise SceneError(f"scene: cannot read '{path}': {exc.strerror or exc}") from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise SceneError(f"{path}: not UTF-8 text (byte 0x{raw[exc.start]:02x} at offset {exc.start}); "
+                         f"scene files are TOML in UTF-8") from None
+    try:
+        data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise SceneError(f"{path}: not valid TOML ({exc})") from None
-    return scene_from_dict(data, default_name=Path(path).stem)
+        message = " ".join(str(exc).split())
+        raise SceneError(f"{path}: not valid TOML ({message})") from None
+    return scene_from_dict(data, default_name=path.stem)
 
 
-_TOP_KEYS = {"name", "units", "parts", "faces", "materials", "electrodes", "clamps", "springs",
-             "masses", "analysis", "mesh", "working_modes", "kind", "symmetry"}
+_TOP_KEYS = ("name", "units", "parts", "faces", "materials", "electrodes", "clamps", "springs",
+             "masses", "analysis", "mesh", "working_modes", "kind", "symmetry")
 _UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "um": 1e-6}
+_TARGET_KEYS = ("name", "value", "unit", "kind", "source")
 
 
 def scene_from_dict(data: Mapping[str, Any], default_name: str = "scene") -> Scene:
-    unknown = set(data) - _TOP_KEYS
-    if unknown:
-        raise SceneError(f"{sorted(unknown)[0]}: unknown top-level key; known: {sorted(_TOP_KEYS)}")
-    units = data.get("units", "m")
-    if units not in _UNITS:
-        raise SceneError(f"units: must be one of {sorted(_UNITS)}, got '{units}'")
+    """A box-built scene from the tables of a scene file; every value is checked and named when wrong."""
+    v.table("scene file", data)
+    v.known_keys("", data, _TOP_KEYS)
+    units = v.string("units", data.get("units", "m"), choices=tuple(_UNITS))
     scale = _UNITS[units]
-    parts = []
-    for i, p in enumerate(data.get("parts", [])):
-        p = dict(p)
-        for key in ("origin", "size"):
-            if key in p:
-                try:
-                    p[key] = [float(v) * scale for v in p[key]]
-                except (TypeError, ValueError):
-                    raise SceneError(f"parts[{i}].{key}: must be three numbers") from None
-        parts.append(p)
-    if not parts:
+    if "parts" not in data:
         raise SceneError("parts: a scene file needs at least one [[parts]] table")
-    try:
-        analysis = Analysis(**{k: (tuple(v) if k == "band" else v) for k, v in data.get("analysis", {}).items()})
-        mesh = MeshSettings(**data.get("mesh", {}))
-    except TypeError as exc:
-        raise SceneError(f"analysis/mesh: {exc}") from None
+    parts = v.box_parts(data["parts"], scale=scale)
+    faces = v.face_groups(data.get("faces", {}))
+    analysis_data = v.table("analysis", data.get("analysis", {}))
+    v.known_keys("analysis", analysis_data, [f.name for f in fields(Analysis)])
+    analysis = Analysis(**analysis_data)
+    mesh_data = v.table("mesh", data.get("mesh", {}))
+    v.known_keys("mesh", mesh_data, [f.name for f in fields(MeshSettings)])
+    mesh = MeshSettings(**mesh_data)
+    materials = {str(k): dict(v.table(f"materials.{k}", m)) for k, m in v.table("materials",
+                                                                                data.get("materials", {})).items()}
+    electrodes = dict(v.table("electrodes", data.get("electrodes", {})))
+    springs = {k: v.numbers3(f"springs.{k}", x, unit="N/m", minimum=0.0)
+               for k, x in v.table("springs", data.get("springs", {})).items()}
+    masses = {k: v.number(f"masses.{k}", x, unit="kg", positive=True)
+              for k, x in v.table("masses", data.get("masses", {})).items()}
     working_modes = []
-    for i, w in enumerate(data.get("working_modes", [])):
+    if isinstance(data.get("working_modes", []), Mapping):
+        raise SceneError("working_modes: must be an array of tables ([[working_modes]] for each)")
+    for i, w in enumerate(v.array("working_modes", data.get("working_modes", []))):
+        where = f"working_modes[{i}]"
+        w = v.table(where, w)
+        v.known_keys(where, w, ("selector", "near", "targets"))
         if "selector" not in w or "near" not in w:
-            raise SceneError(f"working_modes[{i}]: needs selector and near [Hz]")
-        targets = tuple(
-            Target(str(t.get("name", "target")), float(t["value"]), str(t.get("unit", "Hz")),
-                   str(t.get("kind", "reference")), str(t.get("source", "user scene file")))
-            for t in w.get("targets", [])
-        )
-        working_modes.append(WorkingMode(str(w["selector"]), float(w["near"]), targets))
+            raise SceneError(f"{where}: needs selector and near [Hz]")
+        targets = []
+        for j, t in enumerate(v.array(f"{where}.targets", w.get("targets", []))):
+            at = f"{where}.targets[{j}]"
+            t = v.table(at, t)
+            v.known_keys(at, t, _TARGET_KEYS)
+            if "value" not in t:
+                raise SceneError(f"{at}.value: missing")
+            targets.append(Target(v.string(f"{at}.name", t.get("name", "target")),
+                                  v.number(f"{at}.value", t["value"]),
+                                  v.string(f"{at}.unit", t.get("unit", "Hz")),
+                                  v.string(f"{at}.kind", t.get("kind", "reference"),
+                                           choices=("measured", "reference", "analytic")),
+                                  v.string(f"{at}.source", t.get("source", "user scene file"))))
+        working_modes.append(WorkingMode(v.string(f"{where}.selector", w["selector"]),
+                                         v.number(f"{where}.near", w["near"], unit="Hz", positive=True),
+                                         tuple(targets)))
+    symmetry = v.array("symmetry", data.get("symmetry", []))
     scene = Scene(
-        name=str(data.get("name", default_name)),
+        name=v.string("name", data.get("name", default_name)),
         device="boxes",
-        params={"parts": parts, "faces": dict(data.get("faces", {}))},
-        electrodes=dict(data.get("electrodes", {})),
+        params={"parts": parts, "faces": faces},
+        electrodes=electrodes,
         clamps=_clamps(data.get("clamps", {})),
-        springs={k: tuple(float(x) for x in v) for k, v in data.get("springs", {}).items()},
-        masses={k: float(v) for k, v in data.get("masses", {}).items()},
-        materials=dict(data.get("materials", {})),
+        springs=springs,
+        masses=masses,
+        materials=materials,
         analysis=analysis,
         mesh=mesh,
         working_modes=tuple(working_modes),
-        kind=str(data.get("kind", "plate")),
-        symmetry=tuple(data.get("symmetry", ())),
+        kind=v.string("kind", data.get("kind", "plate"), choices=KINDS),
+        symmetry=tuple(v.string(f"symmetry[{i}]", a, choices=("x", "y", "z")) for i, a in enumerate(symmetry)),
     )
     scene.validate()
     return scene
@@ -103,7 +137,7 @@ def scene_from_dict(data: Mapping[str, Any], default_name: str = "scene") -> Sce
 def _clamps(value) -> dict[str, str]:
     """``["clamp"]`` (all components fixed) or ``{clamp = "xyz", edge = "yz"}``."""
     if isinstance(value, Mapping):
-        return {str(k): str(v) for k, v in value.items()}
+        return {str(k): v.string(f"clamps.{k}", c) for k, c in value.items()}
     if isinstance(value, (list, tuple)):
-        return {str(k): "xyz" for k in value}
+        return {v.string(f"clamps[{i}]", k): "xyz" for i, k in enumerate(value)}
     raise SceneError("clamps: a list of face groups or a table group = components")

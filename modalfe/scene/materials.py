@@ -6,6 +6,7 @@ the local 3-axis (z); ``PiezoMaterial.rotated`` gives any other frame (poling do
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -81,11 +82,11 @@ class PiezoMaterial(ElasticMaterial):
 def _check_tensor(name: str, field: str, A, shape) -> None:
     A = np.asarray(A, dtype=float)
     if A.shape != shape or not np.all(np.isfinite(A)):
-        raise SceneError(f"material '{name}': {field} must be a finite {shape} array")
+        raise SceneError(f"materials.{name}.{field}: must be a finite {shape} array")
     if not np.allclose(A, A.T, rtol=1e-10, atol=1e-12 * np.abs(A).max()):
-        raise SceneError(f"material '{name}': {field} is not symmetric")
+        raise SceneError(f"materials.{name}.{field}: is not symmetric")
     if np.linalg.eigvalsh(A).min() <= 0:
-        raise SceneError(f"material '{name}': {field} is not positive definite")
+        raise SceneError(f"materials.{name}.{field}: is not positive definite")
 
 
 def bond_matrix(R: np.ndarray) -> np.ndarray:
@@ -233,11 +234,27 @@ def _library() -> dict[str, ElasticMaterial]:
 MATERIALS: dict[str, ElasticMaterial] = _library()
 
 
+# bounds that catch a value in the wrong unit: a permittivity above 1e-6 F/m is ~1e5 eps0 (the relative
+# number was given), an E below 1 kPa is a modulus in GPa or MPa, a density below 10 kg/m^3 one in g/cm^3
+EPS_MAX = 1e-6
+MODULUS_MIN = 1e3
+RHO_RANGE = (10.0, 1e5)
+_META = ("name", "source")
+_FORMS = {
+    "isotropic": ("E", "nu", "rho"),
+    "anisotropic": ("C", "rho"),
+    "piezo e-form": ("C", "e", "eps_S", "rho"),
+    "piezo d-form": ("s_E", "d", "eps_T", "rho"),
+}
+
+
 def material(name_or_spec) -> ElasticMaterial:
     """A named material, or one built from a TOML/dict spec.
 
-    Spec forms: ``{"E": .., "nu": .., "rho": ..}`` (isotropic), ``{"C": 6x6, "rho": ..}``
-    (anisotropic), plus ``"e"`` (3x6) and ``"eps_S"`` (3x3) for a piezoelectric solid.
+    Spec forms (SI units; ``name`` and ``source`` optional): ``{E, nu, rho}`` (isotropic),
+    ``{C (6x6), rho}`` (anisotropic), ``{C, e (3x6), eps_S (3x3), rho}`` (piezoelectric e-form) or
+    the datasheet d-form ``{s_E (6x6) [1/Pa], d (3x6) [C/N], eps_T (3x3) [F/m], rho}``, converted
+    with the IEEE Std 176 relations. Errors name the field: ``materials.NAME.KEY: ...``.
     """
     if isinstance(name_or_spec, ElasticMaterial):
         return name_or_spec
@@ -248,23 +265,99 @@ def material(name_or_spec) -> ElasticMaterial:
             raise SceneError(
                 f"unknown material '{name_or_spec}'; known: {', '.join(sorted(MATERIALS))}"
             ) from None
+    if not isinstance(name_or_spec, Mapping):
+        raise SceneError(f"material: must be a name or a table of constants, got {name_or_spec!r}")
     spec = dict(name_or_spec)
     name = str(spec.pop("name", "user material"))
-    source = str(spec.pop("source", "user scene file"))
-    if "rho" not in spec:
-        raise SceneError(f"material '{name}': rho is required")
-    rho = float(spec.pop("rho"))
-    if "E" in spec:
-        unknown = set(spec) - {"E", "nu"}
+    field = f"materials.{name}"
+    source = spec.pop("source", "user scene file")
+    if not isinstance(source, str):
+        raise SceneError(f"{field}.source: must be a string, got {source!r}")
+    keys = set(spec)
+    form = next((f for f, need in _FORMS.items() if keys <= set(need) and keys >= set(need) - {"nu"}), None)
+    if form is None:
+        known = sorted({k for need in _FORMS.values() for k in need})
+        unknown = sorted(keys - set(known))
         if unknown:
-            raise SceneError(f"material '{name}': unexpected keys {sorted(unknown)}")
-        return isotropic(name, E=float(spec["E"]), nu=float(spec.get("nu", 0.3)), rho=rho, source=source)
-    if "C" not in spec:
-        raise SceneError(f"material '{name}': give either E and nu, or C (6x6)")
-    C = np.asarray(spec["C"], dtype=float)
-    if "e" in spec or "eps_S" in spec:
-        return PiezoMaterial(name, C, rho, source, e=np.asarray(spec.get("e")), eps_S=np.asarray(spec.get("eps_S")))
-    return ElasticMaterial(name, C, rho, source)
+            raise SceneError(f"{field}.{unknown[0]}: unknown key; known: {', '.join(known + list(_META))}")
+        if "rho" not in keys:
+            raise SceneError(f"{field}.rho: missing (density [kg/m^3])")
+        forms = "; ".join(f"{f}: {', '.join(need)}" for f, need in _FORMS.items())
+        raise SceneError(f"{field}: keys {sorted(keys)} match no form ({forms})")
+    rho = number(f"{field}.rho", spec["rho"], unit="kg/m^3", positive=True)
+    if not RHO_RANGE[0] <= rho <= RHO_RANGE[1]:
+        raise SceneError(f"{field}.rho: {rho:g} kg/m^3 is implausible (expected {RHO_RANGE[0]:g} to "
+                         f"{RHO_RANGE[1]:g}; a density in g/cm^3 is 1000x that)")
+    if form == "isotropic":
+        E = number(f"{field}.E", spec["E"], unit="Pa", positive=True)
+        if E < MODULUS_MIN:
+            raise SceneError(f"{field}.E: {E:g} Pa is implausibly small; E is in Pa (200 GPa = 200e9)")
+        nu = number(f"{field}.nu", spec.get("nu", 0.3))
+        if not -1.0 < nu < 0.5:
+            raise SceneError(f"{field}.nu: must lie in (-1, 0.5), got {nu:g}")
+        return isotropic(name, E=E, nu=nu, rho=rho, source=source)
+    if form == "anisotropic":
+        return ElasticMaterial(name, _matrix(f"{field}.C", spec["C"], (6, 6)), rho, source)
+    if form == "piezo e-form":
+        C = _matrix(f"{field}.C", spec["C"], (6, 6))
+        e = _matrix(f"{field}.e", spec["e"], (3, 6))
+        eps_S = _permittivity(f"{field}.eps_S", spec["eps_S"])
+        return PiezoMaterial(name, C, rho, source, e=e, eps_S=eps_S)
+    s_E = _matrix(f"{field}.s_E", spec["s_E"], (6, 6))
+    d = _matrix(f"{field}.d", spec["d"], (3, 6))
+    eps_T = _permittivity(f"{field}.eps_T", spec["eps_T"])
+    _check_tensor(name, "s_E", s_E, (6, 6))
+    if np.abs(s_E).max() > 1e-3:
+        raise SceneError(f"{field}.s_E: compliances are in 1/Pa (~1e-11 for PZT); got entries up to "
+                         f"{np.abs(s_E).max():g}")
+    C, e, eps_S = piezo_stiffness_form(s_E, d, eps_T)
+    if np.linalg.eigvalsh((eps_S + eps_S.T) / 2).min() <= 0:
+        raise SceneError(f"{field}.eps_T: eps_S = eps_T - d c_E d^T is not positive definite (d too large "
+                         f"for eps_T: check the units, d in C/N ~1e-10, eps_T in F/m ~1e-8)")
+    return PiezoMaterial(name, C, rho, source, e=e, eps_S=(eps_S + eps_S.T) / 2)
+
+
+def number(field: str, value, *, unit: str = "", positive: bool = False) -> float:
+    """A finite real number (not a bool, not a string)."""
+    from modalfe.scene.values import number as checked
+
+    return checked(field, value, unit=unit, positive=positive)
+
+
+def _matrix(field: str, value, shape: tuple[int, int]) -> np.ndarray:
+    """A finite numeric array of ``shape`` (rows of numbers)."""
+    rows = value.tolist() if isinstance(value, np.ndarray) else value
+    ok = isinstance(rows, (list, tuple)) and len(rows) == shape[0] and all(
+        isinstance(r, (list, tuple)) and len(r) == shape[1] for r in rows)
+    if not ok:
+        raise SceneError(f"{field}: must be {shape[0]} rows of {shape[1]} numbers")
+    for i, r in enumerate(rows):
+        for j, x in enumerate(r):
+            number(f"{field}[{i}][{j}]", x)
+    return np.asarray(rows, dtype=float)
+
+
+def _permittivity(field: str, value) -> np.ndarray:
+    """A (3, 3) permittivity in F/m; refused when it looks relative (entries above EPS_MAX)."""
+    eps = _matrix(field, value, (3, 3))
+    if np.abs(eps).max() > EPS_MAX:
+        raise SceneError(f"{field}: {np.abs(eps).max():g} F/m is ~{np.abs(eps).max() / EPS0:.2g} eps0: give "
+                         f"the permittivity in F/m (relative value times eps0 = {EPS0:.6g} F/m)")
+    return eps
+
+
+def piezo_stiffness_form(s_E: np.ndarray, d: np.ndarray, eps_T: np.ndarray
+                         ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(c^E [Pa] (6, 6), e [C/m^2] (3, 6), eps^S [F/m] (3, 3)) from the datasheet d-form tensors.
+
+    c^E = (s^E)^-1, e = d c^E, eps^S = eps^T - d c^E d^T = eps^T - e d^T; IEEE Std 176-1987 (the
+    inverse of ``piezo_compliance_form``; exact matrix identities). Voigt order xx, yy, zz, yz, xz, xy.
+    """
+    c_E = np.linalg.inv(np.asarray(s_E, dtype=float))
+    c_E = (c_E + c_E.T) / 2
+    e = np.asarray(d, dtype=float) @ c_E
+    eps_S = np.asarray(eps_T, dtype=float) - e @ np.asarray(d, dtype=float).T
+    return c_E, e, eps_S
 
 
 def piezo_compliance_form(c_E: np.ndarray, e: np.ndarray, eps_S: np.ndarray

@@ -8,12 +8,34 @@ mesh resolution, the working mode and the seed's targets with their sources.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+import re
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, fields, replace
 from typing import Any
 
+import modalfe.scene.values as v
 from modalfe.errors import SceneError
 from modalfe.scene.frozen import FrozenMap, freeze
+
+DEFAULT_DAMPING_SOURCE = "assumption (docs/assumptions.md, Damping: default Q ~ 150)"
+USER_DAMPING_SOURCE = "set by the user"
+KINDS = ("plate", "beam")
+_DAMPING = re.compile(r"^(zeta|Q)=([^,]+)$|^rayleigh=([^,]+),([^,]+)$")
+
+
+def check_damping(field: str, text: Any) -> str:
+    """``zeta=Z``, ``Q=Q`` or ``rayleigh=ALPHA,BETA`` with finite numbers >= 0 (Q > 0)."""
+    match = _DAMPING.match(text) if isinstance(text, str) else None
+    if match is None:
+        raise SceneError(f"{field}: expected 'zeta=Z', 'Q=Q' or 'rayleigh=ALPHA,BETA', got {text!r}")
+    try:
+        numbers = [float(x) for x in match.groups() if x is not None and x not in ("zeta", "Q")]
+    except ValueError:
+        raise SceneError(f"{field}: expected numbers in 'zeta=Z', 'Q=Q' or 'rayleigh=ALPHA,BETA', got {text!r}") \
+            from None
+    if any(not (math.isfinite(x) and x >= 0) for x in numbers) or (match.group(1) == "Q" and numbers[0] == 0):
+        raise SceneError(f"{field}: damping values must be finite and >= 0 (Q > 0), got {text!r}")
+    return text
 
 
 @dataclass(frozen=True)
@@ -47,11 +69,14 @@ class Drive:
     to drive, and amplitude or time targets from the seeds."""
 
     damping: str = "Q=150"
-    damping_source: str = "assumption (docs/assumptions.md, Damping: default Q ~ 150)"
+    damping_source: str = DEFAULT_DAMPING_SOURCE
     outputs: tuple = ()
     targets: tuple[Target, ...] = ()
 
     def __post_init__(self) -> None:
+        check_damping("drive.damping", self.damping)
+        v.string("drive.damping_source", self.damping_source)
+        v.array("drive.outputs", self.outputs)
         object.__setattr__(self, "outputs", freeze(tuple(self.outputs)))
         object.__setattr__(self, "targets", tuple(self.targets))
 
@@ -70,6 +95,20 @@ class MeshSettings:
     min_layers: int = 3
     clamp_grading: int = 0
 
+    def __post_init__(self) -> None:
+        v.number("mesh.elements_per_wavelength", self.elements_per_wavelength, positive=True)
+        v.number("mesh.max_frequency", self.max_frequency, unit="Hz", minimum=0.0)
+        v.string("mesh.element", self.element, choices=("hex", "tet"))
+        top = 4 if self.element == "hex" else 2  # Gauss-Lobatto Lagrange hexahedra to 4; tetrahedra P1, P2
+        if v.integer("mesh.order", self.order) not in range(1, top + 1):
+            raise SceneError(f"mesh.order: must be 1 to {top} for {self.element} elements, got {self.order}")
+        v.number("mesh.min_size", self.min_size, unit="m", minimum=0.0)
+        v.number("mesh.max_size", self.max_size, unit="m", positive=True, allow_inf=True)
+        if self.min_size > self.max_size:
+            raise SceneError(f"mesh.min_size: {self.min_size:g} m exceeds mesh.max_size {self.max_size:g} m")
+        v.integer("mesh.min_layers", self.min_layers, minimum=1, maximum=1000)
+        v.integer("mesh.clamp_grading", self.clamp_grading, minimum=0, maximum=12)
+
 
 @dataclass(frozen=True)
 class Analysis:
@@ -81,8 +120,16 @@ class Analysis:
     circuit: str = "short"
 
     def __post_init__(self) -> None:
+        if self.near is not None:
+            v.number("analysis.near", self.near, unit="Hz", minimum=0.0)
+        v.integer("analysis.count", self.count, minimum=1)
         if self.band is not None:
-            object.__setattr__(self, "band", freeze(tuple(self.band)))
+            band = v.array("analysis.band", self.band, length=2)
+            f1, f2 = (v.number(f"analysis.band[{i}]", f, unit="Hz", minimum=0.0) for i, f in enumerate(band))
+            if not f1 < f2:
+                raise SceneError(f"analysis.band: needs 0 <= F1 < F2 [Hz], got ({f1:g}, {f2:g})")
+            object.__setattr__(self, "band", freeze(tuple(band)))
+        v.string("analysis.circuit", self.circuit, choices=("short", "open"))
 
 
 @dataclass(frozen=True)
@@ -111,6 +158,9 @@ class Scene:
     # a seed's spectrum to print beside the computed one, by family: "suspension" (rigid-body modes on the
     # supports) or "plate" (elastic modes), e.g. {"suspension": "seed 002 FEM: 28, 45, 51, 77 Hz"}
     reference_spectra: Mapping[str, str] = field(default_factory=dict)
+    # writes ``assumptions`` from the scene's parameters again after ``with_overrides`` (built-in scenes), so the
+    # lines never describe dimensions the user changed
+    assumption_writer: Callable[[Scene], tuple[str, ...]] | None = field(default=None, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         for name in _TABLES:
@@ -155,20 +205,27 @@ class Scene:
 
     def with_overrides(self, **overrides: Any) -> Scene:
         """A copy with parameters changed. Keys: builder parameters (``ceramic_thickness``), or
-        dotted ``mesh.*``, ``analysis.*``, ``springs.GROUP``, ``masses.GROUP``, ``electrodes.GROUP``,
-        ``materials.NAME.KEY``."""
+        dotted ``mesh.*``, ``analysis.*``, ``drive.*``, ``springs.GROUP``, ``masses.GROUP``,
+        ``electrodes.GROUP``, ``clamps.GROUP``, ``materials.NAME.KEY``. Setting ``drive.damping``
+        makes its source "set by the user"; a built-in scene's assumption lines are rewritten from
+        the new parameters."""
+        if not overrides:
+            return self
         scene = self
         params = dict(self.params)
         for key, value in overrides.items():
+            if not isinstance(key, str) or not key:
+                raise SceneError(f"--set: a key must be a non-empty name, got {key!r}")
             head, _, rest = key.partition(".")
             if head in ("mesh", "analysis", "drive") and rest:
                 sub = getattr(scene, head)
                 names = {f.name for f in fields(sub)}
                 if rest not in names:
                     raise SceneError(f"{key}: unknown setting; known: {sorted(names)}")
-                if rest == "band" and value is not None:
-                    value = tuple(float(v) for v in value)
-                scene = replace(scene, **{head: replace(sub, **{rest: value})})
+                change = {rest: value}
+                if key == "drive.damping" and "drive.damping_source" not in overrides:
+                    change["damping_source"] = f"{USER_DAMPING_SOURCE} (drive.damping)"
+                scene = replace(scene, **{head: replace(sub, **change)})
             elif head in ("springs", "masses", "electrodes", "clamps") and rest:
                 table = dict(getattr(scene, head))
                 table[rest] = value
@@ -178,27 +235,53 @@ class Scene:
                     raise SceneError(f"{key}: must be a table group = value")
                 scene = replace(scene, **{key: dict(value)})
             elif key == "symmetry":
-                scene = replace(scene, symmetry=tuple(value))
+                axes = v.array("symmetry", value)
+                scene = replace(scene, symmetry=tuple(v.string(f"symmetry[{i}]", a, choices=("x", "y", "z"))
+                                                      for i, a in enumerate(axes)))
+            elif key == "kind":
+                scene = replace(scene, kind=v.string("kind", value, choices=KINDS))
             elif head == "materials" and rest:
                 name, _, prop = rest.partition(".")
-                table = dict(scene.materials)
-                table[name] = {**table.get(name, {}), prop: value}
+                if not prop:
+                    if not isinstance(value, Mapping):
+                        raise SceneError(f"{key}: must be a table of material constants, or set materials.NAME.KEY")
+                    table = dict(scene.materials)
+                    table[name] = dict(value)
+                else:
+                    table = dict(scene.materials)
+                    table[name] = {**table.get(name, {}), prop: value}
                 scene = replace(scene, materials=table)
+            elif head in ("mesh", "analysis", "drive", "materials"):
+                raise SceneError(f"{key}: give a setting, e.g. {head}.NAME=VALUE")
             else:
                 params[key] = value
         scene = replace(scene, params=params)
         scene.validate()
+        if self.assumption_writer is not None and (scene.params != self.params or scene.materials != self.materials):
+            scene = replace(scene, assumptions=self.assumption_writer(scene))  # from the validated parameters
         return scene
 
     def validate(self) -> None:
         """Raise SceneError naming the first field at fault."""
         from modalfe.geometry import BUILDERS, check_parameters
 
-        if self.device in BUILDERS:
+        v.string("name", self.name)
+        v.string("kind", self.kind, choices=KINDS)
+        for name in ("analysis", "mesh", "drive"):
+            expected = {"analysis": Analysis, "mesh": MeshSettings, "drive": Drive}[name]
+            if not isinstance(getattr(self, name), expected):
+                raise SceneError(f"{name}: must be a {expected.__name__}")
+        if self.device == "boxes":
+            v.known_keys("", self.params, ("parts", "faces"))
+            v.box_parts(self.params.get("parts", ()))
+            v.face_groups(self.params.get("faces", {}))
+        elif self.device in BUILDERS:
             check_parameters(self.device, self.params)  # types and constraints from the builder's signature
-        for axis in self.symmetry:
-            if axis not in ("x", "y", "z"):
-                raise SceneError(f"symmetry: axes must be 'x', 'y' or 'z', got '{axis}'")
+        for i, axis in enumerate(self.symmetry):
+            v.string(f"symmetry[{i}]", axis, choices=("x", "y", "z"))
+        for name, spec in self.materials.items():
+            v.table(f"materials.{name}", spec)
+            self.material(name)
         assembly = self.assembly()
         for part in assembly.parts:
             try:
@@ -208,44 +291,32 @@ class Scene:
             if part.poling and not mat.is_piezoelectric:
                 raise SceneError(f"part '{part.name}': poled but material '{part.material}' is not piezoelectric")
         groups = set(self.full_assembly().faces) | set(assembly.faces)
-        for role, table in (("electrodes", self.electrodes), ("springs", self.springs), ("masses", self.masses)):
+        for role, table in (("electrodes", self.electrodes), ("springs", self.springs), ("masses", self.masses),
+                            ("clamps", self.clamps)):
             for group in table:
                 if group not in groups:
                     raise SceneError(f"{role}.{group}: no such face group; known: {sorted(groups)}")
         for group, components in self.clamps.items():
-            if group not in groups:
-                raise SceneError(f"clamps.{group}: no such face group; known: {sorted(groups)}")
-            if not components or set(components) - set("xyz"):
-                raise SceneError(f"clamps.{group}: components must be letters of 'xyz', got '{components}'")
+            v.string(f"clamps.{group}", components)
+            if set(components) - set("xyz") or len(set(components)) != len(components):
+                raise SceneError(f"clamps.{group}: components must be distinct letters of 'xyz', got '{components}'")
         for group, role in self.electrodes.items():
-            if role not in ("drive", "ground"):
-                raise SceneError(f"electrodes.{group}: must be 'drive' or 'ground', got '{role}'")
+            v.string(f"electrodes.{group}", role, choices=("drive", "ground"))
         for group, k in self.springs.items():
-            if len(k) != 3 or any(not (math.isfinite(v) and v >= 0) for v in k):
-                raise SceneError(f"springs.{group}: needs three stiffnesses >= 0 [N/m], got {k}")
+            v.numbers3(f"springs.{group}", k, unit="N/m", minimum=0.0)
         for group, m in self.masses.items():
-            if not (math.isfinite(m) and m > 0):
-                raise SceneError(f"masses.{group}: must be a positive mass [kg], got {m}")
+            v.number(f"masses.{group}", m, unit="kg", positive=True)
         a = self.analysis
-        if a.circuit not in ("short", "open"):
-            raise SceneError(f"analysis.circuit: must be 'short' or 'open', got '{a.circuit}'")
-        if a.band is not None and not (0 <= a.band[0] < a.band[1]):
-            raise SceneError(f"analysis.band: needs 0 <= F1 < F2 [Hz], got {a.band}")
         if a.near is not None and not a.near > 0:
             raise SceneError(f"analysis.near: must be a positive frequency [Hz], got {a.near}")
         if a.near is None and a.band is None:
             raise SceneError("analysis: give near (with count) or band")
-        if not (isinstance(a.count, int) and a.count >= 1):
-            raise SceneError(f"analysis.count: must be a positive integer, got {a.count}")
-        m = self.mesh
-        if m.element not in ("hex", "tet"):
-            raise SceneError(f"mesh.element: must be 'hex' or 'tet', got '{m.element}'")
-        if m.order not in (1, 2):
-            raise SceneError(f"mesh.order: must be 1 or 2, got {m.order}")
-        if not m.elements_per_wavelength > 0:
-            raise SceneError(f"mesh.elements_per_wavelength: must be positive, got {m.elements_per_wavelength}")
-        if isinstance(m.clamp_grading, bool) or not (isinstance(m.clamp_grading, int) and 0 <= m.clamp_grading <= 12):
-            raise SceneError(f"mesh.clamp_grading: must be an integer from 0 to 12, got {m.clamp_grading!r}")
+        for i, wm in enumerate(self.working_modes):
+            v.string(f"working_modes[{i}].selector", wm.selector)
+            v.number(f"working_modes[{i}].near", wm.near, unit="Hz", positive=True)
+        from modalfe.scene.checks import check_device
+
+        check_device(self)  # one bonded body, consistent electrodes (modalfe/scene/checks.py)
 
     @property
     def max_frequency(self) -> float:
@@ -257,3 +328,4 @@ class Scene:
 
 
 _TABLES = ("params", "electrodes", "clamps", "springs", "masses", "materials", "reference_spectra")
+

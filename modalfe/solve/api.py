@@ -13,6 +13,9 @@ from modalfe.solve.fidelity import solve_at_fidelity
 FIDELITIES = ("auto", "beam", "plate", "solid")
 # relative frequency error asked of ``fidelity="auto"``: below the seeds' 2-7 % model-to-measurement gaps
 DEFAULT_TOL = 0.02
+# most modes one near/count solve is asked for, checked before any meshing: ARPACK keeps 2 count + 1 vectors
+# of every unknown (10,000 modes of a 100k-unknown model: 16 GB); a band is solved in windows instead
+MAX_COUNT = 1000
 
 
 def solve_modes(
@@ -47,6 +50,9 @@ def solve_modes(
         raise SolverError(f"fidelity: must be one of {FIDELITIES}, got '{fidelity}'")
     if not (math.isfinite(tol) and tol > 0):
         raise SolverError(f"tol: must be a positive relative error, got {tol}")
+    if count is not None and count > MAX_COUNT:
+        raise SolverError(f"count: {count} modes asked, at most {MAX_COUNT} per solve; ask for a band instead "
+                          f"(solved in windows)")
     a = scene.analysis
     if near is not None or band is not None:
         a = Analysis(near=near, count=count or a.count, band=band, circuit=circuit or a.circuit)

@@ -1,21 +1,40 @@
-"""Discretization error estimates: a second solve on a coarser level, paired mode by mode, and Richardson
-extrapolation at an assumed convergence order."""
+"""Discretization error estimates: solves on coarser levels, paired with the fine modes by shape (the modal
+assurance criterion on common sample points), and Richardson extrapolation at an observed, bounded order.
+
+Pairing by shape, not label: a degenerate pair (any rotation of it is a mode), or two modes one label reads
+alike, are still paired with the mode they are. MAC (Allemang & Brown 1982) of the displacement sampled at the
+same points of the whole device on both levels; when no single coarse mode matches (a degenerate pair
+rotated differently on each level), the fine shape's projection on the span of the coarse modes near it
+(a subspace MAC) pairs it with that cluster, at their frequencies weighted by the projection.
+
+Order: the eigenvalue error of degree-p elements is ~h^(2p) = h^4 for smooth modes (Strang & Fix, An Analysis
+of the Finite Element Method, 1973, ch. 6), but a singular field of strength h^alpha slows it to h^(2 alpha):
+clamped edges, bonded patches and feet (studies/convergence.py observes 1.5-2.1 on the seed devices; a
+clamped thin plate ~1.3). With three levels the order is observed from the two differences and used within
+[MIN_ORDER, CONVERGENCE_ORDER]; with two levels, or where the differences change sign (pre-asymptotic), the
+bound MIN_ORDER = 1 is used: alpha >= 1/2 for every 3-D elasticity singularity (a crack tip, the strongest;
+Grisvard, Elliptic Problems in Nonsmooth Domains, 1985), so order 2 alpha >= 1.
+"""
 
 from __future__ import annotations
 
 import logging
+import math
+
+import numpy as np
 
 from modalfe.results.modes import Mode, Modes
 
 log = logging.getLogger(__name__)
 
-COARSE_FACTOR = 1.5  # coarse level of the Richardson estimate: elements 1.5x larger
-# Eigenvalue error of quadratic elements is ~h^(2p) = h^4 for smooth modes (Strang & Fix 1973), but
-# clamped faces, bonded patches and feet make re-entrant edges whose singular fields slow it down:
-# studies/convergence.py observes orders 1.5-2.1 on the seed devices' working modes. The estimate
-# assumes order 2, which keeps it at or above the error found by four-level refinement there.
-CONVERGENCE_ORDER = 2.0
-OBSERVED_ORDERS = (1.5, 2.1)  # that range: 1.55 / 2.13 / 1.58 for the three devices (docs/benchmarks.md)
+COARSE_FACTOR = 1.5  # coarse levels of the Richardson estimate: elements 1.5x and 2.25x larger
+CONVERGENCE_ORDER = 2.0  # the highest order used: observed orders above it are not trusted (pre-asymptotic)
+MIN_ORDER = 1.0  # the lowest order of an eigenvalue error with a singular field (module docstring)
+OBSERVED_ORDERS = (1.5, 2.1)  # the cross-check extrapolation's uncertainty: orders observed on the seed devices
+MAC_PAIR = 0.8  # a single coarse mode this alike is the partner (the sweeps' crossing threshold)
+SUBSPACE_PAIR = 0.9  # else the coarse modes near it must hold this fraction of the fine shape
+CLUSTER = 0.05  # relative frequency span of the coarse modes a subspace pairing may use
+SAMPLES = 400  # sample points for the MAC: 1200 values a shape, enough to tell modes apart
 
 
 def coarse_level(scene, factor: float, size_factor: float = 1.0) -> dict:
@@ -33,32 +52,135 @@ def coarser(a):
     return Analysis(band=(a.band[0] * 0.9, a.band[1] * 1.1), circuit=a.circuit)
 
 
-def partner(mode: Mode, candidates: Modes) -> Mode | None:
-    """The mode of ``candidates`` with the same label nearest in frequency, if within 10 %."""
-    same = [m for m in candidates if m.label == mode.label]
-    if not same:
+def sample_points(modes: Modes) -> np.ndarray:
+    """Points (m, 3) [m] where shapes are compared across levels and fidelities, at most ``SAMPLES``: for a
+    3-D solid the centroids of its elements (strictly inside the device, so inside every other mesh of it
+    too), else the points the model reads its labels from."""
+    model = modes.model
+    mesh = getattr(getattr(model, "mesh", None), "mesh", None)
+    if mesh is not None and getattr(model, "frame", None) is None:
+        points = mesh.p[:, mesh.t].mean(axis=1)
+    else:
+        points, _ = model.label_field(modes[0].shape)
+    step = max(1, points.shape[1] // SAMPLES)
+    return np.ascontiguousarray(points[:, ::step].T)
+
+
+def _inside(model, points: np.ndarray) -> np.ndarray:
+    """Mask of the ``points`` (m, 3) that ``model`` can evaluate (a point on a face of one mesh may fall a hair
+    outside another's elements): the whole set at once, else halves, recursively."""
+    try:
+        model.displacement_probes(points)
+        return np.ones(len(points), dtype=bool)
+    except ValueError:
+        if len(points) == 1:
+            return np.zeros(1, dtype=bool)
+        half = len(points) // 2
+        return np.concatenate([_inside(model, points[:half]), _inside(model, points[half:])])
+
+
+def common_points(points: np.ndarray, *models) -> np.ndarray:
+    """The ``points`` every one of ``models`` can evaluate."""
+    keep = np.ones(len(points), dtype=bool)
+    for model in models:
+        keep &= _inside(model, points)
+    return points[keep]
+
+
+def sampled(modes: Modes, points: np.ndarray) -> np.ndarray:
+    """Displacements of every mode at ``points``: (3 m, k), columns scaled to unit norm (zero stays zero)."""
+    P = modes.model.displacement_probes(points)
+    S = np.asarray(P @ np.column_stack([m.shape for m in modes]))
+    norms = np.linalg.norm(S, axis=0)
+    return S / np.where(norms > 0, norms, 1.0)
+
+
+def shape_partners(fine: Modes, coarse: Modes,
+                   points: np.ndarray | None = None) -> dict[int, tuple[Mode, float, float]]:
+    """{fine index: (coarse partner, partner frequency [Hz], MAC)} of the modes paired by shape (module
+    docstring); a fine mode with no partner is left out. One-to-one by the best total MAC (Hungarian
+    assignment); a fine mode whose assigned MAC is below ``MAC_PAIR`` is paired with the span of the coarse
+    modes within ``CLUSTER`` of its best match if that holds ``SUBSPACE_PAIR`` of its shape."""
+    from scipy.optimize import linear_sum_assignment
+
+    if len(fine) == 0 or len(coarse) == 0:
+        return {}
+    if points is None:
+        points = sample_points(coarse)
+    points = common_points(points, fine.model, coarse.model)
+    if len(points) == 0:
+        return {}
+    F, C = sampled(fine, points), sampled(coarse, points)
+    mac = (F.T @ C) ** 2
+    f_fine, f_coarse = fine.frequencies, coarse.frequencies
+    # modes more than 30 % apart are not the same mode on two meshes of one device
+    apart = np.abs(f_coarse[None, :] - f_fine[:, None]) > 0.3 * np.maximum(f_fine[:, None], 1e-300)
+    rows, cols = linear_sum_assignment(np.where(apart, -1.0, mac), maximize=True)
+    out = {}
+    for i, j in zip(rows, cols):
+        if mac[i, j] >= MAC_PAIR and not apart[i, j]:
+            out[fine[i].index] = (coarse[j], float(f_coarse[j]), float(mac[i, j]))
+            continue
+        best = int(np.argmax(np.where(apart[i], -1.0, mac[i])))
+        near = np.flatnonzero(np.abs(f_coarse - f_coarse[best]) <= CLUSTER * f_coarse[best])
+        Q, _ = np.linalg.qr(C[:, near])
+        weights = (Q.T @ F[:, i]) ** 2
+        if weights.sum() >= SUBSPACE_PAIR and not apart[i, best]:
+            w = mac[i, near] / mac[i, near].sum() if mac[i, near].sum() > 0 else np.full(len(near), 1 / len(near))
+            out[fine[i].index] = (coarse[best], float(w @ f_coarse[near]), float(weights.sum()))
+    return out
+
+
+def observed_order(f0: float, f1: float, f2: float, r1: float, r2: float) -> float | None:
+    """Order p of f_i = f + C h_i^p through three levels h0 < h1 = r1 h0 < h2 = r2 h0, or None where the
+    differences change sign or vanish (no order to observe)."""
+    d1, d2 = f1 - f0, f2 - f1
+    if d1 == 0 or d2 == 0 or (d1 > 0) != (d2 > 0):
         return None
-    best = min(same, key=lambda m: abs(m.frequency - mode.frequency))
-    return best if abs(best.frequency - mode.frequency) <= 0.1 * mode.frequency else None
+    target = d2 / d1
+
+    def g(p: float) -> float:
+        return (r2**p - r1**p) / (r1**p - 1) - target
+
+    lo, hi = 0.05, 12.0
+    if g(lo) > 0 or g(hi) < 0:
+        return lo if g(lo) > 0 else hi
+    for _ in range(80):  # bisection: g increases with p
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if g(mid) < 0 else (lo, mid)
+    return 0.5 * (lo + hi)
 
 
-def richardson(fine: Modes, coarse: Modes, ratio: float) -> dict[int, float]:
-    """Relative error estimate of each fine mode from its coarse partner, for an error ~ h^order
-    (order CONVERGENCE_ORDER): |f_h - f_coarse| / ((ratio^order - 1) f_h); inf where a mode has no
-    partner (the coarse level does not resolve it, so the fine one is not converged either)."""
+def richardson(fine: Modes, coarse: Modes, ratio: float, coarsest: Modes | None = None,
+               ratio_2: float | None = None) -> dict[int, float]:
+    """Relative error estimate of each fine mode from its coarse partner (by shape): |f_h - f_coarse| /
+    ((ratio^p - 1) f_h), p observed through ``coarsest`` (elements ``ratio_2`` x the fine level's) within
+    [MIN_ORDER, CONVERGENCE_ORDER], else MIN_ORDER (module docstring); inf where a mode has no partner (the
+    coarse level does not resolve it, so the fine one is not converged either)."""
     estimates = {}
     top = max(m.frequency for m in fine)
+    pairs = shape_partners(fine, coarse)
+    chain = shape_partners(coarse, coarsest) if coarsest is not None and len(coarsest) else {}
     for mode in fine:
         if mode.frequency < 1e-6 * top:
             continue  # a rigid-body mode: no relative error to speak of
-        other = partner(mode, coarse)
-        if other is None:
+        if mode.index not in pairs:
             log.info("mode %s at %.6g Hz has no partner on the coarse mesh: error unknown, refine the mesh",
-                        mode.label, mode.frequency)
-            estimates[mode.index] = float("inf")
+                     mode.label, mode.frequency)
+            estimates[mode.index] = math.inf
             continue
-        estimates[mode.index] = abs(other.frequency - mode.frequency) / (
-            (ratio**CONVERGENCE_ORDER - 1) * mode.frequency)
+        other, f1, _ = pairs[mode.index]
+        order = MIN_ORDER
+        step = abs(f1 - mode.frequency)
+        if other.index in chain and ratio_2 is not None:
+            f2 = chain[other.index][1]
+            p = observed_order(mode.frequency, f1, f2, ratio, ratio_2)
+            if p is None:
+                # pre-asymptotic: the larger step at the lowest order
+                step = max(step, abs(f2 - f1))
+            else:
+                order = min(max(p, MIN_ORDER), CONVERGENCE_ORDER)
+        estimates[mode.index] = step / ((ratio**order - 1) * mode.frequency)
     return estimates
 
 
@@ -66,3 +188,12 @@ def refinement_ratio(fine_mesh, coarse_mesh, scene) -> float:
     """Mean element-size ratio between two meshes of the main part: (n_fine / n_coarse)^(1/3)."""
     main = scene.assembly().main_part.name
     return float((len(fine_mesh.parts[main]) / len(coarse_mesh.parts[main])) ** (1 / 3))
+
+
+def partner(mode: Mode, candidates: Modes) -> Mode | None:
+    """The mode of ``candidates`` most alike ``mode`` in shape (MAC >= ``MAC_PAIR``, frequency within 30 %)."""
+    from dataclasses import replace
+
+    one = replace(candidates, modes=(replace(mode, index=0),), model=mode.model)
+    found = shape_partners(one, candidates, sample_points(candidates)).get(0)
+    return found[0] if found is not None else None

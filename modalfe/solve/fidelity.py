@@ -2,12 +2,14 @@
 meets a tolerance.
 
 Every frequency of a reduced model (``modalfe.models.beam``, ``modalfe.models.plate``) carries two errors:
-- discretization: Richardson from two mesh levels (element sizes x1 and x1.5), as for the solid;
+- discretization: Richardson from three mesh levels (element sizes x1, x1.5 and x2.25), as for the solid, at
+  the order observed within [1, 2] (``modalfe.solve.estimates``), modes paired by shape;
 - model: distance from the 3-D solid, found by a cheap cross-check, the solid on two coarse levels
   (element sizes x1.5 and x2.25 of the default, thickness layers scaled alike) extrapolated to zero
   element size at the assumed convergence order; the extrapolation's own uncertainty is added: how far
-  the extrapolated value moves over the orders observed on the seed devices (``OBSERVED_ORDERS``).
-A mode's ``error_estimate`` is the sum of the two, ``model_error`` the second.
+  the extrapolated value moves over the orders possible (``OBSERVED_ORDERS``: down to order 1).
+A mode's ``error_estimate`` is the sum of the two, ``model_error`` the second, with ``fidelity="auto"`` and
+with ``fidelity="beam"|"plate"`` asked directly alike (a reduced model's figure always includes its model error).
 
 ``auto`` tries the reduced model that suits the scene's kind (beam or plate) and answers with it when
 the estimated error of the modes asked about is within ``tol``; otherwise the 3-D solid answers,
@@ -40,6 +42,8 @@ from modalfe.solve.estimates import (
     partner,
     refinement_ratio,
     richardson,
+    sample_points,
+    shape_partners,
 )
 from modalfe.solve.levels import solve_level
 
@@ -59,14 +63,33 @@ def solve_at_fidelity(scene, analysis, *, fidelity: str, tol: float, check, size
     """Modes at ``fidelity`` (``beam``, ``plate``, ``solid`` or ``auto``); ``auto`` always estimates errors."""
     if fidelity == "auto":
         return solve_auto(scene, analysis, tol=tol, check=check, size_factor=size_factor, solver=solver)
-    return solve_estimated(scene, analysis, fidelity, size_factor=size_factor, solver=solver,
-                           error_estimate=error_estimate, frame=frame)
+    modes = solve_estimated(scene, analysis, fidelity, size_factor=size_factor, solver=solver,
+                            error_estimate=error_estimate, frame=frame)
+    if fidelity == "solid" or not error_estimate:
+        return modes
+    # a reduced model asked directly states its model error too: the same cross-check as ``auto``
+    start = time.perf_counter()
+    levels = _solid_check_levels(scene, analysis, size_factor, solver)
+    checked = with_model_errors(modes, *levels, scene)
+    note = (f"{fidelity} model: error estimates are discretization (three levels) plus model error against a "
+            f"coarse 3-D solid cross-check")
+    return replace(checked, fidelity_note=note, cross_check=tuple(levels),
+                   timings=dict(checked.timings, cross_check=time.perf_counter() - start))
+
+
+def _solid_check_levels(scene, analysis, size_factor: float, solver: str) -> list[Modes]:
+    """The cross-check's solid levels (elements x1.5 and x2.25 of the default), each asked a little wider."""
+    levels, a = [], analysis
+    for factor in CHECK_FACTORS:
+        a = coarser(a)
+        levels.append(solve_level(scene, a, solver=solver, **coarse_level(scene, factor, size_factor)))
+    return levels
 
 
 def solve_estimated(scene, analysis, fidelity: str, *, size_factor: float = 1.0, solver: str = "auto",
                     error_estimate: bool = True, frame=None) -> Modes:
-    """Modes of one fidelity with Richardson discretization estimates from a level 1.5x coarser (no model
-    error: ``with_model_errors`` adds it for a reduced model)."""
+    """Modes of one fidelity with Richardson discretization estimates from levels 1.5x and 2.25x coarser
+    (``modalfe.solve.estimates.richardson``; no model error: ``with_model_errors`` adds it for a reduced model)."""
     if fidelity != "solid" and fidelity not in reduced_fidelities(scene):
         raise SceneError(f"fidelity: '{fidelity}' does not apply to a {scene.kind} scene "
                          f"(use {[*reduced_fidelities(scene), 'solid', 'auto']})")
@@ -84,11 +107,14 @@ def solve_estimated(scene, analysis, fidelity: str, *, size_factor: float = 1.0,
     start = time.perf_counter()
     if fidelity == "solid":
         coarse = solve(coarser(analysis), **coarse_level(scene, COARSE_FACTOR, size_factor))
+        coarsest = solve(coarser(coarser(analysis)), **coarse_level(scene, COARSE_FACTOR**2, size_factor))
         ratio = refinement_ratio(fine.model.mesh, coarse.model.mesh, scene)
+        ratio_2 = refinement_ratio(fine.model.mesh, coarsest.model.mesh, scene)
     else:
         coarse = solve(coarser(analysis), size_factor=size_factor * COARSE_FACTOR)
-        ratio = COARSE_FACTOR
-    result = fine.with_error_estimates(richardson(fine, coarse, ratio))
+        coarsest = solve(coarser(coarser(analysis)), size_factor=size_factor * COARSE_FACTOR**2)
+        ratio, ratio_2 = COARSE_FACTOR, COARSE_FACTOR**2
+    result = fine.with_error_estimates(richardson(fine, coarse, ratio, coarsest, ratio_2))
     return replace(result, timings=dict(fine.timings, error_estimate=time.perf_counter() - start))
 
 
@@ -99,10 +125,7 @@ def solve_auto(scene, analysis, *, tol: float, check=None, size_factor: float = 
 
     def solid_levels():
         if not levels:
-            a = analysis
-            for factor in CHECK_FACTORS:
-                a = coarser(a)
-                levels.append(solve_level(scene, a, solver=solver, **coarse_level(scene, factor, size_factor)))
+            levels.extend(_solid_check_levels(scene, analysis, size_factor, solver))
         return levels
 
     for fidelity in reduced_fidelities(scene):
@@ -123,9 +146,10 @@ def solve_auto(scene, analysis, *, tol: float, check=None, size_factor: float = 
         reasons.append(f"{fidelity} model: {why} > tol {tol:.2%}")
     fine = solve_level(scene, analysis, size_factor=size_factor, solver=solver)
     start = time.perf_counter()
-    coarse = solid_levels()[0]
-    solid = fine.with_error_estimates(richardson(fine, coarse, refinement_ratio(fine.model.mesh, coarse.model.mesh,
-                                                                                 scene)))
+    coarse, coarsest = solid_levels()
+    solid = fine.with_error_estimates(richardson(
+        fine, coarse, refinement_ratio(fine.model.mesh, coarse.model.mesh, scene), coarsest,
+        refinement_ratio(fine.model.mesh, coarsest.model.mesh, scene)))
     solid = replace(solid, timings=dict(fine.timings, error_estimate=time.perf_counter() - start))
     worst, why = _worst(solid, check)
     note = "auto: solid answered" + (f" ({'; '.join(reasons)})" if reasons else " (no reduced model for a "
@@ -140,18 +164,21 @@ def with_model_errors(reduced: Modes, solid_1: Modes, solid_2: Modes, scene) -> 
     and its error estimate raised by it (inf where the solid has no partner mode)."""
     ratio = refinement_ratio(solid_1.model.mesh, solid_2.model.mesh, scene)
     top = max(m.frequency for m in reduced)
+    # paired by shape at the reduced model's own sample points (inside the solid too)
+    to_solid = shape_partners(reduced, solid_1, sample_points(reduced))
+    within_solid = shape_partners(solid_1, solid_2)
     modes = []
     for mode in reduced:
         if mode.frequency < 1e-6 * top:
             modes.append(replace(mode, model_error=0.0))
             continue
-        near = partner(mode, solid_1)
-        far = partner(near, solid_2) if near is not None else None
+        near = to_solid.get(mode.index)
+        far = within_solid.get(near[0].index) if near is not None else None
         if far is None:
             error = math.inf
         else:
-            step = near.frequency - far.frequency
-            extrapolated = near.frequency + step / (ratio**CONVERGENCE_ORDER - 1)
+            step = near[1] - far[1]
+            extrapolated = near[1] + step / (ratio**CONVERGENCE_ORDER - 1)
             uncertainty = max(abs(step / (ratio**p - 1) - step / (ratio**CONVERGENCE_ORDER - 1))
                               for p in OBSERVED_ORDERS) / extrapolated
             error = abs(mode.frequency - extrapolated) / extrapolated + uncertainty
@@ -228,4 +255,7 @@ def coupling_check_level(modes: Modes, mode, *, size_factor: float = 1.0, solver
     scene = modes.model.scene
     open_ = solve_level(scene, Analysis(near=short.frequency, count=6, circuit="open"), solver=solver,
                         **coarse_level(scene, CHECK_FACTORS[0], size_factor))
-    return short.frequency, select(open_, short.label, short.frequency).frequency
+    fa = partner(short, open_)
+    if fa is None:  # the shape pairing failed: the label, as before
+        fa = select(open_, short.label, short.frequency)
+    return short.frequency, fa.frequency

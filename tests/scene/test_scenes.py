@@ -153,7 +153,7 @@ def test_material_tensor_must_be_positive_definite():
     C[0, 0] = -1e9
     with pytest.raises(SceneError) as info:
         material({"name": "bad", "C": C.tolist(), "rho": 1000.0})
-    _one_line_error(info, "'bad'", "positive definite")
+    _one_line_error(info, "materials.bad.C", "positive definite")
     with pytest.raises(SceneError) as info:
         material({"name": "iso", "E": 1e9, "nu": 0.5, "rho": 1000.0})
     _one_line_error(info, "nu")

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from modalfe.contact import plots
+from modalfe.plot import contact as plots
 from modalfe.contact.foot import simulate_contact, steady_state
 from modalfe.contact.texture import NotchTexture, render_texture
 from modalfe.errors import ContactError

@@ -51,13 +51,23 @@ def finger_figure(curves: Sequence[FingerCurve], equal: EqualFriction | None = N
     amplitudes of equal friction (Fig. 7) with the equal-velocity and equal-acceleration lines."""
     fig, ax = _figure(1, 2 if equal is not None else 1, (10, 4) if equal is not None else (6.4, 4.2))
     for c in curves:
-        ax[0, 0].plot(c.amplitude_pp * 1e6, c.friction_ratio, ".-", label=f"{c.frequency / 1e3:g} kHz")
-    ax[0, 0].set(xscale="log", xlabel="amplitude [um, peak-to-peak]", ylabel="mu_US / mu")
+        x = c.amplitude_pp * 1e6
+        line = ax[0, 0].errorbar(x, c.friction_ratio, yerr=c.uncertainty, fmt=".-", capsize=2,
+                                 label=f"{c.frequency / 1e3:g} kHz")
+        sub = c.periodic & (c.periods > 1)  # periodic orbits of period k T > T, marked and labelled
+        if sub.any():
+            ax[0, 0].plot(x[sub], c.friction_ratio[sub], "s", mfc="none", color=line[0].get_color())
+            for xi, ri, k in zip(x[sub], c.friction_ratio[sub], c.periods[sub]):
+                ax[0, 0].annotate(f"{k}T", (xi, ri), textcoords="offset points", xytext=(3, 3), fontsize="x-small")
+    ax[0, 0].set(xscale="log", xlabel="amplitude [um, peak-to-peak]", ylabel="mu_US / mu",
+                 title="error bars: standard error of time averages (0 on periodic orbits)")
     ax[0, 0].legend()
     if equal is not None:
         a = ax[0, 1]
         lo = equal.amplitude_low * 1e6
-        a.plot(lo, equal.amplitude_high * 1e6, "o-", label="model (equal friction)")
+        xe, ye = equal.amplitude_low_uncertainty, equal.amplitude_high_uncertainty
+        a.errorbar(lo, equal.amplitude_high * 1e6, xerr=None if xe is None else xe * 1e6,
+                   yerr=None if ye is None else ye * 1e6, fmt="o-", capsize=2, label="model (equal friction)")
         x = np.array([0, lo.max()])
         a.plot(x, equal.velocity_ratio * x, "--", label=f"equal velocity ({equal.velocity_ratio:.2f})")
         a.plot(x, equal.acceleration_ratio * x, ":", label=f"equal acceleration ({equal.acceleration_ratio:.3f})")

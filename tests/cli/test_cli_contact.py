@@ -102,3 +102,43 @@ def test_friction_from_a_saved_reduced_model(tmp_path, capsys):
     assert out["amplitude_m"] == pytest.approx([0.0, 2 * rom.amplitude_per_volt()], rel=1e-12)
     with pytest.raises(ContactError, match=r"^--rom:"):
         run(["friction", "--voltage", "1", "--rom", str(tmp_path / "missing.json")])
+
+
+def test_friction_at_zero_speed_prints_no_negative_zero_and_a_reduction_in_range(capsys):
+    # issue 19: "--speed 0" printed 100.01 % and -0.0000 N.  Speed 0 is the limit V -> 0+ (no tangential
+    # force after a touchdown, mu0 Rn without flight); every printed reduction lies in [0, 100] %.
+    assert run(["friction", "--amplitude", "0:2e-6:41", "--preload", "10", "--speed", "0"]) == 0
+    out = capsys.readouterr().out
+    assert "-0.0" not in out and "speed 0" in out
+    rows = [line.split() for line in out.splitlines() if line.strip().endswith(("0", "1")) and "%" in line]
+    reductions = [float(r[3].rstrip("%")) for r in rows]
+    assert len(reductions) == 41 and all(0.0 <= x <= 100.0 for x in reductions)
+
+
+def test_finger_table_and_json_state_each_points_method(capsys):
+    # Every point says how it was obtained: "periodic kT" (a stable orbit of period k T) or
+    # "average +- u" (a time average and its standard error), in the table and in the JSON.
+    assert run(["finger", "--frequency", "66e3", "--amplitude", "0.5e-6,0.75e-6,1.2e-6"]) == 0
+    out = capsys.readouterr().out
+    assert "periodic 1T" in out and "periodic 2T" in out and "average +- " in out
+    assert run(["finger", "--frequency", "66e3", "--amplitude", "0.75e-6,1.2e-6", "--json"]) == 0
+    (curve,) = json.loads(capsys.readouterr().out)["curves"]
+    assert curve["method"][0] == "periodic 2T" and curve["method"][1].startswith("average +- ")
+    assert curve["uncertainty"][0] == 0.0 and curve["uncertainty"][1] > 0
+
+
+def test_default_finger_curves_are_fast():
+    # issue 19 item 3: the default `modalfe finger` took ~51 s (66 kHz points 1-2.5 s each).  Its two
+    # default curves now take ~2.1 s of CPU here (the whole command < 3 s with start-up, farm-bench);
+    # the bound is twice that, for a loaded machine, and still 10x below the old time.
+    import time
+
+    from modalfe.contact.finger import FREQUENCIES, simulate_finger
+
+    parser = argparse.ArgumentParser(prog="modalfe")
+    cli_contact.register(parser.add_subparsers(dest="command", required=True))
+    args = parser.parse_args(["finger"])
+    start = time.process_time()
+    curves = [simulate_finger(a, f) for f, a in zip(FREQUENCIES, cli_contact._finger_amplitudes(args, FREQUENCIES))]
+    assert time.process_time() - start < 4.5
+    assert all(len(c.amplitude_pp) == 25 for c in curves)

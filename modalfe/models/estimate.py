@@ -1,0 +1,148 @@
+"""The size of a model before it is built: elements, DOFs and memory, from the element sizes and the
+parts' boxes, so that a request far beyond the machine is refused with the figures instead of dying.
+
+Solid (structured hexahedra): per axis, each interval between part boundaries gets ceil(length / h)
+elements (h the smallest size asked by a part spanning it, and at least ``min_layers`` across the main
+part), as ``modalfe.models.mesh.divisions`` does; each part counts the product of its intervals'
+divisions and the nodes of that block (vertices and edge midpoints for quadratic serendipity hexahedra:
+~4 per element); 3 displacement DOFs per node plus one potential per node in piezoelectric parts.
+Plate: 5 DOFs on ~4 nodes per in-plane cell; beam: 6 DOFs on ~2 nodes per element.
+
+Memory of the solve: ``MEMORY_BYTES_PER_DOF * dofs ** MEMORY_EXPONENT`` (factorization fill plus the
+assembled matrices and the Lanczos basis), calibrated on the measured peak resident memory of real solves
+(docs/hostile_inputs.md, "Size estimate").
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import os
+from dataclasses import dataclass
+
+from modalfe.errors import SceneError
+
+# peak resident memory of a solve [bytes] ~ BASE + BYTES * DOFs ** EXPONENT: the upper envelope of the peaks
+# measured on 9 solid solves of 720 to 47k DOFs (docs/hostile_inputs.md, "Size estimate"; a free fit gives
+# exponent 1.12, the envelope at 1.2 keeps every measured peak below the estimate)
+MEMORY_BYTES_PER_DOF = 5000.0
+MEMORY_EXPONENT = 1.2
+MEMORY_BASE = 150e6  # the interpreter with numpy, scipy, scikit-fem and gmsh loaded
+
+
+@dataclass(frozen=True)
+class SizeEstimate:
+    """Estimated elements, DOFs and peak memory [bytes] of a model of a scene."""
+
+    fidelity: str
+    elements: float
+    dofs: float
+    memory: float
+
+    def describe(self) -> str:
+        return (f"~{self.elements:.3g} elements, ~{self.dofs:.3g} DOFs, ~{_bytes(self.memory)} of memory "
+                f"({self.fidelity} model)")
+
+
+def _bytes(n: float) -> str:
+    for unit, scale in (("TB", 1e12), ("GB", 1e9), ("MB", 1e6)):
+        if n >= scale:
+            return f"{n / scale:.3g} {unit}"
+    return f"{n / 1e3:.3g} kB"
+
+
+def memory_of(dofs: float) -> float:
+    """Estimated peak memory [bytes] of a solve with ``dofs`` unknowns."""
+    return MEMORY_BASE + MEMORY_BYTES_PER_DOF * max(dofs, 1.0) ** MEMORY_EXPONENT
+
+
+def machine_memory() -> float:
+    """Memory the solve may use [bytes]: ``$MODALFE_MAX_MEMORY`` (bytes) if set, else the physical memory."""
+    value = os.environ.get("MODALFE_MAX_MEMORY")
+    if value:
+        try:
+            limit = float(value)
+        except ValueError:
+            raise SceneError(f"MODALFE_MAX_MEMORY: must be a number of bytes, got '{value}'") from None
+        if not limit > 0:
+            raise SceneError(f"MODALFE_MAX_MEMORY: must be positive, got '{value}'")
+        return limit
+    try:
+        return float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
+    except (ValueError, OSError, AttributeError):  # pragma: no cover - not Linux
+        return math.inf
+
+
+def _intervals(assembly, axis: int) -> list[tuple[float, float]]:
+    coords = sorted({p.lo[axis] for p in assembly.parts} | {p.hi[axis] for p in assembly.parts})
+    return list(itertools.pairwise(coords))
+
+
+def _divisions(assembly, axis: int, sizes, min_layers: int) -> list[tuple[float, float, float]]:
+    """(a, b, elements) per interval along ``axis``, in floats (no overflow for absurd requests)."""
+    main = assembly.main_part
+    out = []
+    for a, b in _intervals(assembly, axis):
+        mid = (a + b) / 2
+        spanning = [sizes[p.name] for p in assembly.parts if p.lo[axis] <= mid <= p.hi[axis]]
+        h = min(spanning) if spanning else b - a
+        if main.lo[axis] <= mid <= main.hi[axis]:
+            h = min(h, main.size[axis] / min_layers)
+        out.append((a, b, max(1.0, math.ceil((b - a) / h - 1e-9))))
+    return out
+
+
+def _per_part(assembly, sizes, min_layers: int, axes=(0, 1, 2)) -> dict[str, tuple[float, ...]]:
+    """Elements of each part along each of ``axes`` in the tensor grid."""
+    grid = {axis: _divisions(assembly, axis, sizes, min_layers) for axis in axes}
+    return {part.name: tuple(sum(k for a, b, k in grid[axis] if part.lo[axis] <= (a + b) / 2 <= part.hi[axis])
+                             for axis in axes) for part in assembly.parts}
+
+
+def _nodes(n: tuple[float, float, float], element: str, order: int) -> float:
+    """Nodes of a structured nx x ny x nz block: vertices, plus edge midpoints (serendipity hex, P2 tet),
+    plus the face and body diagonals of the tetrahedra (six per cube)."""
+    nx, ny, nz = n
+    vertices = (nx + 1) * (ny + 1) * (nz + 1)
+    if order == 1:
+        return vertices
+    edges = nx * (ny + 1) * (nz + 1) + (nx + 1) * ny * (nz + 1) + (nx + 1) * (ny + 1) * nz
+    if element == "hex":
+        return vertices + edges
+    return vertices + edges + nx * ny * (nz + 1) + nx * (ny + 1) * nz + (nx + 1) * ny * nz + nx * ny * nz
+
+
+def estimate_size(scene, fidelity: str = "solid", *, size_factor: float = 1.0, min_layers: int | None = None
+                  ) -> SizeEstimate:
+    """Elements, DOFs and memory of ``scene``'s model at ``fidelity``, before any meshing."""
+    from modalfe.models.mesh import element_sizes
+
+    assembly = scene.assembly()
+    sizes = {k: h * size_factor for k, h in element_sizes(scene).items()}
+    layers = scene.mesh.min_layers if min_layers is None else min_layers
+    if fidelity == "solid":
+        per_part = _per_part(assembly, sizes, layers)
+        element, order = scene.mesh.element, scene.mesh.order
+        elements = sum(math.prod(n) for n in per_part.values())
+        nodes = {p.name: _nodes(per_part[p.name], element, order) for p in assembly.parts}
+        dofs = 3 * sum(nodes.values()) + sum(nodes[p.name] for p in assembly.parts if p.poling)
+    elif fidelity == "plate":  # the in-plane tensor grid over the whole footprint (an upper bound)
+        elements = math.prod(sum(k for _, _, k in _divisions(assembly, axis, sizes, 1)) for axis in (0, 1))
+        dofs = 5 * 4.0 * elements
+    else:
+        elements = sum(k for _, _, k in _divisions(assembly, 0, sizes, 1))
+        dofs = 6 * 2.0 * elements
+    return SizeEstimate(fidelity, elements, dofs, memory_of(dofs))
+
+
+def check_size(scene, fidelity: str = "solid", *, size_factor: float = 1.0, min_layers: int | None = None
+               ) -> SizeEstimate:
+    """The estimate, or a SceneError with its figures when the model would not fit in the machine's memory."""
+    estimate = estimate_size(scene, fidelity, size_factor=size_factor, min_layers=min_layers)
+    limit = machine_memory()
+    if estimate.memory > limit:
+        raise SceneError(
+            f"mesh: too large for this machine: {estimate.describe()} against {_bytes(limit)}; the mesh resolves "
+            f"{scene.max_frequency:.4g} Hz (analysis.near / --band / mesh.max_frequency) at "
+            f"{scene.mesh.elements_per_wavelength:g} elements per wavelength: lower them or set mesh.max_size")
+    return estimate

@@ -1,0 +1,83 @@
+"""Device-level checks of a scene, run at the end of ``Scene.validate``: the parts form one bonded body,
+and the electrodes can be driven (each on a poled part, none both driven and grounded, no drive face
+touching a ground face, no poled part shorted by one group on both its faces).
+
+A scene that fails one of them used to solve and give a wrong number (0.2 Hz "bending" modes of loose
+parts, zero or wrong amplitudes); each now raises a one-line SceneError naming the parts or the group.
+"""
+
+from __future__ import annotations
+
+from modalfe.errors import SceneError
+
+_Rect = tuple[int, float, tuple[float, ...], tuple[float, ...]]  # normal axis, its coordinate, lo, hi
+
+
+def check_device(scene) -> None:
+    """Raise SceneError unless ``scene``'s parts are bonded into one body and its electrodes are
+    consistent (see the module docstring)."""
+    assembly = scene.full_assembly()
+    assembly.check_connected()
+    check_electrodes(assembly, dict(scene.electrodes))
+
+
+def check_electrodes(assembly, roles: dict[str, str]) -> None:
+    """Raise SceneError naming the electrode group at fault: a face of no poled part, a face both
+    driven and grounded, a drive face touching a ground face, a poled part with one group on both z faces.
+
+    Electrode faces are compared as rectangles in space, so a ground electrode on a metal part's face
+    under a piezo counts as touching that piezo (a legitimate design), and a face listed under another
+    part's name (the plate's top under a ceramic's bottom) counts as the same face."""
+    tol = assembly.tolerance
+    poled = [p for p in assembly.parts if p.poling]
+    rects = {g: [(f"{f.part}.{f.side}", _rect(assembly, f)) for f in assembly.faces.get(g, ())] for g in roles}
+    for group in roles:
+        for name, r in rects[group]:
+            if not any(_overlap(r, _rect_of(p, side), tol) for p in poled for side in ("zmin", "zmax", "xmin",
+                                                                                        "xmax", "ymin", "ymax")):
+                what = "the device has no poled part" if not poled else "an electrode must lie on a poled part's face"
+                raise SceneError(f"electrodes.{group}: face '{name}' touches no poled piezo part ({what})")
+    drive = [g for g, role in roles.items() if role == "drive"]
+    ground = [g for g, role in roles.items() if role == "ground"]
+    for g in drive:
+        for h in ground:
+            for name, r in rects[g]:
+                for other, s in rects[h]:
+                    if _overlap(r, s, tol):
+                        raise SceneError(f"electrodes.{g}: face '{name}' is also in the ground electrode '{h}' "
+                                         f"('{other}'): a face cannot be both driven and grounded")
+                    if _touch(r, s, tol):
+                        raise SceneError(f"electrodes.{g}: drive face '{name}' touches ground face '{other}' of "
+                                         f"'{h}' along an edge or at a corner (a short circuit)")
+    for p in poled:
+        covering = {side: {g for g in roles for _, r in rects[g] if _overlap(r, _rect_of(p, side), tol)}
+                    for side in ("zmin", "zmax")}
+        shorted = covering["zmin"] & covering["zmax"]
+        if shorted:
+            g = sorted(shorted)[0]
+            raise SceneError(f"electrodes.{g}: covers both z faces of the poled part '{p.name}' (it shorts the "
+                             f"part: no field through it)")
+
+
+def _rect(assembly, face) -> _Rect:
+    return assembly.part(face.part).face_bounds(face.side, face.window)
+
+
+def _rect_of(part, side: str) -> _Rect:
+    return part.face_bounds(side)
+
+
+def _overlap(a: _Rect, b: _Rect, tol: float) -> bool:
+    """Coplanar face rectangles sharing a patch of positive area."""
+    if a[0] != b[0] or abs(a[1] - b[1]) > tol:
+        return False
+    return all(min(a[3][k], b[3][k]) - max(a[2][k], b[2][k]) > tol for k in range(3) if k != a[0])
+
+
+def _touch(a: _Rect, b: _Rect, tol: float) -> bool:
+    """Face rectangles with a point in common (a shared edge, a corner, or more)."""
+    def interval(r: _Rect, k: int) -> tuple[float, float]:
+        return (r[1], r[1]) if k == r[0] else (r[2][k], r[3][k])
+
+    return all(min(interval(a, k)[1], interval(b, k)[1]) - max(interval(a, k)[0], interval(b, k)[0]) >= -tol
+               for k in range(3))

@@ -1,0 +1,69 @@
+"""Scene input checks of issue 16 items 5 and 8: datasheet d-form materials, permittivity units, assumption
+lines that follow --set, damping sources, and the size estimate before meshing."""
+
+import numpy as np
+import pytest
+
+from modalfe.errors import SceneError
+from modalfe.scene import load_scene
+from modalfe.scene.materials import EPS0, MATERIALS, material, piezo_compliance_form, piezo_stiffness_form
+
+
+@pytest.mark.parametrize("grade", ["PZT-4", "PZT-5A", "PZT-5H"])
+def test_d_form_round_trips_to_the_e_form(grade):
+    m = MATERIALS[grade]
+    s_E, d, eps_T = piezo_compliance_form(m.C, m.e, m.eps_S)
+    C, e, eps_S = piezo_stiffness_form(s_E, d, eps_T)
+    # exact identities: only rounding of two 6x6 inversions remains (condition number ~10)
+    np.testing.assert_allclose(C, m.C, rtol=1e-12, atol=1e-12 * np.abs(m.C).max())
+    np.testing.assert_allclose(e, m.e, rtol=1e-10, atol=1e-12 * np.abs(m.e).max())
+    np.testing.assert_allclose(eps_S, m.eps_S, rtol=1e-10)
+
+
+def test_pzt4_datasheet_values_from_the_d_form():
+    m = MATERIALS["PZT-4"]
+    _, d, eps_T = piezo_compliance_form(m.C, m.e, m.eps_S)
+    # Berlincourt 1964 PZT-4: d33 289 pC/N, d31 -123 pC/N, K33T 1300 (tables rounded to ~1-2 %)
+    assert d[2, 2] == pytest.approx(289e-12, rel=0.02)
+    assert d[2, 0] == pytest.approx(-123e-12, rel=0.02)
+    assert eps_T[2, 2] / EPS0 == pytest.approx(1300, rel=0.02)
+
+
+def test_relative_permittivity_is_refused_with_the_field():
+    m = MATERIALS["PZT-4"]
+    with pytest.raises(SceneError, match=r"^materials\.p\.eps_S: .*eps0"):
+        material({"name": "p", "C": m.C.tolist(), "e": m.e.tolist(), "eps_S": (m.eps_S / EPS0).tolist(),
+                  "rho": 7500.0})
+
+
+def test_assumption_lines_follow_the_parameters():
+    default = load_scene("cube_plate").assumptions
+    thin = load_scene("cube_plate", ceramic_thickness=0.65e-3).assumptions
+    assert "x 1 mm" in default[0] and "x 0.65 mm" in thin[0]
+    assert any("Abaqus 42.7 kHz: see" in a for a in default)
+    assert not any("Abaqus 42.7 kHz: see" in a for a in thin)  # the default geometry's explanation is dropped
+    assert any("ceramic_thickness as set by the user" in a for a in thin)
+    beam = load_scene("ciliary_beam", x0=0.05).assumptions
+    assert beam[0].startswith("x0 = 50 mm (l1 / l2 / l3 = 45 / 10 / 45 mm)")
+
+
+def test_user_damping_is_said_to_be_the_users():
+    scene = load_scene("cube_plate", **{"drive.damping": "Q=80"})
+    assert scene.drive.damping_source.startswith("set by the user")
+    assert "assumption" in load_scene("cube_plate").drive.damping_source
+
+
+def test_size_estimate_bounds_the_real_mesh_and_refuses_absurd_requests(monkeypatch):
+    from modalfe.models.build import build_model
+    from modalfe.models.estimate import check_size, estimate_size
+
+    scene = load_scene("tile_eq5")
+    model, _ = build_model(scene, "solid")
+    estimate = estimate_size(scene, "solid")
+    # interface nodes are counted once per part and clamped DOFs are kept: an upper bound within 1.5x
+    assert model.n_u <= estimate.dofs <= 1.5 * model.n_u
+    with pytest.raises(SceneError, match=r"^mesh: too large for this machine: .* elements, .* DOFs"):
+        check_size(load_scene("cube_plate", **{"analysis.near": 1e12}))
+    monkeypatch.setenv("MODALFE_MAX_MEMORY", "1e6")
+    with pytest.raises(SceneError, match=r"^mesh: too large"):
+        build_model(load_scene("tile_eq5", **{"mesh.elements_per_wavelength": 7.0}), "solid")

@@ -1,0 +1,124 @@
+"""Issue 16 item 1: the eigen search returns every mode of a band (certified by a Sturm count), a shift at 0 Hz
+or exactly on a mode is moved consistently, and an impossible ``count`` is refused in one line."""
+
+import numpy as np
+import pytest
+
+from modalfe.errors import SolverError
+from modalfe.models.build import build_model
+from modalfe.scene import Analysis, load_scene, scene_from_dict
+from modalfe.solve.api import solve_modes
+from modalfe.solve.eigen import band_eigenpairs, eigenpairs, sturm_count
+from modalfe.solve.linalg import available_solvers, negative_eigenvalue_count
+from tests.oracles.cases import free_plate_scene, k31_bar_scene
+
+BIMORPH = {  # the README's scene file
+    "name": "bimorph", "units": "mm", "kind": "beam",
+    "analysis": {"near": 2000.0, "count": 6}, "mesh": {"elements_per_wavelength": 6},
+    "materials": {"steel": {"E": 200e9, "nu": 0.3, "rho": 7850.0}},
+    "parts": [{"name": "beam", "material": "steel", "origin": [0, 0, 0], "size": [40, 4, 1]},
+              {"name": "patch", "region": "piezo", "material": "PZT-5A", "origin": [5, 0, 1],
+               "size": [10, 4, 0.2], "poling": 1}],
+    "faces": {"clamp": ["beam.xmin"], "electrode_top": ["patch.zmax"], "electrode_bottom": ["patch.zmin"]},
+    "electrodes": {"electrode_top": "drive", "electrode_bottom": "ground"},
+    "clamps": {"clamp": "xyz"},
+}
+
+
+def _pencil(scene, fidelity="solid"):
+    model, _ = build_model(scene, fidelity)
+    T = model.constraints("short").T
+    return (T.T @ model.K @ T).tocsr(), (T.T @ model.M @ T).tocsr()
+
+
+@pytest.mark.parametrize("solver", available_solvers())
+def test_inertia_matches_dense_eigenvalues_of_a_piezo_pencil(solver):
+    # a coarse k31 bar: 1114 unknowns, 151 of them potentials (no inertia: -K_phiphi adds 151 negatives)
+    A, B = _pencil(k31_bar_scene(3e-3))
+    Ad, Bd = A.toarray(), B.toarray()
+    for f in (-10.0, 5e3, 1e5):
+        s = np.sign(f) * (2 * np.pi * f) ** 2
+        # inertia is an integer: exact agreement with the dense symmetric eigenvalues' signs
+        assert negative_eigenvalue_count(A - s * B, solver=solver) == int(np.sum(np.linalg.eigvalsh(Ad - s * Bd) < 0))
+    # the Sturm count of the condensed pencil: finite eigenvalues below the shift (the k31 bar is free,
+    # so its six rigid-body modes are below any positive shift); dense generalized eigenvalues as reference
+    from scipy.linalg import eigh
+
+    massless = B.diagonal() == 0
+    keep = ~massless
+    S = Ad[np.ix_(keep, keep)] - Ad[np.ix_(keep, massless)] @ np.linalg.solve(
+        Ad[np.ix_(massless, massless)], Ad[np.ix_(massless, keep)])
+    finite = eigh(S, Bd[np.ix_(keep, keep)], eigvals_only=True)
+    for f in (1e3, 5e4, 1e5):
+        s = (2 * np.pi * f) ** 2
+        assert sturm_count(A, B, s, solver=solver) == int(np.sum(finite < s))
+
+
+def test_band_finds_every_mode_of_the_cube_plate_plate_model():
+    # before: the search stopped at 31.6 kHz, leaving out (0,6) at 39.5 kHz and six more modes
+    modes = solve_modes(load_scene("cube_plate"), band=(100.0, 50e3), fidelity="plate", error_estimate=False)
+    assert modes.frequencies.max() > 48e3 and len(modes) == 17
+    assert any(abs(m.frequency - 39.5e3) < 100 for m in modes)
+    # overlapping near windows of 8 modes each, stepped by 4 kHz across the band, find the same set
+    found = set()
+    for centre in np.arange(2e3, 50e3, 4e3):
+        for m in solve_modes(load_scene("cube_plate"), near=centre, count=8, fidelity="plate", error_estimate=False):
+            if 100.0 <= m.frequency <= 50e3:
+                found.add(round(m.frequency, 3))
+    # the same discrete problem from other shifts: ARPACK's 1e-8 tolerance leaves ~1e-9 relative; 0.01 Hz
+    assert np.allclose(sorted(found), np.round(modes.frequencies, 3), atol=0.01)
+
+
+def test_band_equals_the_sturm_count_and_the_dense_solution():
+    A, B = _pencil(free_plate_scene(mesh={"max_size": 5e-3}))
+    solution = band_eigenpairs(A, B, (0.0, 1e5))
+    assert solution.expected == len(solution.values)
+    assert len(solution.values) == sturm_count(A, B, (2 * np.pi * 1e5) ** 2) - sturm_count(A, B, -1.0)
+    from scipy.linalg import eigh
+
+    dense = eigh(A.toarray(), B.toarray(), eigvals_only=True)
+    inside = dense[dense <= (2 * np.pi * 1e5) ** 2]
+    # all 34 (six rigid at ~0, then elastic); eigenvalues to 1e-7 of the largest (rigid ones are ~0 +- noise)
+    assert len(solution.values) == len(inside) == 34
+    assert np.allclose(solution.values, inside, rtol=1e-7, atol=1e-7 * inside.max())
+
+
+def test_many_windows_and_a_multiple_eigenvalue_are_complete(monkeypatch):
+    import modalfe.solve.eigen as eigen
+
+    monkeypatch.setattr(eigen, "WINDOW_MODES", 4)  # force ~9 windows on 34 modes, the rigid six in one
+    A, B = _pencil(free_plate_scene(mesh={"max_size": 4e-3}))
+    solution = eigen.band_eigenpairs(A, B, (0.0, 1e5))
+    assert len(solution.values) == solution.expected == 34
+    assert np.sum(np.abs(solution.values) < 1.0) == 6  # every copy of the six-fold rigid eigenvalue
+
+
+def test_near_zero_on_a_free_body_is_not_shifted():
+    # before: eigsh was called with the singular shift 0 on a factorization of a moved one: every
+    # frequency 11 % off. Now: the lowest modes, equal to the band's (same discrete problem; 1e-7)
+    low = solve_modes(free_plate_scene(), near=0.0, count=10, error_estimate=False)
+    band = solve_modes(free_plate_scene(), band=(0.0, 13e3), error_estimate=False)
+    assert len(band) == 10 and len(low) == 10
+    assert low.frequencies[6:] == pytest.approx(band.frequencies[6:], rel=1e-7)
+    assert np.all(low.frequencies[:6] < 1.0)
+
+
+def test_a_shift_exactly_on_a_mode_of_the_readme_bimorph_is_nudged():
+    scene = scene_from_dict(BIMORPH)
+    first = solve_modes(scene, near=2000.0, count=4, error_estimate=False, fidelity="solid")
+    exact = first.frequencies[0]
+    # before: "the shifted matrix is singular to working precision" for near = 545.22 (the printed value)
+    for near in (round(exact, 2), exact):
+        again = solve_modes(scene, near=near, count=4, error_estimate=False, fidelity="solid")
+        # the same four modes; 1e-8: ARPACK's tolerance on shift-inverted values, measured <= 1e-10
+        assert again.frequencies == pytest.approx(first.frequencies, rel=1e-8)
+
+
+def test_an_impossible_count_is_refused_in_one_line():
+    A, B = _pencil(k31_bar_scene(3e-3))
+    with pytest.raises(SolverError) as info:
+        eigenpairs(A, B, Analysis(near=1e4, count=10000))
+    message = str(info.value)
+    assert message.startswith("count:") and "1114 unknowns" in message and "\n" not in message
+    with pytest.raises(SolverError, match=r"^count: "):
+        solve_modes(scene_from_dict(BIMORPH), near=1e3, count=10000, error_estimate=False)

@@ -1,4 +1,5 @@
-"""Pictures of every device's working mode for the README (docs/img/<scene>.png), with render times.
+"""Pictures of every device's working mode for the README (docs/img/<scene>.png), with render times: two panels
+(from above and from below) so that every foot and electrode is marked, and the list of markers drawn.
 
     python studies/render_working_modes.py [--quick] [--out docs/img]
 
@@ -37,10 +38,12 @@ def main() -> None:
             samples = []
             for _ in range(3):
                 start = time.perf_counter()
-                render_mode(mode, out=str(path), window_size=(900, 560)).close()
+                plotter = render_mode(mode, out=str(path), window_size=(1400, 520), view="iso+bottom")
                 samples.append(time.perf_counter() - start)
+                markers = sorted({m.group for m in plotter._modalfe["markers"]})
+                plotter.close()
             print(f"{name:<16} {mode.label:<12} {mode.frequency:>10.1f} Hz  render {statistics.median(samples):.2f} s"
-                  f"  -> {path}")
+                  f"  -> {path}  marked: {', '.join(markers) or 'none'}")
 
 
 if __name__ == "__main__":

@@ -115,7 +115,7 @@ def _friction(args) -> int:
 
 
 def _finger_amplitudes(args, frequencies: list[float]) -> list[np.ndarray]:
-    frequencies = [require("--frequency", f, positive=True) for f in frequencies]
+    frequencies = [require("frequency", f, positive=True) for f in frequencies]
     if not args.amplitude:
         # Table I: mu_US / mu reaches about 0.7 near 3.2 um pp at 66 kHz and 0.3 um pp at 225 kHz
         return [np.linspace(0, 3.2e-6 * (66e3 / f) ** 1.5, 25) for f in frequencies]

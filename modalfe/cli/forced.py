@@ -1,4 +1,5 @@
-"""`modalfe forced`: the working mode per volt, its reduced model, admittance and circuit."""
+"""`modalfe forced`: the working mode per volt (or per unit force, pressure or base acceleration), its reduced
+model, admittance and circuit, and the peak stress and field at resonance against the materials' limits."""
 
 from __future__ import annotations
 
@@ -14,7 +15,17 @@ def register(subparsers) -> None:
     p.add_argument("--mode", help="working-mode label or family, e.g. '(0,6)' or 'bending-z 6'")
     p.add_argument("--near", type=frequency, help="frequency [Hz] the mode is sought near")
     p.add_argument("--damping", help="zeta=Z, Q=Q or rayleigh=ALPHA,BETA (default: the scene's)")
-    p.add_argument("--outputs", help="comma-separated face groups (default: the scene's)")
+    p.add_argument("--outputs", help="comma-separated face groups, mean:GROUP for the mean over a face group "
+                   "(default: the scene's)")
+    p.add_argument("--point", action="append", metavar="NAME=X,Y,Z", help="an output point [m] (repeatable)")
+    loads = p.add_mutually_exclusive_group()
+    loads.add_argument("--voltage", action="store_true", help="drive the electrodes by a voltage (per volt)")
+    loads.add_argument("--force", metavar="GROUP=FX,FY,FZ", help="total force [N] on a face group, spread by area")
+    loads.add_argument("--pressure", metavar="GROUP=P", help="normal pressure [Pa] on a face group")
+    loads.add_argument("--base-acceleration", choices=("x", "y", "z"),
+                       help="supports move with 1 m/s^2 along the axis (response relative to the base)")
+    p.add_argument("--stress", nargs="?", const="", metavar="PARTS",
+                   help="peak stress and field at resonance in every part, or the comma-separated PARTS")
     p.add_argument("--volts", type=positive_float, default=1.0, help="drive amplitude [V] for the printed curve")
     p.add_argument("--full", action="store_true", help="also solve the full FE harmonic response")
     p.add_argument("--save-rom", metavar="FILE", help="write the reduced model as JSON")
@@ -28,6 +39,7 @@ def _forced(args) -> int:
     from modalfe.cli.options import parse_overrides
     from modalfe.response.figures import forced_figures
     from modalfe.response.forced import Damping
+    from modalfe.response.loads import Load
     from modalfe.scene import load_scene
 
     damping = Damping.parse(args.damping) if args.damping is not None else None
@@ -36,9 +48,32 @@ def _forced(args) -> int:
         outputs = [o.strip() for o in args.outputs.split(",")]
         if not all(outputs):
             raise SceneError(f"--outputs: expected face groups separated by commas, got '{args.outputs}'")
+    for text in args.point or ():
+        name, eq, coords = text.partition("=")
+        try:
+            point = tuple(float(c) for c in coords.split(","))
+        except ValueError:
+            point = ()
+        if not (eq and name.strip() and len(point) == 3):
+            raise SceneError(f"--point: expected NAME=X,Y,Z in metres, got '{text}'")
+        outputs = (outputs or []) + [(name.strip(), point)]
+    load = None
+    if args.voltage:
+        load = Load()
+    elif args.force is not None:
+        load = Load.parse(f"force {args.force}", "--force")
+    elif args.pressure is not None:
+        load = Load.parse(f"pressure {args.pressure}", "--pressure")
+    elif args.base_acceleration is not None:
+        load = Load(kind="base-acceleration", axis=args.base_acceleration)
+    stress = None
+    if args.stress is not None:
+        stress = [s.strip() for s in args.stress.split(",")] if args.stress.strip() else True
+        if stress is not True and not all(stress):
+            raise SceneError(f"--stress: expected part names separated by commas, got '{args.stress}'")
     scene = load_scene(args.scene, **parse_overrides(args.set))
     fig = forced_figures(scene, selector=args.mode, near=args.near, damping=damping, outputs=outputs,
-                         full=args.full)
+                         full=args.full, load=load, stress=stress)
     if args.save_rom:
         fig.rom.save(args.save_rom)
     if args.plot:
@@ -48,8 +83,13 @@ def _forced(args) -> int:
         return 0
     rom = fig.rom
     print(f"{scene.name}: mode {rom.label} at {rom.frequency:.1f} Hz, {rom.damping_description} ({fig.damping_source})")
+    unit = fig.load_unit
     print(f"  reduced model at {rom.reference}: m {rom.modal_mass:.4g} kg, k {rom.stiffness:.4g} N/m, "
-          f"c {rom.damping:.4g} N s/m, force factor {rom.force_factor:.4g} N/V")
+          f"c {rom.damping:.4g} N s/m, force factor {rom.force_factor:.4g} N/{unit}")
+    if unit != "V":
+        _print_load(fig)
+        _print_stress(fig)
+        return 0
     bvd = rom.bvd
     print(f"  BVD: C0 {bvd['C0']:.4g} F, R1 {bvd['R1']:.4g} ohm, L1 {bvd['L1']:.4g} H, C1 {bvd['C1']:.4g} F; "
           f"fa {rom.antiresonance:.1f} Hz, k_eff {rom.k_eff:.4f}")
@@ -64,7 +104,53 @@ def _forced(args) -> int:
               f"({100 * a['deviation']:+.0f}%)")
     for note in fig.notes:
         print(f"  note: {note}")
+    _print_stress(fig)
     return 0
+
+
+def _print_load(fig) -> None:
+    """Outputs per unit of a force, pressure or base acceleration at resonance."""
+    unit = fig.load_unit
+    print(f"  load: {fig.load_description} ({fig.load_source})")
+    print(f"  amplitude build-up time constant {1e3 * fig.time_constant:.3f} ms")
+    for o, a in fig.amplitude_per_volt.items():
+        line = (f"  {o:<16} {1e9 * a:10.4g} nm/{unit} 0-peak   velocity {1e3 * fig.velocity[o]:.4g} mm/s/{unit}   "
+                f"accel {fig.acceleration[o][0]:.4g} m/s^2/{unit} peak")
+        if o in fig.absolute_acceleration:
+            line += f" (relative; absolute {fig.absolute_acceleration[o]:.4g} per m/s^2 of base)"
+        print(line)
+    for note in fig.notes:
+        print(f"  note: {note}")
+
+
+def _print_stress(fig) -> None:
+    """Peak stress and field per unit load at resonance, and the load that reaches each material limit."""
+    if fig.stress is None:
+        return
+    unit = fig.load_unit
+    print(f"  stress and field at resonance per {unit} (peaks over the cycle; point in mm):")
+
+    def at(p) -> str:
+        return "(" + ", ".join(f"{1e3 * c:.2f}" for c in p.point) + ")"
+
+    for p in fig.stress:
+        line = (f"    {p.part:<12} {p.material:<10} von Mises {p.von_mises.value / 1e6:.4g} MPa/{unit} "
+                f"at {at(p.von_mises)}"
+                f"   max principal {p.principal.value / 1e6:.4g} MPa/{unit} at {at(p.principal)}")
+        if p.field is not None:
+            line += f"   |E| {p.field.value / 1e3:.4g} V/mm per {unit} at {at(p.field)}"
+        print(line)
+    for row in fig.limits:
+        what = "depolarising field" if row["limit"] == "depolarising_field" else "tensile strength"
+        if row["limit_value"] is None:
+            print(f"    {row['part']:<12} {what}: no limit in the table for {row['material']}")
+            continue
+        shown = (f"{row['limit_value'] / 1e6:.4g} V/um" if row["limit"] == "depolarising_field" else
+                 f"{row['limit_value'] / 1e6:.4g} MPa")
+        shown = shown.replace("V/um", "kV/mm")
+        print(f"    {row['part']:<12} {what} {shown}: reached at {row['load_to_limit']:.4g} {unit}")
+    for source in dict.fromkeys(r["source"] for r in fig.limits if r["source"]):
+        print(f"    limits: {source}")
 
 
 def _plot(fig, path: str, volts: float) -> None:
@@ -75,6 +161,12 @@ def _plot(fig, path: str, volts: float) -> None:
     if fig.frf_full is not None:
         curves["full FE"] = volts * fig.frf_full
     title = f"{fig.scene}: {fig.rom.label}, {fig.rom.damping_description}"
+    unit = fig.load_unit
+    if unit != "V":  # per unit force, pressure or base acceleration: no circuit to plot
+        title = f"{fig.scene}: {fig.rom.label} driven by a {fig.load_description}, {fig.rom.damping_description}"
+        plot_frf(fig.frequency, {k: c / volts for k, c in curves.items()},
+                 ylabel=f"amplitude at {fig.rom.reference} [m/{unit}]", title=title).savefig(path, dpi=110)
+        return
     frf = plot_frf(fig.frequency, curves, ylabel=f"amplitude at {fig.rom.reference} [m] at {volts:g} V", title=title)
     stem, dot, ext = path.rpartition(".")
     frf.savefig(path, dpi=110)

@@ -14,11 +14,11 @@ import os
 import sys
 import traceback
 
-from modalfe.cli import contact, forced, modes, sweep, view
+from modalfe.cli import admittance, contact, forced, info, modes, place, sweep, view
 from modalfe.cli.options import check_output_paths
 from modalfe.errors import ModalfeError, SceneError
 
-COMMAND_GROUPS = (modes, forced, contact, view, sweep)
+COMMAND_GROUPS = (modes, forced, contact, view, sweep, info, place, admittance)
 EXIT_INPUT, EXIT_FAILED, EXIT_INTERNAL, EXIT_INTERRUPTED = 2, 1, 70, 130
 
 
@@ -49,8 +49,7 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("modalfe: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
-    logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
-                        format="%(levelname)s %(name)s: %(message)s")
+    configure_logging(args.verbose)
     captured = io.StringIO() if getattr(args, "json", False) else None
     status = EXIT_INTERNAL
     try:
@@ -77,6 +76,19 @@ def main(argv: list[str] | None = None) -> int:
         if captured is not None:
             _emit_json(captured.getvalue(), status)
     return status
+
+
+QUIET_LOGGERS = ("skfem", "distributed", "tornado", "bokeh", "asyncio", "matplotlib", "PIL", "numba")
+
+
+def configure_logging(verbose: bool) -> None:
+    """Warnings only; with ``-v`` modalfe's own steps and timings at INFO, never the libraries' chatter
+    (scikit-fem logs every assembly at INFO, dask's ``distributed`` every worker, VTK every offscreen window)."""
+    logging.basicConfig(level=logging.WARNING, format="%(asctime)s %(levelname)s %(name)s: %(message)s",
+                        datefmt="%H:%M:%S")
+    logging.getLogger("modalfe").setLevel(logging.INFO if verbose else logging.WARNING)
+    for name in QUIET_LOGGERS:
+        logging.getLogger(name).setLevel(logging.WARNING)
 
 
 def _fail(exc: object, status: int, prefix: str = "modalfe: error: ") -> int:

@@ -2,9 +2,13 @@
 
 from __future__ import annotations
 
+import logging
 import os
+import time
 
 from modalfe.cli.options import frequency, positive_int
+
+log = logging.getLogger(__name__)
 
 
 def register(subparsers) -> None:
@@ -15,11 +19,14 @@ def register(subparsers) -> None:
     p.add_argument("--near", type=frequency, help="frequency [Hz] to search near (default: the working mode's)")
     p.add_argument("--out", help="FILE.png or FILE.gif (default: a window if there is a display, "
                                  "else <scene>.png)")
-    p.add_argument("--view", choices=("iso", "top", "bottom"), default="iso")
+    p.add_argument("--view", choices=("iso", "top", "bottom", "iso+bottom"), default="iso+bottom",
+                   help="iso+bottom (default): two panels, so that markers under the device (feet, electrodes "
+                        "on the lower face) show as well as those on top")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene parameter")
     p.set_defaults(func=_show)
 
-    p = subparsers.add_parser("export", help="write every computed mode to a VTU file for ParaView")
+    p = subparsers.add_parser("export", help="write every computed mode to a VTU file (quadratic cells, part "
+                                             "names, displacement and potential) and its mode table CSV")
     p.add_argument("scene")
     p.add_argument("--vtu", required=True, help="output file (.vtu)")
     p.add_argument("--near", type=frequency)
@@ -30,12 +37,23 @@ def register(subparsers) -> None:
 
 def _modes(args):
     from modalfe.cli.options import parse_overrides
+    from modalfe.models.estimate import estimate_size
     from modalfe.scene import load_scene
     from modalfe.solve.api import solve_modes
 
     scene = load_scene(args.scene, **parse_overrides(args.set))
     near = args.near or (scene.working_modes[0].near if scene.working_modes else None)
-    return scene, solve_modes(scene, near=near, count=getattr(args, "count", None), error_estimate=False)
+    log.info("%s: solving near %s Hz, %s", scene.name, near, estimate_size(scene).describe())
+    start = time.perf_counter()
+    modes = solve_modes(scene, near=near, count=getattr(args, "count", None), error_estimate=False)
+    log_timings(modes, time.perf_counter() - start)
+    return scene, modes
+
+
+def log_timings(modes, seconds: float) -> None:
+    """One INFO line with the solve's stages and their seconds (mesh, assembly, factorization, eigensolve)."""
+    stages = ", ".join(f"{k} {v:.2f} s" for k, v in modes.timings.items() if isinstance(v, int | float))
+    log.info("%d modes, %d DOFs, %s model, in %.1f s (%s)", len(modes), modes.dofs, modes.fidelity, seconds, stages)
 
 
 def _show(args) -> int:
@@ -58,12 +76,14 @@ def _show(args) -> int:
         mode = select(modes, args.mode, args.near or mode_near(scene))
     interactive = args.out is None and bool(os.environ.get("DISPLAY"))
     out = args.out or (None if interactive else f"{scene.name}.png")
+    start = time.perf_counter()
     if out and out.endswith(".gif"):
-        animate_mode(mode, out)
+        animate_mode(mode, out, view=args.view)
     else:
         plotter = render_mode(mode, out=out, view=args.view, off_screen=not interactive)
         if interactive:
             plotter.show()
+    log.info("rendered in %.2f s", time.perf_counter() - start)
     if out:
         print(f"{scene.name}: {mode.label} at {mode.frequency:.1f} Hz -> {out}")
     return 0
@@ -74,9 +94,10 @@ def mode_near(scene) -> float:
 
 
 def _export(args) -> int:
-    from modalfe.report.export import export_vtu
+    from modalfe.report.export import export_vtu, table_path
 
     scene, modes = _modes(args)
     path = export_vtu(modes, args.vtu)
-    print(f"{scene.name}: {len(modes)} modes -> {path}")
+    print(f"{scene.name}: {len(modes)} modes -> {path} (quadratic cells, part names, displacement [m] and "
+          f"potential [V] per mode), frequency table -> {table_path(path)}")
     return 0

@@ -126,9 +126,7 @@ class Model(PiezoUnknowns):
         """(3 n, ndofs) matrix giving (ux, uy, uz) [m] at ``points`` (n, 3) [m] of the whole device from a full
         DOF vector, rows component-major (all ux, then uy, then uz); a symmetric model reads mirror images."""
         p, flip = fold(self.scene, np.asarray(points, dtype=float).reshape(-1, 3).T)
-        lo, hi = (np.asarray(b, dtype=float) for b in self.scene.full_assembly().bounds)
-        p = p + 1e-9 * float(np.max(hi - lo)) * (0.5 * (lo + hi)[:, None] - p)  # boundary points stay inside
-        P = sp.diags(flip.ravel()) @ self.u_basis.probes(p)
+        P = sp.diags(flip.ravel()) @ self.u_basis.probes(self._inside(p))
         return sp.hstack([P, sp.csr_matrix((P.shape[0], self.n_phi))], format="csr")
 
     def potential_probes(self, points: np.ndarray) -> sp.csr_matrix:
@@ -138,8 +136,22 @@ class Model(PiezoUnknowns):
 
         p, _ = fold(self.scene, np.asarray(points, dtype=float).reshape(-1, 3).T)
         scalar = Basis(self.u_basis.mesh, element_for(self.mesh.element, self.scene.mesh.order))
-        P = scalar.probes(p).tocsc()[:, self.phi_dofs]
+        P = scalar.probes(self._inside(p)).tocsc()[:, self.phi_dofs]
         return sp.hstack([sp.csr_matrix((P.shape[0], self.n_u)), P], format="csr")
+
+    def _inside(self, p: np.ndarray) -> np.ndarray:
+        """Points (3, n) moved by 1e-9 of the device's size toward the centre of a part that holds them, so that
+        points on faces, edges and corners (a foot's sole) fall inside an element; SceneError for a point in no part."""
+        parts = self.scene.assembly().parts
+        lo = np.array([q.lo for q in parts], dtype=float)  # (parts, 3)
+        hi = np.array([q.hi for q in parts], dtype=float)
+        step = 1e-9 * float(np.max(hi.max(axis=0) - lo.min(axis=0)))
+        inside = np.all((p.T[:, None, :] >= lo - step) & (p.T[:, None, :] <= hi + step), axis=2)  # (n, parts)
+        if not inside.any(axis=1).all():
+            x, y, z = p[:, np.argmin(inside.any(axis=1))]
+            raise SceneError(f"points: ({x:g}, {y:g}, {z:g}) m lies outside the device's parts")
+        holder = inside.argmax(axis=1)
+        return p + step * (0.5 * (lo + hi)[holder].T - p)
 
     def label_field(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Coordinates (3, n) and displacements (3, n) of the whole device at the vertices of its main parts

@@ -27,16 +27,32 @@ def plot_frf(frequency, responses: dict[str, np.ndarray], *, ylabel: str = "ampl
     return fig
 
 
-def plot_admittance(frequency, admittance, *, title: str = ""):
-    """|Y| [S] and phase [deg] vs frequency [Hz]."""
-    fig, (ax1, ax2) = _figure(2, sharex=True)
+def plot_admittance(frequency, admittance, *, title: str = "", impedance: bool = False,
+                    others: dict[str, np.ndarray] | None = None, label: str = "", markers=()):
+    """|Y| [S] and phase [deg] vs frequency [Hz]; ``impedance`` adds |Z| [ohm] and plots the phase of Z;
+    ``others``: more named admittance curves (a closed form, the direct FE) on the same axes; ``markers``:
+    frequencies [Hz] (fr, fa) drawn as dotted lines."""
+    curves = {label or "Y": np.asarray(admittance)}
+    curves.update({k: np.asarray(v) for k, v in (others or {}).items()})
+    fig, axes = _figure(3 if impedance else 2, sharex=True)
     f = np.asarray(frequency) / 1e3
-    ax1.semilogy(f, np.abs(admittance))
-    ax1.set_ylabel("|Y| [S]")
-    ax2.plot(f, np.degrees(np.angle(admittance)))
-    ax2.set_ylabel("phase [deg]")
-    ax2.set_xlabel("frequency [kHz]")
-    ax1.set_title(title)
+    for i, (name, Y) in enumerate(curves.items()):
+        style = "-" if i == 0 else "--"
+        axes[0].semilogy(f, np.abs(Y), style, label=name)
+        if impedance:
+            axes[1].semilogy(f, 1.0 / np.abs(Y), style, label=name)
+        axes[-1].plot(f, np.degrees(np.angle(1.0 / Y if impedance else Y)), style, label=name)
+    axes[0].set_ylabel("|Y| [S]")
+    if impedance:
+        axes[1].set_ylabel("|Z| [ohm]")
+    axes[-1].set_ylabel(f"phase of {'Z' if impedance else 'Y'} [deg]")
+    axes[-1].set_xlabel("frequency [kHz]")
+    for ax in axes:
+        for m in markers:
+            ax.axvline(m / 1e3, color="grey", linestyle=":", linewidth=0.8)
+    if len(curves) > 1:
+        axes[0].legend()
+    axes[0].set_title(title)
     fig.tight_layout()
     return fig
 

@@ -1,5 +1,12 @@
 """Mode shapes in pyvista: the whole device (symmetric models unfolded), deformed, coloured by the
-normal displacement, with nodal lines and the feet, electrodes and clamps marked.
+normal displacement, with nodal lines and the feet, electrodes, clamps, springs and masses marked.
+
+Markers are found on the whole device's surface from the full assembly's face groups (so a half or
+quarter model shows the mirrored feet and electrodes too), carry the mode's displacement so that they
+move with the body in an animation, and are lifted off the surface along the face's outward normal.
+A face bonded to another part (an electrode under a ceramic) is drawn as its outline on the exposed
+surface around it. The colour bar sits in its own panel at the right, and the title says when the
+picture is unfolded from a half or quarter model.
 
 Functions return a ``pyvista.Plotter`` (off screen unless asked) or write the file they are given;
 they never call ``show()`` for the caller.
@@ -7,11 +14,37 @@ they never call ``show()`` for the caller.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
-from modalfe.models.symmetry import mirror_planes, mirrored, whole_device_mesh
+from modalfe.models.symmetry import mirror_planes, whole_device_mesh
 
-MARKERS = {"foot": "limegreen", "electrode": "gold", "clamp": "black", "mount": "purple", "actuator": "orange"}
+MARKERS = {"foot": "limegreen", "electrode": "gold", "clamp": "black", "spring": "purple", "mass": "orange"}
+COLOUR_BAR_TITLE = "normal displacement w\n[m per unit modal\namplitude,\nmass-normalised]"
+VIEWS = ("iso", "top", "bottom", "iso+bottom")
+LIFT = 2e-3  # markers are lifted off the surface by this fraction of the device's size (no z-fighting)
+
+
+@dataclass(frozen=True)
+class Marker:
+    """A marked face group: ``poly`` at rest with point data ``displacement``; ``normal`` is the outward
+    normal (axis, sign) of its faces, the direction it is seen from; ``outline`` when the face is bonded
+    to another part and only its edge shows."""
+
+    group: str
+    kind: str
+    colour: str
+    poly: object
+    normal: tuple[int, int]
+    outline: bool
+
+    def seen_from(self) -> tuple[str, ...]:
+        """The views of ``render_mode`` that look at this marker's side of the device."""
+        axis, sign = self.normal
+        if axis == 2:
+            return ("top", "iso") if sign > 0 else ("bottom",)
+        return ("iso",) if sign > 0 else ()
 
 
 def mode_grid(mode):
@@ -29,102 +62,189 @@ def mode_grid(mode):
     grid.point_data["w"] = fields["displacement"][:, 2]
     grid.cell_data["part"] = part_id
     grid.field_data["part_names"] = np.array(names)
+    if mirror_planes(model.scene):  # merge the mirrored copies of the points on the symmetry planes
+        grid = grid.clean(tolerance=1e-9 * float(np.ptp(points, axis=0).max()), produce_merge_map=False)
     return grid
 
 
-def _face_markers(model, scale: float, displacement: np.ndarray):
-    """(name, colour, PolyData) of the marked face groups, deformed like the mode."""
-    import pyvista as pv
+def marker_kind(scene, group: str) -> str | None:
+    """The role a face group is marked with, or None: feet by name, the others by the scene's tables."""
+    if group.startswith("foot"):
+        return "foot"
+    for kind, table in (("electrode", scene.electrodes), ("clamp", scene.clamps), ("spring", scene.springs),
+                        ("mass", scene.masses)):
+        if group in table:
+            return kind
+    return None
 
-    scene = model.scene
-    dm = model.mesh
-    out = []
-    roles = {**{g: "clamp" for g in scene.clamps}}
-    for group in dm.faces:
-        kind = next((k for k in MARKERS if group.startswith(k)), roles.get(group))
+
+def marker_set(mode, surface=None) -> list[Marker]:
+    """Every marked face group of the whole device, as found on its (undeformed) surface."""
+    scene = mode.model.scene
+    if surface is None:
+        surface = mode_grid(mode).extract_surface(algorithm=None)
+    assembly = scene.full_assembly()
+    size = float(np.ptp(surface.points, axis=0).max())
+    tol = 1e-6 * size
+    centres = surface.cell_centers().points
+    areas = surface.compute_cell_sizes(length=False, volume=False).cell_data["Area"]
+    found: dict[tuple[str, bool, tuple[int, int]], list] = {}
+    for group, faces in assembly.faces.items():
+        kind = marker_kind(scene, group)
         if kind is None:
             continue
-        facets = dm.mesh.facets[:, dm.faces[group]].T
-        if facets.shape[1] == 4:
-            facets = _cyclic(dm.mesh.p.T, facets)
-        faces = np.hstack([np.full((len(facets), 1), facets.shape[1]), facets]).ravel()
-        pts = dm.mesh.p.T + scale * displacement.T
-        poly = pv.PolyData(pts, faces).clean()
-        for axis, twice in mirror_planes(scene):
-            mirror = poly.copy()
-            mirror.points = mirrored(mirror.points.T, axis, twice).T
-            poly = poly.merge(mirror)
-        out.append((group, MARKERS[kind], poly))
+        for face in faces:
+            axis, c, lo, hi = assembly.part(face.part).face_bounds(face.side, face.window)
+            sign = -1 if face.side.endswith("min") else 1
+            inplane = [k for k in range(3) if k != axis]
+            on = np.abs(centres[:, axis] - c) < tol
+            for k in inplane:
+                on &= (centres[:, k] > lo[k] - tol) & (centres[:, k] < hi[k] + tol)
+            area = float(np.prod([hi[k] - lo[k] for k in inplane]))
+            exposed = float(areas[on].sum()) / area if area else 0.0
+            lift = np.zeros(3)
+            if exposed > 0.5:  # an outer face: its own surface cells, lifted outwards
+                poly = surface.extract_cells(np.flatnonzero(on)).extract_surface(algorithm=None)
+                lift[axis] = sign * LIFT * size
+                poly.points = poly.points + lift
+                found.setdefault((group, False, (axis, sign)), []).append((kind, poly))
+            else:  # bonded: its outline, just outside the face, on the exposed surface of the neighbour
+                poly = _outline(mode, axis, c, lo, hi, grow=3 * LIFT * size, lift=-sign * LIFT * size)
+                found.setdefault((group, True, (axis, -sign)), []).append((kind, poly))
+    out = []
+    for (group, outline, normal), pieces in found.items():
+        kind = pieces[0][0]
+        poly = pieces[0][1] if len(pieces) == 1 else pieces[0][1].merge([p for _, p in pieces[1:]])
+        out.append(Marker(group, kind, MARKERS[kind], poly, normal, outline))
     return out
 
 
-def _cyclic(points: np.ndarray, quads: np.ndarray) -> np.ndarray:
-    """Quad vertices reordered to go round each face (skfem stores facets with sorted vertices)."""
-    xyz = points[quads]  # (n, 4, 3)
-    centre = xyz.mean(axis=1, keepdims=True)
-    spread = np.ptp(xyz, axis=1)  # (n, 3): the face's normal axis has no spread
-    normal = np.argmin(spread, axis=1)
-    u_axis = (normal + 1) % 3
-    v_axis = (normal + 2) % 3
-    rows = np.arange(len(quads))[:, None]
-    du = xyz[rows, np.arange(4), u_axis[:, None]] - centre[rows, 0, u_axis[:, None]]
-    dv = xyz[rows, np.arange(4), v_axis[:, None]] - centre[rows, 0, v_axis[:, None]]
-    order = np.argsort(np.arctan2(dv, du), axis=1)
-    return np.take_along_axis(quads, order, axis=1)
+def _outline(mode, axis: int, c: float, lo, hi, *, grow: float, lift: float):
+    """The rectangle (lo, hi) in the plane x[axis] = c, grown by ``grow`` and lifted by ``lift`` along the
+    axis, as a closed polyline with point data ``displacement`` (the mode's, probed at each point)."""
+    import pyvista as pv
+
+    u_axis, v_axis = [k for k in range(3) if k != axis]
+    corners = [(lo[u_axis] - grow, lo[v_axis] - grow), (hi[u_axis] + grow, lo[v_axis] - grow),
+               (hi[u_axis] + grow, hi[v_axis] + grow), (lo[u_axis] - grow, hi[v_axis] + grow)]
+    uv = np.vstack([np.linspace(a, b, 25, endpoint=False) for a, b in zip(corners, corners[1:] + corners[:1])])
+    points = np.zeros((len(uv), 3))
+    points[:, u_axis], points[:, v_axis], points[:, axis] = uv[:, 0], uv[:, 1], c
+    probe = points.copy()  # read the displacement on the face itself, inside the device
+    probe[:, u_axis] = np.clip(probe[:, u_axis], lo[u_axis], hi[u_axis])
+    probe[:, v_axis] = np.clip(probe[:, v_axis], lo[v_axis], hi[v_axis])
+    points[:, axis] += lift
+    poly = pv.PolyData(points, lines=np.r_[len(points) + 1, np.arange(len(points)), 0])
+    poly.point_data["displacement"] = mode.displacement(probe)
+    return poly
+
+
+def quiet_vtk(verbose: bool = False) -> None:
+    """Silence VTK's own warnings (an offscreen window without X prints one per render) unless ``verbose``."""
+    from vtkmodules.vtkCommonCore import vtkLogger, vtkObject
+
+    vtkObject.SetGlobalWarningDisplay(int(verbose))
+    vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_INFO if verbose else vtkLogger.VERBOSITY_OFF)
+
+
+def symmetry_note(scene) -> str:
+    """'' for a whole model, else e.g. 'whole device drawn from the half model about y = 19 mm'."""
+    planes = mirror_planes(scene)
+    if not planes:
+        return ""
+    model = {1: "half", 2: "quarter", 3: "eighth"}[len(planes)]
+    about = " and ".join(f"{'xyz'[axis]} = {1e3 * twice / 2:g} mm" for axis, twice in planes)
+    return f"whole device drawn from the {model} model about {about}"
+
+
+def _scale(grid, amplification: float) -> float:
+    size = float(np.ptp(grid.points, axis=0).max())
+    peak = float(np.abs(grid.point_data["displacement"]).max()) or 1.0
+    return amplification * size / peak
+
+
+def _deformed(poly, scale: float):
+    moved = poly.copy()
+    moved.points = poly.points + scale * poly.point_data["displacement"]
+    return moved
+
+
+def _set_view(plotter, view: str) -> None:
+    if view == "top":
+        plotter.view_xy()
+    elif view == "bottom":
+        plotter.view_xy(negative=True)
+    else:
+        plotter.view_isometric()
+    plotter.camera.zoom(1.15)
 
 
 def render_mode(mode, *, out: str | None = None, window_size=(1000, 650), amplification: float = 0.05,
                 view: str = "iso", off_screen: bool = True):
     """Render ``mode`` deformed (largest displacement = ``amplification`` x the device's size).
 
-    ``view``: "iso", "top" or "bottom". Returns the Plotter; with ``out`` it also writes a PNG."""
+    ``view``: "iso", "top", "bottom" or "iso+bottom" (two panels). The colour bar has its own panel at
+    the right. Returns the Plotter (``plotter._modalfe``: ``overlays``, the (rest PolyData, actor) pairs an
+    animation moves; ``markers``, the Marker list; ``views``); with ``out`` it also writes a PNG."""
     import pyvista as pv
 
+    quiet_vtk()
+    if view not in VIEWS:
+        raise ValueError(f"view: must be one of {VIEWS}, got '{view}'")
+    views = view.split("+")
     grid = mode_grid(mode)
-    size = float(np.ptp(grid.points, axis=0).max())
-    peak = float(np.abs(grid.point_data["displacement"]).max()) or 1.0
-    scale = amplification * size / peak
-    warped = grid.warp_by_vector("displacement", factor=scale)
-    surface = warped.extract_surface(algorithm=None)
+    scale = _scale(grid, amplification)
+    surface = grid.extract_surface(algorithm=None)
     w = surface.point_data["w"]
     limit = float(np.abs(w).max()) or 1.0
-    plotter = pv.Plotter(off_screen=off_screen, window_size=list(window_size))
-    plotter.set_background("white")
-    plotter.add_mesh(surface, scalars="w", cmap="RdBu_r", clim=[-limit, limit], show_scalar_bar=True,
-                     scalar_bar_args={"title": "normal displacement (mass-normalised)", "color": "black"})
+    markers = marker_set(mode, surface)
     nodal = surface.contour([0.0], scalars="w")
-    if nodal.n_points:
-        plotter.add_mesh(nodal, color="black", line_width=3)
-    model = mode.model
-    displacement = model.nodal_displacement(mode.shape)
-    for group, colour, poly in _face_markers(model, scale, displacement):
-        lifted = poly.compute_normals(auto_orient_normals=True)  # lift off the surface: no z-fighting
-        lifted.points = lifted.points + 4e-3 * size * lifted.point_data["Normals"]
-        plotter.add_mesh(lifted, color=colour, label=group)
-    plotter.add_text(f"{model.scene.name}: {mode.label}  {mode.frequency:.1f} Hz", font_size=12, color="black")
-    {"iso": plotter.view_isometric, "top": plotter.view_xy}.get(view, plotter.view_isometric)()
-    if view == "bottom":
-        plotter.view_xy(negative=True)
-    plotter.camera.zoom(1.2)
+    plotter = pv.Plotter(off_screen=off_screen, window_size=list(window_size), shape=(1, len(views) + 1),
+                         col_weights=[6] * len(views) + [2], border=False)
+    plotter.set_background("white")
+    overlays, device_actor = [], None
+    scene = mode.model.scene
+    note = symmetry_note(scene)
+    for col, v in enumerate(views):
+        plotter.subplot(0, col)
+        actor = plotter.add_mesh(_deformed(surface, scale), scalars="w", cmap="RdBu_r", clim=[-limit, limit],
+                                 show_scalar_bar=False, name=f"device:{v}")
+        device_actor = device_actor or actor
+        overlays.append((surface, actor))
+        if nodal.n_points:
+            overlays.append((nodal, plotter.add_mesh(_deformed(nodal, scale), color="black", line_width=3,
+                                                     name=f"nodal:{v}")))
+        for i, m in enumerate(markers):
+            style = {"line_width": 5, "render_lines_as_tubes": True} if m.outline else {}
+            overlays.append((m.poly, plotter.add_mesh(_deformed(m.poly, scale), color=m.colour,
+                                                      name=f"marker:{m.group}:{i}:{v}", **style)))
+        text = f"{scene.name}: {mode.label}  {mode.frequency:.1f} Hz" if col == 0 else ""
+        text += f"\n{note}" if note and col == 0 else ""
+        plotter.add_text(f"{text}\nview: {v}" if text else f"view: {v}", position="upper_left", font_size=10,
+                         color="black")
+        _set_view(plotter, v)
+    plotter.subplot(0, len(views))
+    plotter.add_scalar_bar(COLOUR_BAR_TITLE, mapper=device_actor.mapper, vertical=True, color="black",
+                           position_x=0.3, position_y=0.06, width=0.35, height=0.7, title_font_size=11,
+                           label_font_size=10, fmt="%.2g")
+    plotter.subplot(0, 0)
+    plotter._modalfe = {"overlays": overlays, "markers": markers, "views": views}
     if out:
         plotter.screenshot(out)
     return plotter
 
 
 def animate_mode(mode, out: str, *, frames: int = 16, amplification: float = 0.08,
-                 window_size=(800, 520)) -> str:
-    """Write an animated GIF of one period of ``mode`` to ``out``; returns the path."""
+                 window_size=(900, 520), view: str = "iso") -> str:
+    """Write an animated GIF of one period of ``mode`` to ``out``: the body, its nodal lines and every
+    marker move together; returns the path."""
     grid = mode_grid(mode)
-    size = float(np.ptp(grid.points, axis=0).max())
-    peak = float(np.abs(grid.point_data["displacement"]).max()) or 1.0
-    scale = amplification * size / peak
-    plotter = render_mode(mode, amplification=0.0, window_size=window_size)
-    surface = plotter.meshes[0]
-    base = grid.extract_surface(algorithm=None)
-    rest, u = base.points.copy(), base.point_data["displacement"]
+    scale = _scale(grid, amplification)
+    plotter = render_mode(mode, amplification=amplification, window_size=window_size, view=view)
     plotter.open_gif(out)
     for phase in np.linspace(0, 2 * np.pi, frames, endpoint=False):
-        surface.points = rest + scale * np.cos(phase) * u
+        for rest, actor in plotter._modalfe["overlays"]:
+            actor.mapper.dataset.points = rest.points + scale * np.cos(phase) * rest.point_data["displacement"]
         plotter.write_frame()
     plotter.close()
     return out

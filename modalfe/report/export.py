@@ -1,27 +1,182 @@
-"""VTU export for ParaView: every computed mode as point data, parts as cell data."""
+"""VTU export for ParaView (and anything that reads VTK): the whole device with every computed mode.
+
+The cells are the solve's own: 20-node quadratic hexahedra (VTK_QUADRATIC_HEXAHEDRON, edge mid-nodes
+included) for the serendipity solid, 10-node tetrahedra (VTK_QUADRATIC_TETRA) for P2, linear cells for
+order 1 (and, vertices only, for the Gauss-Lobatto orders 3-4). Symmetric models are unfolded to the
+whole device. Written:
+
+- point data ``mode_<i>_<label>_<f>Hz displacement [m]`` (the mass-normalised shape, vector at every node)
+  and ``mode_<i>_<label>_<f>Hz potential [V]`` (the electric potential over the poled parts, 0 elsewhere);
+- cell data ``part`` (index into the whole device's parts) and one 0/1 array ``part:<name>`` per part,
+  so that ParaView lists the parts by name (meshio cannot read a VTU holding a string array);
+- field data ``frequency [Hz]`` and ``mode index`` (one value per mode, in the point-data order);
+- a sidecar CSV ``<file>_modes.csv`` with the frequency table, units in every header.
+"""
 
 from __future__ import annotations
 
+import csv
+import math
 from pathlib import Path
 
 import numpy as np
 
-from modalfe.models.symmetry import whole_device_mesh
+from modalfe.errors import SolverError
+from modalfe.models.symmetry import mirror_planes, mirrored
+
+# VTK's edge order of the quadratic cells, as pairs of corner positions
+_HEX_EDGES = ((0, 1), (1, 2), (2, 3), (3, 0), (4, 5), (5, 6), (6, 7), (7, 4), (0, 4), (1, 5), (2, 6), (3, 7))
+_TET_EDGES = ((0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3))
+# VTK cell type of each (element, quadratic): HEXAHEDRON, QUADRATIC_HEXAHEDRON, TETRA, QUADRATIC_TETRA
+VTK_TYPE = {("hex", False): 12, ("hex", True): 25, ("tet", False): 10, ("tet", True): 24}
+CSV_HEADER = ("mode index", "label", "frequency [Hz]", "error estimate [relative]", "circuit",
+              "displacement array", "potential array")
 
 
-def export_vtu(modes, path: str | Path) -> Path:
-    """Write the whole device (symmetric models unfolded) with one point-data vector per mode,
-    named ``mode_<index>_<label>_<frequency>Hz``, and the cell data ``part`` (index; names in the
-    field data ``part_names``). Returns the path."""
-    import meshio
+def mode_array_name(mode) -> str:
+    """The point-data name stem of one mode: ``mode_<index>_<label>_<frequency>Hz``."""
+    return f"mode_{mode.index}_{mode.label.replace(' ', '_')}_{mode.frequency:.1f}Hz"
+
+
+def _corners(model) -> np.ndarray:
+    """Corner connectivity (n_cells, 8 or 4) in VTK order of the solved part's mesh."""
+    from skfem.io.meshio import HEX_MAPPING
+
+    t = model.mesh.mesh.t
+    return t[HEX_MAPPING[:8]].T if model.mesh.element == "hex" else t.T
+
+
+def _edge_lookup(edges: np.ndarray, n_vertices: int):
+    """Function mapping vertex pairs (a, b) arrays to the index of the mesh edge joining them."""
+    keys = np.sort(edges, axis=0)
+    code = keys[0].astype(np.int64) * n_vertices + keys[1]
+    order = np.argsort(code)
+    sorted_code = code[order]
+
+    def find(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        lo, hi = np.minimum(a, b).astype(np.int64), np.maximum(a, b).astype(np.int64)
+        wanted = lo * n_vertices + hi
+        at = np.searchsorted(sorted_code, wanted)
+        if np.any(at >= len(sorted_code)) or np.any(sorted_code[np.minimum(at, len(sorted_code) - 1)] != wanted):
+            raise SolverError("export: a cell edge is not an edge of the mesh")
+        return order[at]
+
+    return find
+
+
+def quadratic_device(model, shapes: list[np.ndarray]):
+    """(points (n, 3), cells (n_cells, k) in VTK order, VTK cell type, displacements [(n, 3)] and
+    potentials [(n,)] per shape, full-assembly part name of every cell) of the whole device."""
+    from skfem import Basis
+
+    from modalfe.models.solid import element_for
+
+    scene, dm = model.scene, model.mesh
+    mesh = dm.mesh
+    order = scene.mesh.order
+    quadratic = order == 2
+    kind = dm.element
+    n_v = mesh.p.shape[1]
+    corners = _corners(model)
+    ub = model.u_basis
+    scalar = Basis(mesh, element_for(kind, order), intorder=1) if model.n_phi else None
+    pieces = [mesh.p.T] + ([mesh.p[:, mesh.edges].mean(axis=1).T] if quadratic else [])
+    u_dofs = [ub.nodal_dofs] + ([ub.edge_dofs] if quadratic else [])
+    disp = [[x[: model.n_u][d].T for d in u_dofs] for x in shapes]
+    pot = []
+    for x in shapes:
+        if scalar is None:
+            pot.append([np.zeros(len(p)) for p in pieces])
+            continue
+        phi = np.zeros(scalar.N)
+        phi[model.phi_dofs] = x[model.n_u:]  # zero outside the poled parts (no potential unknowns there)
+        pot.append([phi[scalar.nodal_dofs[0]]] + ([phi[scalar.edge_dofs[0]]] if quadratic else []))
+    points = np.vstack(pieces)
+    displacements = [np.vstack(d) for d in disp]
+    potentials = [np.concatenate(p) for p in pot]
+    n_block = len(points)
+    find = _edge_lookup(mesh.edges, n_v) if quadratic else None
+    pairs = _HEX_EDGES if kind == "hex" else _TET_EDGES
+    flip = [1, 0, 3, 2, 5, 4, 7, 6] if kind == "hex" else [1, 0, 2, 3]
+    copies = [corners]  # corner connectivity of each copy, in the solved part's vertex numbering
+    for axis, twice in mirror_planes(scene):
+        points = np.vstack([points, mirrored(points.T, axis, twice).T])
+        for i, u in enumerate(displacements):
+            image = u.copy()
+            image[:, axis] *= -1  # the normal component is odd across a mirror plane
+            displacements[i] = np.vstack([u, image])
+        potentials = [np.concatenate([p, p]) for p in potentials]
+        copies = copies + [c[:, flip] for c in copies]  # reordered: mirrored cells keep a positive volume
+    blocks = []
+    for j, c in enumerate(copies):
+        block = [c]
+        if quadratic:
+            block += [(n_v + find(c[:, a], c[:, b]))[:, None] for a, b in pairs]
+        blocks.append(np.hstack(block) + j * n_block)
+    cells = np.vstack(blocks)
+    return points, cells, VTK_TYPE[(kind, quadratic)], displacements, potentials, _part_names(scene, points, cells)
+
+
+def _part_names(scene, points: np.ndarray, cells: np.ndarray) -> np.ndarray:
+    """The full assembly's part holding each cell's centroid (mirrored cells get the mirrored part's name)."""
+    assembly = scene.full_assembly()
+    corners = cells[:, :8] if cells.shape[1] >= 8 else cells[:, :4]
+    centroid = points[corners].mean(axis=1)
+    names = np.full(len(cells), "", dtype=object)
+    for part in assembly.parts:
+        inside = np.all((centroid >= np.asarray(part.lo) - 1e-12) & (centroid <= np.asarray(part.hi) + 1e-12), axis=1)
+        names[inside & (names == "")] = part.name
+    if np.any(names == ""):
+        raise SolverError("export: a cell lies outside every part of the device")
+    return names
+
+
+def export_vtu(modes, path: str | Path, *, table: bool = True) -> Path:
+    """Write ``modes`` (a solid model's) to ``path`` (.vtu) as described in the module docstring, and with
+    ``table`` the sidecar ``<stem>_modes.csv``. Returns the VTU path."""
+    import pyvista as pv
 
     model = modes.model
-    fields = {f"mode_{m.index}_{m.label.replace(' ', '_')}_{m.frequency:.1f}Hz": model.nodal_displacement(m.shape)
-              for m in modes}
-    points, cells, kind, unfolded_fields, part_id, names = whole_device_mesh(model, fields)
-    mesh = meshio.Mesh(points, [("hexahedron" if kind == 12 else "tetra", cells)],
-                       point_data=unfolded_fields, cell_data={"part": [part_id]},
-                       field_data={name: np.array([i, 3]) for i, name in enumerate(names)})
+    if not hasattr(model, "u_basis") or not hasattr(getattr(model, "mesh", None), "mesh"):
+        raise SolverError("export: VTU export needs the 3-D solid model (--fidelity solid)")
+    mode_list = list(modes)
+    points, cells, cell_type, disp, pot, part_of = quadratic_device(model, [m.shape for m in mode_list])
+    names = [p.name for p in model.scene.full_assembly().parts]
+    index = {name: i for i, name in enumerate(names)}
+    part_id = np.array([index[n] for n in part_of], dtype=np.int32)
+    grid = pv.UnstructuredGrid(np.hstack([np.full((len(cells), 1), cells.shape[1]), cells]).ravel(),
+                               np.full(len(cells), cell_type, dtype=np.uint8), points)
+    for m, u, phi in zip(mode_list, disp, pot):
+        grid.point_data[f"{mode_array_name(m)} displacement [m]"] = u
+        grid.point_data[f"{mode_array_name(m)} potential [V]"] = phi
+    grid.cell_data["part"] = part_id
+    for i, name in enumerate(names):
+        grid.cell_data[f"part:{name}"] = (part_id == i).astype(np.uint8)
+    grid.field_data["frequency [Hz]"] = np.array([m.frequency for m in mode_list])
+    grid.field_data["mode index"] = np.array([m.index for m in mode_list], dtype=np.int32)
     path = Path(path)
-    mesh.write(path)
+    if path.suffix.lower() != ".vtu":
+        raise SolverError(f"--vtu: the file name must end in .vtu, got '{path.name}'")
+    grid.save(path, binary=True)
+    if table:
+        write_mode_table(mode_list, table_path(path))
+    return path
+
+
+def table_path(vtu: str | Path) -> Path:
+    """The sidecar frequency table of a VTU file: ``<stem>_modes.csv`` beside it."""
+    vtu = Path(vtu)
+    return vtu.with_name(f"{vtu.stem}_modes.csv")
+
+
+def write_mode_table(modes, path: str | Path) -> Path:
+    """CSV of the modes' index, label, frequency [Hz], error estimate and their VTU array names."""
+    path = Path(path)
+    with path.open("w", newline="") as f:
+        writer = csv.writer(f)
+        writer.writerow(CSV_HEADER)
+        for m in modes:
+            error = "" if math.isnan(m.error_estimate) else f"{m.error_estimate:.3g}"
+            writer.writerow([m.index, m.label, f"{m.frequency:.6f}", error, m.circuit,
+                             f"{mode_array_name(m)} displacement [m]", f"{mode_array_name(m)} potential [V]"])
     return path

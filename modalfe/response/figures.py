@@ -1,4 +1,5 @@
-"""What a device does per volt at its working mode: the figures behind `modalfe forced`."""
+"""What a device does per volt (or per unit of another load) at its working mode: the figures behind
+`modalfe forced`, with the peak stress and field at resonance against the materials' limits."""
 
 from __future__ import annotations
 
@@ -20,6 +21,10 @@ class ForcedFigures:
     acceleration: output -> (peak omega^2 A, half-period average 2/pi omega^2 A) per volt [m/s^2/V];
     time_constant [s]; frequency [Hz] / frf [m/V] / admittance [S] curves from the reduced model;
     frf_full [m/V]: the full FE harmonic response at the same frequencies, when asked for.
+    For a load other than a voltage (``load_unit`` N, Pa or m/s^2) the same figures are per unit load, there is
+    no admittance (None) and no voltage target; ``velocity`` output -> peak omega A per unit load [m/s];
+    ``absolute_acceleration`` (base acceleration) output -> |-omega^2 u_rel + a_base| per unit base acceleration;
+    ``stress``: peaks per part at resonance (``modalfe.response.stress``) and ``limits`` the load reaching each.
     """
 
     scene: str
@@ -36,9 +41,18 @@ class ForcedFigures:
     notes: list[str] = field(default_factory=list)
     amplitude_at: dict[str, dict] = field(default_factory=dict)
     peak_amplitude_per_volt: float = float("nan")
+    load_description: str = "voltage on the driven electrodes"
+    load_source: str = ""
+    load_unit: str = "V"
+    velocity: dict[str, float] = field(default_factory=dict)
+    absolute_acceleration: dict[str, float] = field(default_factory=dict)
+    stress: list | None = None
+    limits: list | None = None
 
     def to_json(self) -> dict:
         rom = self.rom
+        if self.load_unit != "V":
+            return self._load_json()
         return {
             "scene": self.scene, "mode": rom.label, "frequency_hz": rom.frequency,
             "damping": rom.damping_description, "damping_source": self.damping_source,
@@ -54,15 +68,72 @@ class ForcedFigures:
             "curve": {"frequency_hz": self.frequency.tolist(), "abs_frf_m_per_v": np.abs(self.frf).tolist(),
                       "abs_admittance_s": np.abs(self.admittance).tolist(),
                       "abs_frf_full_m_per_v": None if self.frf_full is None else np.abs(self.frf_full).tolist()},
+            **self._extra_json(),
+        }
+
+    def _extra_json(self) -> dict:
+        """What every load reports: the load, outputs per unit load, and the stress section when asked."""
+        unit = self.load_unit
+        outputs = {o: {f"displacement_m_per_{unit}": a, f"velocity_m_per_s_per_{unit}": self.velocity[o],
+                       f"acceleration_m_per_s2_per_{unit}": self.acceleration[o][0]}
+                   for o, a in self.amplitude_per_volt.items()}
+        for o, a in self.absolute_acceleration.items():
+            outputs[o]["absolute_acceleration_per_unit_base_acceleration"] = a
+        extra = {"load": self.load_description, "load_source": self.load_source, "load_unit": unit,
+                 "outputs_per_load": outputs}
+        if self.stress is not None:
+            extra["stress_at_resonance_per_load"] = [
+                {"part": p.part, "material": p.material,
+                 "von_mises_pa": p.von_mises.value, "von_mises_at_m": p.von_mises.point,
+                 "max_principal_pa": p.principal.value, "max_principal_at_m": p.principal.point,
+                 "field_v_per_m": None if p.field is None else p.field.value,
+                 "field_at_m": None if p.field is None else p.field.point} for p in self.stress]
+            extra["load_to_limit"] = self.limits
+        return extra
+
+    def _load_json(self) -> dict:
+        """JSON of a force-, pressure- or base-driven device: no circuit, no voltage targets."""
+        rom = self.rom
+        unit = self.load_unit
+        return {
+            "scene": self.scene, "mode": rom.label, "frequency_hz": rom.frequency,
+            "damping": rom.damping_description, "damping_source": self.damping_source,
+            "reduced_model": {"reference": rom.reference, "modal_mass_kg": rom.modal_mass,
+                              "stiffness_n_per_m": rom.stiffness, "damping_n_s_per_m": rom.damping,
+                              f"force_factor_n_per_{unit}": rom.force_factor},
+            "bvd": None, "antiresonance_hz": None, "k_eff": None,
+            "peak_amplitude_per_load_m": self.peak_amplitude_per_volt,
+            "time_constant_s": self.time_constant, "notes": self.notes,
+            "curve": {"frequency_hz": self.frequency.tolist(), f"abs_frf_m_per_{unit}": np.abs(self.frf).tolist(),
+                      f"abs_frf_full_m_per_{unit}": None if self.frf_full is None else np.abs(self.frf_full).tolist()},
+            **self._extra_json(),
         }
 
 
 def forced_figures(scene, *, selector: str | None = None, near: float | None = None, damping=None,
-                   outputs=None, span: float = 0.02, points: int = 41, full: bool = False) -> ForcedFigures:
-    """Reduce the working mode and derive the device figures; ``full`` adds the direct FE FRF."""
+                   outputs=None, span: float = 0.02, points: int = 41, full: bool = False, load=None,
+                   stress=None) -> ForcedFigures:
+    """Reduce the working mode and derive the device figures; ``full`` adds the direct FE FRF. ``load``
+    (``modalfe.response.loads.Load``; default: the scene's ``drive.load``) is checked before any solve;
+    ``stress``: True (every part) or part names for the peak stress and field at resonance."""
     from modalfe.response.forced import Damping, harmonic_response, reduce
+    from modalfe.response.loads import Load, check_load
     from modalfe.results.modes import select
     from modalfe.solve.api import solve_modes
+
+    if load is None:
+        load, load_source = scene.drive.load, scene.drive.load_source
+    else:
+        load, load_source = Load.from_value(load, "load"), "set by the user"
+    check_load(scene, load)  # before the solve: a tile has no electrode to drive
+    voltage = load.kind == "voltage"
+    parts = None
+    if stress is not None and stress is not False:
+        known = {p.name for p in scene.assembly().parts}
+        parts = sorted(known) if stress is True else list(stress)
+        for name in parts:
+            if name not in known:
+                raise SceneError(f"stress: no part '{name}'; parts: {sorted(known)}")
 
     if not scene.working_modes and selector is None:
         raise SolverError("forced: the scene names no working mode; give --mode and --near")
@@ -86,12 +157,17 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
         raise SolverError("forced: no outputs; give --outputs (face groups) or set drive.outputs")
     modes = solve_modes(scene, near=near, count=10, error_estimate=False)
     mode = select(modes, selector, near)
-    rom = reduce(mode, outputs=outputs, damping=damping)
+    rom = reduce(mode, outputs=outputs, damping=damping, load=None if voltage else load)
     amp = {o: float(abs(rom.frf(rom.frequency, o))) for o in rom.shapes}
     omega = rom.omega
     accel = {o: (omega**2 * a, 2 / np.pi * omega**2 * a) for o, a in amp.items()}
+    velocity = {o: omega * a for o, a in amp.items()}
+    absolute = {}
+    if load.kind == "base-acceleration":  # relative motion plus the base's own, along z (the outputs' normal)
+        base = 1.0 if load.axis == "z" else 0.0
+        absolute = {o: float(abs(-(omega**2) * rom.frf(rom.frequency, o) + base)) for o in rom.shapes}
     volts_for, amplitude_at = {}, {}
-    for t in scene.drive.targets:
+    for t in (scene.drive.targets if voltage else ()):
         if t.unit != "m":
             continue
         at_khz = re.search(r"_(\d+)kHz$", t.name)
@@ -110,10 +186,13 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
     if full:
         response = harmonic_response(mode.model, f, outputs=[o for o in outputs if o == rom.reference or
                                      (not isinstance(o, str) and o[0] == rom.reference)],
-                                     damping=damping, reference_omega=omega)
+                                     damping=damping, reference_omega=omega, load=None if voltage else load)
         frf_full = response.displacement[rom.reference][:, 2]
     notes = [f"damping {rom.damping_description} ({source})"]
-    for t in scene.drive.targets:
+    if not voltage and load.kind == "base-acceleration":
+        notes.append("displacement, velocity and acceleration are relative to the base; absolute acceleration "
+                     "= relative + base")
+    for t in (scene.drive.targets if voltage else ()):
         at = re.search(r"_(\d+)kHz$", t.name)
         if at and abs(1e3 * float(at.group(1)) / rom.frequency - 1) > 0.2:
             continue  # a target of another working mode
@@ -127,11 +206,23 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
             notes.append(f"half-period average acceleration at 100 V {average:.4g} m/s^2 vs {t.name} {t.value:.6g} "
                          f"({100 * (average / t.value - 1):+.0f}%; {t.source})")
     peak, where = _face_peak(mode, rom)
-    notes.append(f"largest normal amplitude on the top face: {1e9 * peak:.3g} nm/V (0-peak) at x = "
+    notes.append(f"largest normal amplitude on the top face: {1e9 * peak:.3g} nm/{load.unit} (0-peak) at x = "
                  f"{1e3 * where[0]:.1f} mm, y = {1e3 * where[1]:.1f} mm")
+    peaks = limits = None
+    if parts is not None:
+        from modalfe.response.forced import resonant_state
+        from modalfe.response.stress import limit_loads, part_peaks
+
+        state = resonant_state(mode, damping=damping, load=None if voltage else load)
+        peaks = part_peaks(mode.model, state, parts)
+        limits = limit_loads(peaks, scene)
+        if scene.symmetry:
+            notes.append(f"stress: solved on the part of the device kept by symmetry ({', '.join(scene.symmetry)}); "
+                         f"each peak has a mirror image")
     return ForcedFigures(scene.name, rom, source, amp, volts_for, accel,
-                         rom.envelope_time_constant, f, rom.frf(f), rom.admittance(f), frf_full, notes, amplitude_at,
-                         peak)
+                         rom.envelope_time_constant, f, rom.frf(f), rom.admittance(f) if voltage else None, frf_full,
+                         notes, amplitude_at, peak, load.describe() if not voltage else
+                         "voltage on the driven electrodes", load_source, load.unit, velocity, absolute, peaks, limits)
 
 
 def _face_peak(mode, rom) -> tuple[float, tuple[float, float]]:

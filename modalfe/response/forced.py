@@ -123,7 +123,8 @@ class ReducedModel:
     stiffness [N/m], damping [N s/m], force_factor [N/V]; shapes: output -> (ux, uy, uz) of the
     mode relative to the reference's normal (z) value; feedthrough: output -> (3,) [m/V] quasi-static
     response of all other modes; capacitance C0 [F] (everything but the mode) and theta [C/(m)] =
-    charge per unit reference displacement.
+    charge per unit reference displacement. ``drive_load`` and ``load_unit``: what the model is driven by (a voltage
+    unless said otherwise; then the force factor is N per ``load_unit`` and there is no circuit, C0 = 0).
     """
 
     label: str
@@ -138,6 +139,16 @@ class ReducedModel:
     capacitance: float
     shapes: dict[str, list[float]] = field(default_factory=dict)
     feedthrough: dict[str, list[float]] = field(default_factory=dict)
+    drive_load: str = "voltage on the driven electrodes"
+    load_unit: str = "V"
+
+    @property
+    def is_voltage_driven(self) -> bool:
+        return self.load_unit == "V"
+
+    def _circuit(self, what: str) -> None:
+        if not self.is_voltage_driven:
+            raise SolverError(f"{what}: the reduced model is driven by a {self.drive_load}, not a voltage: no circuit")
 
     @property
     def omega(self) -> float:
@@ -152,6 +163,7 @@ class ReducedModel:
 
     def admittance(self, frequency) -> np.ndarray:
         """Electrical admittance Y = i omega Q / V [S] (complex)."""
+        self._circuit("admittance")
         w = 2 * np.pi * np.asarray(frequency, dtype=float)
         motional = self.force_factor**2 / (self.stiffness - self.modal_mass * w**2 + 1j * self.damping * w)
         return 1j * w * (self.capacitance + motional)
@@ -163,6 +175,7 @@ class ReducedModel:
     @property
     def bvd(self) -> dict[str, float]:
         """Butterworth-Van Dyke circuit: C0 [F], R1 [ohm], L1 [H], C1 [F] (IEEE Std 176-1987)."""
+        self._circuit("bvd")
         n = self.force_factor
         return {"C0": self.capacitance, "R1": self.damping / n**2, "L1": self.modal_mass / n**2,
                 "C1": n**2 / self.stiffness}
@@ -214,35 +227,58 @@ class ReducedModel:
         return cls.from_json(Path(path).read_text())
 
 
-def _drive(model):
-    """(T, F, C_b, x_1V): constraints with driven electrodes at 1 V, the load on the free unknowns and
-    the part of the charge that does not depend on them."""
+def _drive(model, load=None):
+    """(T, F, C_b, x_p): constraints, the load on the free unknowns, the part of the charge that does not depend
+    on them (voltage drive; zero for other loads) and the prescribed response (driven electrodes at 1 V)."""
     T = model.constraints("short").T
-    load = model.voltage_load(1.0)
-    x_v = model.prescribed_potential(1.0)
-    return T, T.T @ load, float(x_v @ load), x_v
+    if load is None or load.kind == "voltage":
+        load_full = model.voltage_load(1.0)
+        x_v = model.prescribed_potential(1.0)
+        return T, T.T @ load_full, float(x_v @ load_full), x_v
+    from modalfe.response.loads import load_vector
+
+    load_full, x_p = load_vector(model, load)
+    return T, T.T @ load_full, 0.0, x_p
 
 
-def reduce(mode: Mode, *, outputs, damping: Damping, reference: str | None = None) -> ReducedModel:
-    """Reduced model of ``mode`` (short circuit, bound to its model) at the named ``outputs``; the
-    ``reference`` output (default: the one with the largest normal motion) carries the modal mass."""
+_BESIDE: dict = {}  # the last mode's solve beside resonance, shared by ``reduce`` and ``resonant_state``
+
+
+def _beside_resonance(mode: Mode, load=None):
+    """(T, F, C_b, x_p, x_d, omega_d): one undamped full solve at 0.97 omega_r, for the quasi-static
+    contribution of every other mode (residual flexibility)."""
     from modalfe.solve.linalg import factorize
+
+    if _BESIDE.get("mode") is mode and _BESIDE.get("load") == load:
+        return _BESIDE["result"]
+    model = mode.model
+    T, F, C_b, x_v = _drive(model, load)
+    A = (T.T @ model.K @ T).tocsr()
+    B = (T.T @ model.M @ T).tocsr()
+    omega_d = 0.97 * mode.omega
+    solve, _ = factorize(A - omega_d**2 * B)
+    result = (T, F, C_b, x_v, solve(F), omega_d)
+    _BESIDE.clear()
+    _BESIDE.update(mode=mode, load=load, result=result)
+    return result
+
+
+def reduce(mode: Mode, *, outputs, damping: Damping, reference: str | None = None, load=None) -> ReducedModel:
+    """Reduced model of ``mode`` (short circuit, bound to its model) at the named ``outputs``; the
+    ``reference`` output (default: the one with the largest normal motion) carries the modal mass.
+    ``load`` (``modalfe.response.loads.Load``, default: 1 V on the driven electrodes) sets what the force
+    factor is per: N/V for a voltage, N/N for a force, N/Pa for a pressure, N/(m/s^2) for a base acceleration."""
+    from modalfe.response.loads import output_operators
 
     if mode.circuit != "short":
         raise SolverError(f"mode: the reduced model needs a short-circuit mode, got {mode.circuit}")
     model = mode.model
-    T, F, C_b, x_v = _drive(model)
-    A = (T.T @ model.K @ T).tocsr()
-    B = (T.T @ model.M @ T).tocsr()
-    points = output_points(model.scene, outputs)
-    probes = {name: model.displacement_probes(p.reshape(1, 3)) for name, p in points.items()}
+    T, F, C_b, x_v, x_d, omega_d = _beside_resonance(mode, load)
+    probes = output_operators(model, outputs)
     v_free = _free_coordinates(model, T, mode.shape)
     theta = float(v_free @ F)
     omega_r = mode.omega
     # residual of the other modes: one undamped full solve just below resonance
-    omega_d = 0.97 * omega_r
-    solve, _ = factorize(A - omega_d**2 * B)
-    x_d = solve(F)
     modal_d = theta / (omega_r**2 - omega_d**2)
     phi = {name: P @ mode.shape for name, P in probes.items()}
     if reference is None:  # the output that moves most; among equals (symmetric feet) the first listed, so the
@@ -253,7 +289,8 @@ def reduce(mode: Mode, *, outputs, damping: Damping, reference: str | None = Non
         raise SceneError(f"reference: no output '{reference}'; outputs: {sorted(phi)}")
     full_d = {name: P @ (T @ x_d + x_v) for name, P in probes.items()}
     feed = {name: (full_d[name] - phi[name] * modal_d) for name in probes}
-    capacitance = float(F @ x_d + C_b - theta * modal_d)
+    voltage = load is None or load.kind == "voltage"
+    capacitance = float(F @ x_d + C_b - theta * modal_d) if voltage else 0.0
     ref = phi[reference][2]
     if abs(ref) < 1e-12 * max(np.abs(np.concatenate(list(phi.values())))):
         raise SolverError(f"outputs: the reference '{reference}' sits on a node of mode {mode.label}")
@@ -265,7 +302,21 @@ def reduce(mode: Mode, *, outputs, damping: Damping, reference: str | None = Non
         force_factor=theta / ref, capacitance=capacitance,
         shapes={n: list(map(float, phi[n] / ref)) for n in phi},
         feedthrough={n: list(map(float, feed[n])) for n in feed},
+        **({} if voltage else {"drive_load": load.describe(), "load_unit": load.unit}),
     )
+
+
+def resonant_state(mode: Mode, *, damping: Damping, load=None) -> np.ndarray:
+    """Full DOF response (complex) per unit load at the mode's resonance, as the reduced model has it: the mode
+    at theta / (2 i zeta omega_r^2) plus the quasi-static contribution of every other mode (the residual of the
+    solve beside resonance) and the prescribed potential."""
+    T, F, _, x_p, x_d, omega_d = _beside_resonance(mode, load)
+    omega_r = mode.omega
+    theta = float(_free_coordinates(mode.model, T, mode.shape) @ F)
+    modal_d = theta / (omega_r**2 - omega_d**2)
+    residual = T @ x_d + x_p - mode.shape * modal_d
+    zeta = damping.ratio(omega_r)
+    return mode.shape * (theta / (2j * zeta * omega_r**2)) + residual
 
 
 def _free_coordinates(model, T, x_full: np.ndarray) -> np.ndarray:
@@ -297,18 +348,22 @@ class HarmonicResponse:
         return 1.0 / self.admittance
 
 
-def harmonic_response(model, frequency, *, outputs, damping: Damping, reference_omega: float) -> HarmonicResponse:
-    """Direct damped solve at each frequency [Hz] (one complex factorization each)."""
+def harmonic_response(model, frequency, *, outputs, damping: Damping, reference_omega: float,
+                      load=None) -> HarmonicResponse:
+    """Direct damped solve at each frequency [Hz] (one complex factorization each), per unit ``load``
+    (default 1 V on the driven electrodes; the admittance is zero for other loads)."""
     from scipy.sparse.linalg import splu
 
-    T, F, C_b, x_v = _drive(model)
+    from modalfe.response.loads import output_operators
+
+    T, F, C_b, x_v = _drive(model, load)
     A = (T.T @ model.K @ T).tocsc()
     B = (T.T @ model.M @ T).tocsc()
     K_mech = sp.block_diag([model.K[: model.n_u, : model.n_u], sp.csr_matrix((model.n_phi, model.n_phi))])
     alpha, beta = damping.rayleigh_at(reference_omega)
     C = (T.T @ (alpha * model.M + beta * K_mech) @ T).tocsc()
-    points = output_points(model.scene, outputs)
-    probes = {name: model.displacement_probes(p.reshape(1, 3)) for name, p in points.items()}
+    probes = output_operators(model, outputs)
+    voltage = load is None or load.kind == "voltage"
     freqs = np.atleast_1d(np.asarray(frequency, dtype=float))
     disp = {name: np.zeros((len(freqs), 3), dtype=complex) for name in probes}
     Y = np.zeros(len(freqs), dtype=complex)
@@ -322,7 +377,7 @@ def harmonic_response(model, frequency, *, outputs, damping: Damping, reference_
         full = T @ x + x_v
         for name, P in probes.items():
             disp[name][i] = P @ full
-        Y[i] = 1j * w * (F @ x + C_b)
+        Y[i] = 1j * w * (F @ x + C_b) if voltage else 0.0
         dissipated[i] = 0.5 * w**2 * float(np.real(np.conj(x) @ (C @ x)))
     description = damping.describe()
     if damping.zeta is not None or damping.Q is not None:

@@ -8,6 +8,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from modalfe.errors import SolverError
+from modalfe.results.labels import base_label
 
 _FAMILY = re.compile(r"^\((\d+|n),(\d+|n)\)$")
 
@@ -98,8 +99,11 @@ class Modes:
         return np.array([m.frequency for m in self.modes])
 
     def labelled(self, label: str, near: float | None = None) -> Mode:
-        """The mode with this label (nearest ``near`` [Hz] if several); SolverError if none."""
-        found = [m for m in self.modes if m.label == label]
+        """The mode with this label (nearest ``near`` [Hz] if several); if none carries it exactly, a mode of its
+        pattern with another ambiguity suffix (``(1,1)#2`` for ``(1,1)``: suffixes only tell modes of one solve
+        apart, another solve may number them differently). SolverError if none."""
+        found = [m for m in self.modes if m.label == label] or [
+            m for m in self.modes if base_label(m.label) == base_label(label)]
         if not found:
             raise SolverError(
                 f"no mode labelled '{label}' among {[m.label for m in self.modes]}; widen the search"
@@ -118,16 +122,18 @@ class Modes:
 
 def select(modes, selector: str, near: float):
     """The mode matching ``selector`` nearest ``near`` [Hz]: an exact label, or a plate family
-    where ``n`` stands for any count, e.g. ``(0,n)``."""
+    where ``n`` stands for any count, e.g. ``(0,n)``: the family's plain labels first, then ambiguity-suffixed
+    ones (``(0,3)#2``)."""
     m = _FAMILY.match(selector)
     if m and "n" in selector:
         a, b = m.groups()
 
         def fits(label: str) -> bool:
-            g = _FAMILY.match(label)
+            g = _FAMILY.match(base_label(label))
             return bool(g) and all(want == "n" or want == got for want, got in zip((a, b), g.groups()))
 
-        found = [mode for mode in modes if fits(mode.label)]
+        found = [mode for mode in modes if fits(mode.label) and mode.label == base_label(mode.label)]
+        found = found or [mode for mode in modes if fits(mode.label)]  # only suffixed ones: take those
         if not found:
             raise SolverError(f"no mode of the family {selector} among {[x.label for x in modes]}")
         return min(found, key=lambda mode: abs(mode.frequency - near))

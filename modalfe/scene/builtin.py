@@ -107,6 +107,15 @@ def honeycomb_tile() -> Scene:
         # moving mass 2.7 kg (seed 002, M0) minus the 0.4 kg panel: actuator, bracket and rod
         masses={"actuator": 2.3},
         analysis=Analysis(band=(1.0, 1500.0)),
+        drive=Drive(
+            damping="Q=150",
+            damping_source="assumption: seed 002 gives no damping for the tile (docs/assumptions.md, Damping: "
+                           "default ~150)",
+            load="force actuator=0,0,1",
+            load_source="seed 002: an inertial actuator at the centre drives the tile (1 N along z on its "
+                        "40 x 40 mm pad; results per newton)",
+            outputs=("actuator", "mean:actuator", "mount_1"),
+        ),
         reference_spectra={"suspension": "seed 002 FEM: 28, 45, 51, 77 Hz",  # sec. 4.4.1
                            "plate": "seed 002 FEM: 896, 1032 Hz"},  # sec. 4.4.1 and Fig. 10
         mesh=MeshSettings(elements_per_wavelength=6.0, max_frequency=1500.0, max_size=0.02),

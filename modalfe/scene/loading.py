@@ -11,7 +11,7 @@ from typing import Any
 import modalfe.scene.values as v
 from modalfe.errors import SceneError
 from modalfe.scene.builtin import BUILTIN
-from modalfe.scene.scene import KINDS, Analysis, MeshSettings, Scene, Target, WorkingMode
+from modalfe.scene.scene import KINDS, USER_DAMPING_SOURCE, Analysis, Drive, MeshSettings, Scene, Target, WorkingMode
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -61,7 +61,8 @@ def scene_from_toml(path: str | Path) -> Scene:
 
 
 _TOP_KEYS = ("name", "units", "parts", "faces", "materials", "electrodes", "clamps", "springs",
-             "masses", "analysis", "mesh", "working_modes", "kind", "symmetry")
+             "masses", "analysis", "mesh", "working_modes", "kind", "symmetry", "drive")
+_DRIVE_KEYS = ("damping", "damping_source", "outputs", "load", "load_source")
 _UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "um": 1e-6}
 _TARGET_KEYS = ("name", "value", "unit", "kind", "source")
 
@@ -129,9 +130,42 @@ def scene_from_dict(data: Mapping[str, Any], default_name: str = "scene") -> Sce
         working_modes=tuple(working_modes),
         kind=v.string("kind", data.get("kind", "plate"), choices=KINDS),
         symmetry=tuple(v.string(f"symmetry[{i}]", a, choices=("x", "y", "z")) for i, a in enumerate(symmetry)),
+        drive=_drive(data.get("drive", {}), scale),
     )
     scene.validate()
     return scene
+
+
+def _drive(value, scale: float) -> Drive:
+    """The ``[drive]`` table: damping (with damping_source), outputs (face groups, ``mean:GROUP``, or
+    ``{name, point}`` in the file's units), load (a text or ``{kind, group, value, axis}``) with load_source."""
+    data = v.table("drive", value)
+    v.known_keys("drive", data, _DRIVE_KEYS)
+    settings: dict[str, Any] = {}
+    if "damping" in data:
+        settings["damping"] = data["damping"]
+        settings["damping_source"] = f"{USER_DAMPING_SOURCE} (scene file)"
+    if "damping_source" in data:
+        settings["damping_source"] = v.string("drive.damping_source", data["damping_source"])
+    if "load" in data:
+        settings["load"] = data["load"]
+        settings["load_source"] = f"{USER_DAMPING_SOURCE} (scene file)"
+    if "load_source" in data:
+        settings["load_source"] = v.string("drive.load_source", data["load_source"])
+    outputs = []
+    for i, item in enumerate(v.array("drive.outputs", data.get("outputs", []))):
+        where = f"drive.outputs[{i}]"
+        if isinstance(item, str):
+            outputs.append(v.string(where, item))
+            continue
+        item = v.table(where, item)
+        v.known_keys(where, item, ("name", "point"))
+        if "name" not in item or "point" not in item:
+            raise SceneError(f"{where}: a point output needs name and point = [x, y, z]")
+        point = v.numbers3(f"{where}.point", item["point"])
+        outputs.append((v.string(f"{where}.name", item["name"]), tuple(scale * x for x in point)))
+    settings["outputs"] = tuple(outputs)
+    return Drive(**settings)
 
 
 def _clamps(value) -> dict[str, str]:

@@ -234,6 +234,37 @@ def _library() -> dict[str, ElasticMaterial]:
 MATERIALS: dict[str, ElasticMaterial] = _library()
 
 
+@dataclass(frozen=True)
+class StrengthLimits:
+    """Optional limits of a material, with their source: ``depolarising_field`` [V/m] (peak AC field that
+    starts to depole a ceramic, about its coercive field) and ``tensile_strength`` [Pa]; None: not given."""
+
+    depolarising_field: float | None
+    tensile_strength: float | None
+    source: str
+
+
+_TP226 = ("Morgan Electro Ceramics (Berlincourt, Krueger & Near), Technical Publication TP-226, 'Properties "
+          "of Morgan Electro Ceramic Ceramics': PZT-4 AC depoling field >= 10 kV/cm at 25 C (taken as 1 kV/mm), "
+          "static tensile strength 11,000 psi = 76 MPa")
+# only limits with a datasheet behind them; every other material has "no limit in the table"
+LIMITS: dict[str, StrengthLimits] = {"PZT-4": StrengthLimits(1.0e6, 76e6, _TP226)}
+LIMIT_KEYS = ("depolarising_field", "tensile_strength", "limits_source")
+
+
+def strength_limits(name: str, scene=None) -> StrengthLimits | None:
+    """The limits of a material: a scene file's own (``depolarising_field`` [V/m], ``tensile_strength`` [Pa],
+    ``limits_source`` in its ``[materials.NAME]`` table), else the library's (``LIMITS``), else None."""
+    spec = scene.materials.get(name) if scene is not None else None
+    if spec is not None:
+        given = {k: spec[k] for k in LIMIT_KEYS[:2] if k in spec}
+        if not given:
+            return None
+        return StrengthLimits(*(number(f"materials.{name}.{k}", given[k], positive=True) if k in given else None
+                                for k in LIMIT_KEYS[:2]), str(spec.get("limits_source", "user scene file")))
+    return LIMITS.get(name)
+
+
 # bounds that catch a value in the wrong unit: a permittivity above 1e-6 F/m is ~1e5 eps0 (the relative
 # number was given), an E below 1 kPa is a modulus in GPa or MPa, a density below 10 kg/m^3 one in g/cm^3
 EPS_MAX = 1e-6
@@ -270,6 +301,15 @@ def material(name_or_spec) -> ElasticMaterial:
     spec = dict(name_or_spec)
     name = str(spec.pop("name", "user material"))
     field = f"materials.{name}"
+    for key in LIMIT_KEYS:  # optional strength limits (``strength_limits``), checked here
+        if key in spec:
+            value = spec.pop(key)
+            if key == "limits_source":
+                if not isinstance(value, str) or not value:
+                    raise SceneError(f"{field}.{key}: must be a non-empty string, got {value!r}")
+            else:
+                unit = "V/m" if key == "depolarising_field" else "Pa"
+                number(f"{field}.{key}", value, unit=unit, positive=True)
     source = spec.pop("source", "user scene file")
     if not isinstance(source, str):
         raise SceneError(f"{field}.source: must be a string, got {source!r}")
@@ -372,3 +412,33 @@ def piezo_compliance_form(c_E: np.ndarray, e: np.ndarray, eps_S: np.ndarray
     d = np.asarray(e, dtype=float) @ s_E
     eps_T = np.asarray(eps_S, dtype=float) + d @ np.asarray(e, dtype=float).T
     return s_E, d, eps_T
+
+
+@dataclass(frozen=True)
+class MaterialLoss:
+    """Small-signal losses of a material: mechanical quality factor ``Qm`` (loss factor 1 / Qm) and
+    dielectric loss tangent ``tan_delta`` (permittivity eps (1 - i tan delta)), either None when not
+    sourced, with the ``source`` of the numbers."""
+
+    Qm: float | None
+    tan_delta: float | None
+    source: str
+
+
+_LOSS_SOURCE = (
+    "Berlincourt, Curran & Jaffe (1964) Navy-type nominal values (low field, room temperature, +-20 %), "
+    "as listed for the equivalent grades in manufacturer datasheets, e.g. Morgan Electro Ceramics, "
+    "'Piezoelectric Technology Data for Designers' (PZT-4 / PZT-5A / PZT-5H)"
+)
+
+# losses by material name; a material absent here has no sourced loss data (metals, glass, the seeds' stand-ins)
+LOSSES: dict[str, MaterialLoss] = {
+    "PZT-4": MaterialLoss(Qm=500.0, tan_delta=0.004, source=_LOSS_SOURCE),
+    "PZT-5A": MaterialLoss(Qm=75.0, tan_delta=0.02, source=_LOSS_SOURCE),
+    "PZT-5H": MaterialLoss(Qm=65.0, tan_delta=0.02, source=_LOSS_SOURCE),
+}
+
+
+def material_loss(name: str) -> MaterialLoss | None:
+    """The sourced losses of the named material, or None when the table has none."""
+    return LOSSES.get(name)

@@ -15,6 +15,7 @@ from typing import Any
 
 import modalfe.scene.values as v
 from modalfe.errors import SceneError
+from modalfe.response.loads import Load
 from modalfe.scene.frozen import FrozenMap, freeze
 
 DEFAULT_DAMPING_SOURCE = "assumption (docs/assumptions.md, Damping: default Q ~ 150)"
@@ -65,18 +66,29 @@ class WorkingMode:
 @dataclass(frozen=True)
 class Drive:
     """Forced-response defaults: ``damping`` (``Q=150``, ``zeta=0.025`` or ``rayleigh=a,b``, with its
-    source in ``damping_source``), ``outputs`` (face groups or (name, (x, y, z))), the working mode
-    to drive, and amplitude or time targets from the seeds."""
+    source in ``damping_source``), ``outputs`` (face groups, ``mean:GROUP`` or (name, (x, y, z)) [m]),
+    the ``load`` (``modalfe.response.loads.Load``, a text such as ``force actuator=0,0,1`` or a table;
+    default: the driven electrodes' voltage) with its source, and amplitude or time targets from the seeds."""
 
     damping: str = "Q=150"
     damping_source: str = DEFAULT_DAMPING_SOURCE
     outputs: tuple = ()
     targets: tuple[Target, ...] = ()
+    load: Any = "voltage"
+    load_source: str = "default: the driven electrodes' voltage"
 
     def __post_init__(self) -> None:
         check_damping("drive.damping", self.damping)
         v.string("drive.damping_source", self.damping_source)
-        v.array("drive.outputs", self.outputs)
+        for i, item in enumerate(v.array("drive.outputs", self.outputs)):
+            if isinstance(item, str):
+                v.string(f"drive.outputs[{i}]", item)
+                continue
+            pair = v.array(f"drive.outputs[{i}]", item, length=2)
+            v.string(f"drive.outputs[{i}][0]", pair[0])
+            v.numbers3(f"drive.outputs[{i}][1]", pair[1], unit="m")
+        object.__setattr__(self, "load", Load.from_value(self.load, "drive.load"))
+        v.string("drive.load_source", self.load_source)
         object.__setattr__(self, "outputs", freeze(tuple(self.outputs)))
         object.__setattr__(self, "targets", tuple(self.targets))
 
@@ -225,6 +237,8 @@ class Scene:
                 change = {rest: value}
                 if key == "drive.damping" and "drive.damping_source" not in overrides:
                     change["damping_source"] = f"{USER_DAMPING_SOURCE} (drive.damping)"
+                if key == "drive.load" and "drive.load_source" not in overrides:
+                    change["load_source"] = f"{USER_DAMPING_SOURCE} (drive.load)"
                 scene = replace(scene, **{head: replace(sub, **change)})
             elif head in ("springs", "masses", "electrodes", "clamps") and rest:
                 table = dict(getattr(scene, head))
@@ -306,6 +320,10 @@ class Scene:
             v.numbers3(f"springs.{group}", k, unit="N/m", minimum=0.0)
         for group, m in self.masses.items():
             v.number(f"masses.{group}", m, unit="kg", positive=True)
+        if self.drive.load.kind != "voltage":
+            from modalfe.response.loads import check_load
+
+            check_load(self, self.drive.load)  # the face group exists, the load is symmetric like the model
         a = self.analysis
         if a.near is not None and not a.near > 0:
             raise SceneError(f"analysis.near: must be a positive frequency [Hz], got {a.near}")

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import replace
 
 from modalfe.errors import SolverError
@@ -35,9 +36,10 @@ def solve_modes(
 ) -> Modes:
     """Modes of ``scene``: ``count`` nearest ``near`` [Hz], or all in ``band`` [Hz].
 
-    Defaults come from ``scene.analysis``. With ``error_estimate`` the scene is solved again on a
-    mesh 1.5x coarser in every direction (thickness layers too: 3 -> 2 by default) and each
-    frequency gets a Richardson estimate of its relative error.
+    Defaults come from ``scene.analysis``; ``count`` < 1 and ``near`` with ``band`` are refused. With
+    ``error_estimate`` the scene is solved again on meshes 1.5x and 2.25x coarser (thickness layers too:
+    3 -> 2 -> 1 by default) and each frequency gets a Richardson estimate of its relative error
+    (``modalfe.solve.estimates.richardson``).
     ``fidelity``: ``solid`` (3-D), ``beam`` or ``plate`` (reduced models), or ``auto``: the cheapest
     whose estimated error meets ``tol`` on the modes ``check`` names as (selector, near Hz) pairs
     (all modes when None); see ``modalfe.solve.fidelity``.
@@ -50,14 +52,18 @@ def solve_modes(
         raise SolverError(f"fidelity: must be one of {FIDELITIES}, got '{fidelity}'")
     if not (math.isfinite(tol) and tol > 0):
         raise SolverError(f"tol: must be a positive relative error, got {tol}")
+    if near is not None and band is not None:
+        raise SolverError("near: give near (and count) or band, not both")
+    if count is not None and (isinstance(count, bool) or not isinstance(count, numbers.Integral) or count < 1):
+        raise SolverError(f"count: must be a whole number of modes >= 1, got {count!r}")
     if count is not None and count > MAX_COUNT:
         raise SolverError(f"count: {count} modes asked, at most {MAX_COUNT} per solve; ask for a band instead "
                           f"(solved in windows)")
     a = scene.analysis
     if near is not None or band is not None:
-        a = Analysis(near=near, count=count or a.count, band=band, circuit=circuit or a.circuit)
+        a = Analysis(near=near, count=a.count if count is None else count, band=band, circuit=circuit or a.circuit)
     else:
-        a = Analysis(near=a.near, count=count or a.count, band=a.band, circuit=circuit or a.circuit)
+        a = Analysis(near=a.near, count=a.count if count is None else count, band=a.band, circuit=circuit or a.circuit)
     if a.band is None and a.near is None:
         raise SolverError("give near (and count) or band")
     if a.band is not None and a.band[1] > scene.max_frequency:

@@ -34,12 +34,28 @@ OBSERVED_ORDERS = (1.5, 2.1)  # the cross-check extrapolation's uncertainty: ord
 MAC_PAIR = 0.8  # a single coarse mode this alike is the partner (the sweeps' crossing threshold)
 SUBSPACE_PAIR = 0.9  # else the coarse modes near it must hold this fraction of the fine shape
 CLUSTER = 0.05  # relative frequency span of the coarse modes a subspace pairing may use
+# the least refinement a level must have in every direction to be used: at 1.2 and order 1 the step is already
+# multiplied by 5, and below it the rounding of element counts per grid interval (ceil) moves the step more
+# than the coarsening does (the Cu-Be plate's first coarse level: 1.24 across y, the least of the seeds)
+MIN_RATIO = 1.2
 SAMPLES = 400  # sample points for the MAC: 1200 values a shape, enough to tell modes apart
 
 
 def coarse_level(scene, factor: float, size_factor: float = 1.0) -> dict:
-    """Mesh of a coarser level: elements ``factor`` times larger, thickness layers scaled alike."""
-    return {"size_factor": size_factor * factor, "min_layers": max(1, round(scene.mesh.min_layers / factor))}
+    """Mesh of a coarser level: elements ``factor`` times larger, thickness layers scaled alike
+    (``level_layers``)."""
+    return {"size_factor": size_factor * factor, "min_layers": level_layers(scene.mesh.min_layers, factor)}
+
+
+def level_layers(layers: int, factor: float) -> int:
+    """Thickness layers of the level ``factor`` x coarser than one with ``layers``: round(layers / factor),
+    at least 1. Where that would give the first coarse level (x1.5) as few layers as the second (x2.25) although
+    the fine level has more (2 layers: 1 and 1), the first keeps one more (2, 1): the pair of coarse levels the
+    reduced models' cross-check extrapolates from then refines the thickness too, as it does from 3 (2, 1)."""
+    n = max(1, round(layers / factor))
+    if factor < COARSE_FACTOR**2 - 1e-9 and n < layers and n == max(1, round(layers / (factor * COARSE_FACTOR))):
+        n += 1
+    return n
 
 
 def coarser(a):
@@ -156,23 +172,33 @@ def richardson(fine: Modes, coarse: Modes, ratio: float, coarsest: Modes | None 
     """Relative error estimate of each fine mode from its coarse partner (by shape): |f_h - f_coarse| /
     ((ratio^p - 1) f_h), p observed through ``coarsest`` (elements ``ratio_2`` x the fine level's) within
     [MIN_ORDER, CONVERGENCE_ORDER], else MIN_ORDER (module docstring); inf where a mode has no partner (the
-    coarse level does not resolve it, so the fine one is not converged either)."""
+    coarse level does not resolve it, so the fine one is not converged either).
+
+    ``ratio`` is the refinement every direction has at least (``axis_ratio``): with errors of one sign in each
+    direction (conforming elements), f_coarse - f_h >= (ratio^p - 1) (f_h - f), so the estimate bounds the
+    error at order p. A level coarser by less than ``MIN_RATIO`` in some direction sees too little of that
+    direction's error and is not used: with only one level left, two-level Richardson at MIN_ORDER from it;
+    with none, inf (no level measures the error)."""
+    usable = ratio >= MIN_RATIO
+    usable_2 = coarsest is not None and len(coarsest) > 0 and ratio_2 is not None and ratio_2 >= MIN_RATIO
+    if not usable and usable_2:
+        return richardson(fine, coarsest, ratio_2)
     estimates = {}
     top = max(m.frequency for m in fine)
-    pairs = shape_partners(fine, coarse)
-    chain = shape_partners(coarse, coarsest) if coarsest is not None and len(coarsest) else {}
+    pairs = shape_partners(fine, coarse) if usable else {}
+    chain = shape_partners(coarse, coarsest) if usable and usable_2 else {}
     for mode in fine:
         if mode.frequency < 1e-6 * top:
             continue  # a rigid-body mode: no relative error to speak of
         if mode.index not in pairs:
-            log.info("mode %s at %.6g Hz has no partner on the coarse mesh: error unknown, refine the mesh",
-                     mode.label, mode.frequency)
+            log.info("mode %s at %.6g Hz has no partner on a coarse mesh that coarsens every direction: error "
+                     "unknown, refine the mesh", mode.label, mode.frequency)
             estimates[mode.index] = math.inf
             continue
         other, f1, _ = pairs[mode.index]
         order = MIN_ORDER
         step = abs(f1 - mode.frequency)
-        if other.index in chain and ratio_2 is not None:
+        if other.index in chain:
             f2 = chain[other.index][1]
             p = observed_order(mode.frequency, f1, f2, ratio, ratio_2)
             if p is None:
@@ -182,6 +208,28 @@ def richardson(fine: Modes, coarse: Modes, ratio: float, coarsest: Modes | None 
                 order = min(max(p, MIN_ORDER), CONVERGENCE_ORDER)
         estimates[mode.index] = step / ((ratio**order - 1) * mode.frequency)
     return estimates
+
+
+def axis_sizes(mesh, scene) -> np.ndarray:
+    """Mean element extent [m] along x, y and z over the main part's elements of a solid ``mesh``
+    (``DeviceMesh``), and the number of elements across the main part along each axis: (2, 3)."""
+    main = scene.assembly().main_part.name
+    cells = mesh.mesh.t[:, mesh.parts[main]]
+    p = mesh.mesh.p
+    extent = (p[:, cells].max(axis=1) - p[:, cells].min(axis=1)).mean(axis=1)
+    nodes = p[:, np.unique(cells)]
+    across = (nodes.max(axis=1) - nodes.min(axis=1)) / extent
+    return np.vstack([extent, across])
+
+
+def axis_ratio(fine_mesh, coarse_mesh, scene) -> float:
+    """The smallest element-size ratio, coarse over fine, along an axis the fine level can coarsen (more than
+    one element across the main part): the refinement every direction's error has at least. An axis the coarse
+    level does not coarsen gives 1 (that level sees none of that direction's error)."""
+    fine, coarse = axis_sizes(fine_mesh, scene), axis_sizes(coarse_mesh, scene)
+    ratios = coarse[0] / fine[0]
+    can = fine[1] > 1.5
+    return float(ratios[can].min()) if can.any() else float(ratios.min())
 
 
 def refinement_ratio(fine_mesh, coarse_mesh, scene) -> float:

@@ -37,6 +37,7 @@ from modalfe.solve.estimates import (
     COARSE_FACTOR,
     CONVERGENCE_ORDER,
     OBSERVED_ORDERS,
+    axis_ratio,
     coarse_level,
     coarser,
     partner,
@@ -108,8 +109,8 @@ def solve_estimated(scene, analysis, fidelity: str, *, size_factor: float = 1.0,
     if fidelity == "solid":
         coarse = solve(coarser(analysis), **coarse_level(scene, COARSE_FACTOR, size_factor))
         coarsest = solve(coarser(coarser(analysis)), **coarse_level(scene, COARSE_FACTOR**2, size_factor))
-        ratio = refinement_ratio(fine.model.mesh, coarse.model.mesh, scene)
-        ratio_2 = refinement_ratio(fine.model.mesh, coarsest.model.mesh, scene)
+        ratio = axis_ratio(fine.model.mesh, coarse.model.mesh, scene)
+        ratio_2 = axis_ratio(fine.model.mesh, coarsest.model.mesh, scene)
     else:
         coarse = solve(coarser(analysis), size_factor=size_factor * COARSE_FACTOR)
         coarsest = solve(coarser(coarser(analysis)), size_factor=size_factor * COARSE_FACTOR**2)
@@ -148,8 +149,8 @@ def solve_auto(scene, analysis, *, tol: float, check=None, size_factor: float = 
     start = time.perf_counter()
     coarse, coarsest = solid_levels()
     solid = fine.with_error_estimates(richardson(
-        fine, coarse, refinement_ratio(fine.model.mesh, coarse.model.mesh, scene), coarsest,
-        refinement_ratio(fine.model.mesh, coarsest.model.mesh, scene)))
+        fine, coarse, axis_ratio(fine.model.mesh, coarse.model.mesh, scene), coarsest,
+        axis_ratio(fine.model.mesh, coarsest.model.mesh, scene)))
     solid = replace(solid, timings=dict(fine.timings, error_estimate=time.perf_counter() - start))
     worst, why = _worst(solid, check)
     note = "auto: solid answered" + (f" ({'; '.join(reasons)})" if reasons else " (no reduced model for a "

@@ -374,7 +374,7 @@ def _compute(todo, scene_ref, base, selector, near, count, extra, scheduler, wor
         from dask.distributed import Client, LocalCluster, as_completed
 
         cluster = None if scheduler else LocalCluster(n_workers=int(workers), threads_per_worker=1, processes=True,
-                                                      dashboard_address=None)
+                                                      dashboard_address=None, silence_logs=logging.WARNING)
         client = Client(scheduler or cluster)
         try:
             futures = {client.submit(evaluate_point, scene_ref, p, base, selector, near, count, extra,

@@ -1,4 +1,8 @@
-"""Pictures: offscreen renders that show the mode, the feet and the electrodes; VTU export; plots."""
+"""Pictures: offscreen renders that show the mode, every foot and electrode (each seen from its side), markers
+that move with the body in an animation, a colour bar with units beside (not over) the device, and the title
+saying when the picture is unfolded from a half or quarter model."""
+
+from __future__ import annotations
 
 import numpy as np
 import pytest
@@ -12,85 +16,128 @@ pv = pytest.importorskip("pyvista")
 @pytest.fixture(scope="module")
 def plate():
     scene = load_scene("cube_plate", **{"mesh.elements_per_wavelength": 4.0})
-    return solve_modes(scene, near=40e3, count=6, error_estimate=False)
+    return solve_modes(scene, near=40e3, count=4, error_estimate=False)
 
 
-def _image(modes, mode, **kwargs):
+@pytest.fixture(scope="module")
+def glass():
+    scene = load_scene("glass_plate", **{"mesh.elements_per_wavelength": 4.0})
+    return solve_modes(scene, near=66e3, count=3, error_estimate=False)
+
+
+def _actors(plotter) -> dict:
+    """Named actors of every panel (``plotter.actors`` holds the active panel's only)."""
+    return {k: a for r in plotter.renderers for k, a in r.actors.items()}
+
+
+def _visible_pixels(plotter, name: str) -> int:
+    """Pixels of the actor ``name`` in the rendered picture: every other marker hidden, this one drawn in an
+    unlit magenta that nothing else in the picture has (the body and nodal lines stay, so occlusion counts)."""
+    actors = _actors(plotter)
+    markers = [k for k in actors if k.startswith("marker:")]
+    saved = {k: (actors[k].visibility, actors[k].prop.color, actors[k].prop.lighting) for k in markers}
+    for k in markers:
+        actors[k].visibility = k == name
+    actor = actors[name]
+    actor.prop.color, actor.prop.lighting = (1.0, 0.0, 1.0), False
+    plotter.ren_win.Render()  # screenshot() alone may return the previous frame
+    image = plotter.screenshot(return_img=True).astype(int)
+    for k, (vis, colour, light) in saved.items():
+        actors[k].visibility, actors[k].prop.color, actors[k].prop.lighting = vis, colour, light
+    r, g, b = image[..., 0], image[..., 1], image[..., 2]
+    return int(np.sum((r > 230) & (g < 25) & (b > 230)))
+
+
+@pytest.mark.parametrize("fixture, expected", [
+    ("plate", {"foot_1", "foot_2", "foot_3", "foot_4", "electrode_top", "electrode_bottom"}),
+    ("glass", {"electrode_outer", "electrode_inner"}),
+])
+def test_every_foot_and_electrode_is_marked_and_visible_from_its_side(fixture, expected, request):
     from modalfe.plot.render import render_mode
 
-    plotter = render_mode(mode, window_size=(500, 350), **kwargs)
-    image = plotter.screenshot(return_img=True)
-    plotter.close()
-    return image.astype(float)
+    modes = request.getfixturevalue(fixture)
+    plotter = render_mode(modes[0], window_size=(900, 320), view="iso+bottom")
+    try:
+        markers = plotter._modalfe["markers"]
+        assert {m.group for m in markers} == expected  # mirrored feet (foot_3, foot_4) included
+        for i, m in enumerate(markers):
+            views = [v for v in m.seen_from() if v in plotter._modalfe["views"]]
+            assert views, f"{m.group}: faces no view of the picture"
+            # 20 pixels: a 3 x 3 mm foot is ~8 x 8 pixels here, the thinnest outline ~2 px wide and ~100 long
+            seen = max(_visible_pixels(plotter, f"marker:{m.group}:{i}:{v}") for v in views)
+            assert seen > 20, f"{m.group} is hidden in the {views} view(s): {seen} pixels"
+        if fixture == "plate":  # occlusion counts: a foot's sole is not seen from above, through the plate
+            assert _visible_pixels(plotter, "marker:foot_1:2:iso") == 0
+    finally:
+        plotter.close()
 
 
-def _green(image):
-    """Fraction of pixels that are the feet's green under any shading (green well above red and blue);
-    the RdBu colour map has no such pixels."""
-    r, g, b = image[..., 0], image[..., 1], image[..., 2]
-    return float(np.mean((g > r + 50) & (g > b + 50)))
+def test_colour_bar_has_units_and_sits_beside_the_device(plate):
+    from modalfe.plot.render import COLOUR_BAR_TITLE, render_mode
+
+    plotter = render_mode(plate[0], window_size=(600, 300), view="iso")
+    try:
+        assert "[m per unit modal" in COLOUR_BAR_TITLE and "mass-normalised" in COLOUR_BAR_TITLE
+        bars = list(plotter.scalar_bars.values())
+        assert len(bars) == 1 and bars[0].GetTitle() == COLOUR_BAR_TITLE
+        # the device is drawn in the first panel, the bar in the last: their viewports do not overlap
+        device, bar = plotter.renderers[0], plotter.renderers[-1]
+        assert device.GetViewport()[2] <= bar.GetViewport()[0]
+        props = bar.GetViewProps()
+        assert bars[0] in [props.GetItemAsObject(i) for i in range(props.GetNumberOfItems())]
+    finally:
+        plotter.close()
 
 
-def _gold(image):
-    """Fraction of the electrodes' gold pixels (red and green high, blue low) under any shading."""
-    r, g, b = image[..., 0], image[..., 1], image[..., 2]
-    return float(np.mean((r > 120) & (g > 100) & (b < 0.5 * g) & (r > b + 80)))
+def test_title_says_when_a_half_or_quarter_model_is_unfolded(plate, glass):
+    from modalfe.plot.render import symmetry_note
 
-
-def test_render_is_not_blank_and_marks_feet_and_electrodes(plate):
-    working = plate.labelled("(0,6)")
-    top = _image(plate, working, view="iso")
-    assert top.std() > 20  # a white background alone has std 0
-    # electrodes (gold) cover ~60 % of the top face: clearly visible from above
-    assert _gold(top) > 0.01
-    bottom = _image(plate, working, view="bottom")
-    # the four 3 x 3 mm feet (green) are visible from below, and less (or not) from above
-    assert _green(bottom) > 1e-4
-    assert _green(top) < _green(bottom)
+    assert symmetry_note(plate.model.scene) == "whole device drawn from the half model about y = 19 mm"
+    assert symmetry_note(glass.model.scene) == "whole device drawn from the quarter model about x = 30 mm and y = 10 mm"
+    assert symmetry_note(load_scene("honeycomb_tile")) == ""
 
 
 def test_two_modes_give_different_pictures(plate):
-    working = plate.labelled("(0,6)")
-    other = next(m for m in plate if m.label != working.label)
-    a = _image(plate, other)
-    b = _image(plate, working)
-    assert np.mean(np.abs(a - b)) > 5  # mean absolute difference per pixel channel, 0-255 scale
+    from modalfe.plot.render import render_mode
+
+    images = []
+    for mode in plate[:2]:
+        plotter = render_mode(mode, window_size=(500, 300), view="iso")
+        images.append(plotter.screenshot(return_img=True).astype(float))
+        plotter.close()
+    assert images[0].std() > 20  # a white background alone has std 0
+    assert np.mean(np.abs(images[0] - images[1])) > 2  # mean absolute difference per channel, 0-255 scale
 
 
-def test_animation_writes_a_gif(plate, tmp_path):
-    from modalfe.plot.render import animate_mode
+def test_markers_and_nodal_lines_follow_the_body_in_an_animation(plate, tmp_path, monkeypatch):
+    from modalfe.plot import render
 
-    path = animate_mode(plate.labelled("(0,6)"), str(tmp_path / "mode.gif"), frames=4,
-                        window_size=(300, 200))
+    frames = []
+    real = render.render_mode
+
+    def spy(*args, **kwargs):
+        plotter = real(*args, **kwargs)
+        original = plotter.write_frame
+
+        def record():
+            frames.append({name: np.array(a.mapper.dataset.points) for name, a in _actors(plotter).items()
+                           if name.startswith(("marker:", "device:", "nodal:"))})
+            original()
+
+        monkeypatch.setattr(plotter, "write_frame", record)
+        return plotter
+
+    monkeypatch.setattr(render, "render_mode", spy)
+    path = render.animate_mode(plate[1], str(tmp_path / "mode.gif"), frames=4, window_size=(300, 200))
     with open(path, "rb") as f:
         assert f.read(6) in (b"GIF89a", b"GIF87a")
-
-
-def test_vtu_export_has_every_mode_and_the_parts(plate, tmp_path):
-    import meshio
-
-    from modalfe.report.export import export_vtu
-
-    path = export_vtu(plate, tmp_path / "plate.vtu")
-    mesh = meshio.read(path)
-    assert len(mesh.point_data) == len(plate)
-    assert "part" in mesh.cell_data
-    # the half model is unfolded: the whole 64 x 38 mm plate is there
-    assert np.ptp(mesh.points[:, 1]) == pytest.approx(38e-3, rel=1e-9)
-    grid = pv.read(path)
-    assert np.all(grid.compute_cell_sizes()["Volume"] > 0)  # mirrored cells keep a positive volume
-
-
-def test_plots_return_figures(tmp_path):
-    from modalfe.plot.figures import plot_admittance, plot_convergence, plot_frf, plot_sweep, plot_time_vs_error
-
-    f = np.linspace(39e3, 41e3, 11)
-    response = 1 / (40e3**2 - f**2 + 1j * 40e3 * f / 100)
-    figures = [plot_frf(f, {"a": response}), plot_admittance(f, 1j * f * response),
-               plot_convergence([1e3, 1e4, 1e5], [1e-2, 1e-3, 1e-4], order=2),
-               plot_time_vs_error({"solid": np.array([1.0, 5.0])}, {"solid": np.array([1e-2, 1e-3])}),
-               plot_sweep({"x": np.arange(4), "y": np.arange(4) ** 2, "g": np.array([0, 0, 1, 1])}, "x", "y",
-                          group="g")]
-    for fig in figures:
-        assert fig.axes and fig.axes[0].lines
-        fig.savefig(tmp_path / "f.png")
+    assert len(frames) == 4
+    device = next(k for k in frames[0] if k.startswith("device:"))
+    foot = next(k for k in frames[0] if k.startswith("marker:foot_1"))
+    # frames 0 and 2 are half a period apart: body and foot marker both move, by the same displacement field
+    moved_body = np.abs(frames[0][device] - frames[2][device]).max()
+    moved_foot = np.abs(frames[0][foot] - frames[2][foot]).max()
+    assert moved_body > 0 and moved_foot > 0
+    rest = 0.5 * (frames[0][foot] + frames[2][foot])  # the rest position (cos 0 = -cos pi)
+    marker = next(m for m in render.marker_set(plate[1]) if m.group == "foot_1")
+    np.testing.assert_allclose(rest, marker.poly.points, atol=1e-12)

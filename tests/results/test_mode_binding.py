@@ -25,11 +25,13 @@ def test_a_mode_evaluates_itself_at_points(bar_modes):
     expected = model.nodal_displacement(mode.shape)[:, :50].T
     scale = np.abs(model.nodal_displacement(mode.shape)).max()
     assert np.abs(mode.displacement(vertices) - expected).max() < 1e-6 * scale
-    # the potential: grounded bottom (0 V in short circuit), finite and non-zero inside the poled bar
+    # the potential: 0 V on the grounded bottom in short circuit, up to the nudge of 1e-9 of the device's size
+    # that puts a face point inside an element (times the steep through-thickness gradient: ~1e-10 of the peak)
+    peak = np.abs(mode.shape[model.n_u:]).max()
     phi_bottom = mode.potential(np.array([[0.015, 0.001, 0.0]]))
-    phi_mid = mode.potential(np.array([[0.015, 0.001, 0.0005]]))
-    assert abs(phi_bottom[0]) < 1e-9 * max(abs(phi_mid[0]), 1e-30)
-    assert np.all(np.isfinite(phi_mid))
+    phi_inside = mode.potential(np.array([[0.015, 0.001, 0.00025]]))
+    assert abs(phi_bottom[0]) < 1e-8 * peak
+    assert abs(phi_inside[0]) > 1e-3 * peak  # a real field inside the poled bar
 
 
 def test_near_moves_the_shift_not_the_mesh():

@@ -1,0 +1,134 @@
+"""`modalfe admittance` (broadband Y(f), Z(f) of the driven electrodes) and `modalfe table` (the mode table)."""
+
+from __future__ import annotations
+
+import json
+
+from modalfe.cli.options import (
+    _float,
+    check_band,
+    check_output_path,
+    frequency_or_zero,
+    parse_overrides,
+    positive_int,
+)
+from modalfe.errors import SceneError
+
+
+def register(sub) -> None:
+    p = sub.add_parser("admittance", help="electrical admittance and impedance of the driven electrodes over a band")
+    p.add_argument("scene", help="built-in scene name or .toml scene file")
+    p.add_argument("--band", type=_float, nargs=2, metavar=("F1", "F2"), required=True, help="frequency band [Hz]")
+    p.add_argument("--points", type=positive_int, default=400, help="frequencies, evenly spaced (default 400)")
+    p.add_argument("--damping", help="Q=Q, zeta=Z, eta=ETA, rayleigh=ALPHA,BETA or material (each material's Qm; "
+                                     "default: the scene's drive.damping)")
+    p.add_argument("--mode-damping", action="append", metavar="LABEL=SPEC",
+                   help="one mode's loss, e.g. '(0,6)=Q=300' (repeatable; modal superposition only)")
+    p.add_argument("--tan-delta", type=_float, help="dielectric loss tangent (default: the material table's)")
+    p.add_argument("--residual", choices=("centre", "static"), default="centre",
+                   help="shift of the residual of the modes left out (default: the band's centre)")
+    p.add_argument("--direct", action="store_true", help="direct harmonic FE at every frequency instead")
+    p.add_argument("--csv", metavar="FILE", help="write frequency_Hz, Y_real_S, Y_imag_S, abs_Z_ohm, phase_Z_deg")
+    p.add_argument("--s1p", metavar="FILE", help="write a Touchstone v1 one-port file (S11 against 50 ohm)")
+    p.add_argument("--plot", metavar="FILE", help="write the |Y|, |Z| and phase plot (PNG)")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene parameter")
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=_admittance)
+
+    p = sub.add_parser("table", help="mode table: effective masses, participation, fr/fa, k_eff, force factor")
+    p.add_argument("scene", help="built-in scene name or .toml scene file")
+    p.add_argument("--near", type=frequency_or_zero, help="target frequency [Hz]")
+    p.add_argument("--count", type=positive_int, help="number of modes nearest --near")
+    p.add_argument("--band", type=_float, nargs=2, metavar=("F1", "F2"), help="all modes in [F1, F2] Hz")
+    p.add_argument("--no-error-estimate", action="store_true", help="skip the coarse-mesh solve")
+    p.add_argument("--csv", metavar="FILE", help="write the table as CSV (units in the headers)")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene parameter")
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=_table)
+
+
+def _mode_damping(items: list[str] | None) -> dict[str, str]:
+    out = {}
+    for item in items or []:
+        label, sep, spec = item.partition("=")
+        if not sep or not label.strip() or not spec.strip():
+            raise SceneError(f"--mode-damping: expected LABEL=SPEC such as '(0,6)=Q=300', got '{item}'")
+        out[label.strip()] = spec.strip()
+    return out
+
+
+def _admittance(args) -> int:
+    from modalfe.response.admittance import admittance
+    from modalfe.scene import load_scene
+
+    band = check_band(args.band)
+    if band[0] <= 0:
+        raise SceneError(f"--band: F1 must be above 0 Hz, got {band[0]:g}")
+    if args.points < 2:
+        raise SceneError(f"--points: needs at least 2, got {args.points}")
+    for flag, path, suffix in (("--csv", args.csv, ".csv"), ("--s1p", args.s1p, ".s1p"), ("--plot", args.plot, ".png")):
+        if path is not None:
+            check_output_path(flag, path)
+            if not path.lower().endswith(suffix):
+                raise SceneError(f"{flag}: '{path}' must end in {suffix}")
+    scene = load_scene(args.scene, **parse_overrides(args.set))
+    result = admittance(scene, band, args.points, damping=args.damping, tan_delta=args.tan_delta,
+                        per_mode=_mode_damping(args.mode_damping), direct=args.direct, residual=args.residual,
+                        progress=args.direct)
+    if args.csv:
+        result.write_csv(args.csv)
+    if args.s1p:
+        result.write_s1p(args.s1p)
+    if args.plot:
+        from modalfe.plot.figures import plot_admittance
+
+        fig = plot_admittance(result.frequency, result.Y, impedance=True,
+                              title=f"{scene.name}: {'direct FE' if args.direct else 'modal superposition'}")
+        fig.savefig(args.plot, dpi=110)
+    if args.json:
+        print(json.dumps(result.to_json(), indent=2))
+        return 0
+    print(f"{scene.name}: admittance over {band[0]:g}-{band[1]:g} Hz, {len(result.frequency)} points; {result.method}")
+    for line in result.losses:
+        print(f"  loss {line}")
+    for note in result.notes:
+        print(f"  note: {note}")
+    print(f"  blocked capacitance C0 {1e9 * result.capacitance_blocked:.4g} nF; |Y| at {band[0]:g} Hz "
+          f"{abs(result.Y[0]):.4g} S")
+    ext = result.extrema()
+    print("  |Y| maxima (near fr) [Hz]: " + (", ".join(f"{f:.1f}" for f in ext["max_abs_Y_hz"]) or "none"))
+    print("  |Y| minima (near fa) [Hz]: " + (", ".join(f"{f:.1f}" for f in ext["min_abs_Y_hz"]) or "none"))
+    strong = sorted(result.modes, key=lambda r: -abs(r["theta_N_per_V_sqrtkg"]))[:8]
+    if strong:
+        print("  strongest modes (modal force per volt, loss):")
+        for r in sorted(strong, key=lambda r: r["frequency_hz"]):
+            print(f"    {r['label']:<13} {r['frequency_hz']:10.1f} Hz  theta {r['theta_N_per_V_sqrtkg']:+.4g} "
+                  f"N/(V kg^0.5)  {r['loss']}")
+    for flag, path in (("csv", args.csv), ("s1p", args.s1p), ("plot", args.plot)):
+        if path:
+            print(f"  wrote {flag}: {path}")
+    return 0
+
+
+def _table(args) -> int:
+    from modalfe.response.mode_table import mode_table
+    from modalfe.scene import load_scene
+
+    band = check_band(args.band)
+    if band is not None and args.near is not None:
+        raise SceneError("--near: give either --near (with --count) or --band, not both")
+    if band is not None and args.count is not None:
+        raise SceneError("--count: --band returns every mode in the band; --count goes with --near")
+    if args.csv is not None:
+        check_output_path("--csv", args.csv)
+    scene = load_scene(args.scene, **parse_overrides(args.set))
+    table = mode_table(scene, near=args.near, count=args.count, band=band, error_estimate=not args.no_error_estimate)
+    if args.csv:
+        table.write_csv(args.csv)
+    if args.json:
+        print(json.dumps(table.to_json(), indent=2))
+        return 0
+    print(table.format())
+    if args.csv:
+        print(f"wrote csv: {args.csv}")
+    return 0

@@ -1,0 +1,174 @@
+"""The mode table: per mode its frequency, label, error estimate, effective modal masses and participation
+factors in x, y and z, fr / fa and k_eff, and the modal force per volt of the driven electrodes.
+
+For a mass-normalised mode phi_r (phi^T M phi = 1) and the rigid translation r_d (unit displacement along d on
+every displacement unknown, clamped ones included): participation factor Gamma_r,d = phi_r^T M r_d [kg^0.5],
+effective modal mass m_r,d = Gamma_r,d^2 [kg], whose sum over all modes of an unsupported or spring-supported
+body is the total mass r_d^T M r_d (Chopra, Dynamics of Structures, 4th ed. 2012, sec. 13.2.5; Craig & Kurdila
+2006, sec. 11.5). Modal force per volt theta_r = phi_r . f_1V [N/(V kg^0.5)]; referred to the point of largest
+displacement (modal mass 1 / max|phi|^2 there) it is the force factor N_r = theta_r / max|phi_u| [N/V], as in
+``modalfe forced``. k_eff = sqrt(1 - fr^2 / fa^2) (IEEE Std 176-1987, eq. 100). A half or quarter model's masses
+and fractions are those of the solved part.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from modalfe.errors import SceneError
+
+OPEN_MARGIN = 1.1  # the open-circuit band reaches 10 % higher (fa - fr is a few % for k_eff up to ~0.4)
+CSV_COLUMNS = (
+    "index", "label", "frequency_Hz", "error_estimate_rel", "meff_x_kg", "meff_y_kg", "meff_z_kg",
+    "cum_fraction_x", "cum_fraction_y", "cum_fraction_z", "gamma_x_sqrtkg", "gamma_y_sqrtkg", "gamma_z_sqrtkg",
+    "fa_Hz", "k_eff", "theta_N_per_V_sqrtkg", "force_factor_N_per_V",
+)
+
+
+@dataclass(frozen=True)
+class ModeTable:
+    """Rows (one dict per mode, keys ``CSV_COLUMNS``), total_mass [kg] per direction (the solved part),
+    scene, dofs, notes."""
+
+    scene: str
+    rows: tuple[dict, ...]
+    total_mass: dict[str, float]
+    dofs: int
+    notes: tuple[str, ...] = ()
+
+    def to_json(self) -> dict:
+        return {"scene": self.scene, "dofs": self.dofs, "total_mass_kg": self.total_mass, "notes": list(self.notes),
+                "modes": [{k: _clean(v) for k, v in r.items()} for r in self.rows]}
+
+    def write_csv(self, path) -> None:
+        import csv
+
+        with open(path, "w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(CSV_COLUMNS)
+            for r in self.rows:
+                w.writerow(["" if _clean(r[c]) is None else (f"{r[c]:.10g}" if isinstance(r[c], float) else r[c])
+                            for c in CSV_COLUMNS])
+
+    def format(self) -> str:
+        lines = [f"{self.scene}: {len(self.rows)} modes, {self.dofs} DOFs; total mass x/y/z "
+                 + " / ".join(f"{1e3 * self.total_mass[d]:.4g}" for d in "xyz") + " g"]
+        lines += [f"note: {n}" for n in self.notes]
+        lines.append(f"{'#':>3} {'f [Hz]':>11} {'label':<13} {'err':>7} {'meff x/y/z [g]':>26} "
+                     f"{'cum % x/y/z':>17} {'fa [Hz]':>11} {'k_eff':>6} {'N [N/V]':>9}")
+        for r in self.rows:
+            err = "n/a" if _clean(r["error_estimate_rel"]) is None else f"{100 * r['error_estimate_rel']:.2f}%"
+            meff = " ".join(f"{1e3 * r[f'meff_{d}_kg']:8.3g}" for d in "xyz")
+            cum = " ".join(f"{100 * r[f'cum_fraction_{d}']:5.1f}" for d in "xyz")
+            fa = "-" if r["fa_Hz"] is None else f"{r['fa_Hz']:.1f}"
+            k = "-" if r["k_eff"] is None else f"{r['k_eff']:.3f}"
+            n = "-" if r["force_factor_N_per_V"] is None else f"{r['force_factor_N_per_V']:.3g}"
+            lines.append(f"{r['index']:>3} {r['frequency_Hz']:>11.1f} {r['label']:<13} {err:>7} {meff:>26} "
+                         f"{cum:>17} {fa:>11} {k:>6} {n:>9}")
+        return "\n".join(lines)
+
+
+def _clean(v):
+    return None if isinstance(v, float) and not math.isfinite(v) else v
+
+
+def rigid_translations(model) -> np.ndarray:
+    """(3, ndofs) unit rigid translations along x, y, z on the displacement unknowns (solid model: the vector
+    element's unknowns cycle x, y, z at each node)."""
+    if not hasattr(model, "u_basis"):
+        raise SceneError("fidelity: the mode table needs the 3-D solid model")
+    r = np.zeros((3, model.ndofs))
+    dofs = np.arange(model.n_u)
+    for d in range(3):
+        r[d, dofs[dofs % 3 == d]] = 1.0
+    return r
+
+
+def effective_masses(modes) -> tuple[np.ndarray, np.ndarray]:
+    """(Gamma (n_modes, 3) [kg^0.5], total mass (3,) [kg]) of mass-normalised ``modes`` of one model."""
+    model = modes.model
+    R = rigid_translations(model)
+    MR = (model.M @ R.T)  # (ndofs, 3)
+    Phi = np.column_stack([m.shape for m in modes]) if len(modes) else np.zeros((model.ndofs, 0))
+    return Phi.T @ MR, np.einsum("ij,ji->i", R, MR)
+
+
+def mode_table(scene, *, near: float | None = None, count: int | None = None,
+               band: tuple[float, float] | None = None, error_estimate: bool = True) -> ModeTable:
+    """The mode table of ``scene`` (3-D solid): ``count`` modes nearest ``near`` [Hz] or every mode in ``band``
+    (default: the scene's analysis). fa from one open-circuit solve on the same mesh, paired by label (nearest
+    frequency) or, failing that, by nearest frequency."""
+    from modalfe.results.coupling import k_eff
+    from modalfe.solve.api import solve_modes
+
+    a = scene.analysis
+    if band is None and near is None:
+        near, band = a.near, a.band
+        count = count or a.count
+    top = band[1] if band is not None else None
+    if top is not None:  # one mesh for both circuits: it resolves the open-circuit band's top too
+        scene = replace(scene, mesh=replace(scene.mesh, max_frequency=max(scene.max_frequency, OPEN_MARGIN * top)))
+    short = solve_modes(scene, near=near, count=count, band=band, circuit="short", error_estimate=error_estimate,
+                        fidelity="solid")
+    model = short.model
+    driven = "drive" in scene.electrodes.values() and model.n_phi > 0
+    notes = []
+    if scene.symmetry:
+        notes.append(f"solved on the part of the device on one side of its {'/'.join(scene.symmetry)} mid-plane(s): "
+                     f"masses and fractions refer to the solved part, and the modes listed are the symmetric ones "
+                     f"(the whole device's symmetric modes have no effective mass along "
+                     f"{'/'.join(scene.symmetry)}; the solved part's value is listed)")
+    notes.append("effective mass m = (phi^T M r_d)^2 for mass-normalised phi (Chopra 2012, sec. 13.2.5); "
+                 "cumulative fractions of the total mass over the modes listed, in frequency order")
+    opens = ()
+    if driven:
+        if band is not None:
+            opens = solve_modes(scene, band=(band[0], OPEN_MARGIN * band[1]), circuit="open", error_estimate=False,
+                                fidelity="solid")
+        else:
+            opens = solve_modes(scene, near=near, count=(count or a.count) + 2, circuit="open", error_estimate=False,
+                                fidelity="solid")
+        notes.append("fa: open-circuit mode of the same label nearest above fr (else the nearest unpaired "
+                     "frequency); k_eff = sqrt(1 - fr^2/fa^2), IEEE Std 176-1987")
+        load = model.voltage_load(1.0)
+    else:
+        notes.append("no driven electrode: no fa, k_eff or force factor")
+    gamma, total = effective_masses(short)
+    meff = gamma**2
+    cum = np.cumsum(meff, axis=0) / np.where(total > 0, total, np.inf)
+    used = set()
+    rows = []
+    for i, m in enumerate(short):
+        fa = ke = theta = force = None
+        if driven:
+            partner = _partner(m, opens, used)
+            if partner is not None:
+                used.add(id(partner))
+                fa = partner.frequency
+                ke = k_eff(m.frequency, fa) if m.frequency > 0 else None
+            theta = float(m.shape @ load)
+            umax = float(np.max(np.abs(model.nodal_displacement(m.shape))))
+            force = theta / umax if umax > 0 else None
+        rows.append({
+            "index": m.index, "label": m.label, "frequency_Hz": m.frequency, "error_estimate_rel": m.error_estimate,
+            **{f"meff_{d}_kg": float(meff[i, k]) for k, d in enumerate("xyz")},
+            **{f"cum_fraction_{d}": float(cum[i, k]) for k, d in enumerate("xyz")},
+            **{f"gamma_{d}_sqrtkg": float(gamma[i, k]) for k, d in enumerate("xyz")},
+            "fa_Hz": fa, "k_eff": ke, "theta_N_per_V_sqrtkg": theta, "force_factor_N_per_V": force,
+        })
+    return ModeTable(scene.name, tuple(rows), {d: float(total[k]) for k, d in enumerate("xyz")}, short.dofs,
+                     tuple(notes))
+
+
+def _partner(mode, opens, used):
+    """The open-circuit mode paired with short-circuit ``mode``: same label nearest at or above it, else the
+    nearest unused one within 10 %."""
+    free = [o for o in opens if id(o) not in used]
+    same = [o for o in free if o.label == mode.label and o.frequency >= mode.frequency * (1 - 1e-9)]
+    if same:
+        return min(same, key=lambda o: o.frequency - mode.frequency)
+    near = [o for o in free if abs(o.frequency - mode.frequency) <= 0.1 * max(mode.frequency, 1.0)]
+    return min(near, key=lambda o: abs(o.frequency - mode.frequency)) if near else None

@@ -1,0 +1,76 @@
+"""Mode table: effective modal masses (sum rule, the cantilever's 0.613), participation, fr/fa pairing, CSV."""
+
+import csv
+import json
+
+import numpy as np
+import pytest
+
+from modalfe.cli.main import main
+from modalfe.response.mode_table import CSV_COLUMNS, effective_masses, mode_table, rigid_translations
+from modalfe.scene import scene_from_dict
+from modalfe.solve.api import solve_modes
+from tests.oracles.cases import k31_bar_scene, reference_mesh
+
+STEEL = {"E": 200e9, "nu": 0.3, "rho": 7850.0}
+
+
+def test_effective_masses_of_all_modes_sum_to_the_total_mass():
+    """A steel block 10 x 8 x 6 mm on springs, 2 x 2 x 2 serendipity elements (180 unknowns): every mode solved;
+    sum_r (phi_r^T M r_d)^2 = r_d^T M r_d for a complete M-orthonormal set (Chopra 2012, sec. 13.2.5)."""
+    scene = scene_from_dict({
+        "name": "block", "units": "mm", "materials": {"steel": STEEL},
+        "parts": [{"name": "b", "material": "steel", "origin": [0, 0, 0], "size": [10, 8, 6]}],
+        "faces": {"base": ["b.zmin"]}, "springs": {"base": [2e6, 3e6, 5e6]},
+        "analysis": {"band": [0.0, 5e7]},
+        "mesh": {"elements_per_wavelength": 1e-6, "max_size": 5e-3, "min_size": 5e-3, "min_layers": 2},
+    })
+    modes = solve_modes(scene, band=(0.0, 5e7), error_estimate=False)
+    model = modes.model
+    assert len(modes) == model.ndofs  # the complete set
+    R = rigid_translations(model)
+    # a rigid translation strains nothing: only the springs (2, 3, 5 MN/m) resist it (checks the DOF order)
+    np.testing.assert_allclose(R @ (model.K @ R.T), np.diag([2e6, 3e6, 5e6]), atol=1e-6 * 5e6)
+    gamma, total = effective_masses(modes)
+    assert total == pytest.approx([7850 * 10e-3 * 8e-3 * 6e-3] * 3, rel=1e-12)
+    assert (gamma**2).sum(axis=0) == pytest.approx(total, rel=1e-8)
+    assert (gamma[:6] ** 2).sum(axis=0).min() > 0.95 * total.min()  # the six suspension modes carry most
+
+
+def test_cantilever_first_bending_effective_mass_is_0613():
+    """Euler-Bernoulli cantilever: m_1,eff / m = 0.6131 (Chopra 2012, sec. 17.x; 4 (sin b - sinh b)^2 /
+    (b^2 (cos b + cosh b)^2)-type closed form with b = 1.8751). A 60 x 6 x 2 mm steel bar (L/h = 30): shear
+    and the 3-D clamp move it by O((h/L)^2) ~ 1e-3; 1 % covers that and the mesh."""
+    scene = scene_from_dict({
+        "name": "cantilever", "units": "mm", "kind": "beam", "materials": {"steel": STEEL},
+        "parts": [{"name": "beam", "material": "steel", "origin": [0, 0, 0], "size": [60, 6, 2]}],
+        "faces": {"clamp": ["beam.xmin"]}, "clamps": {"clamp": "xyz"},
+        "analysis": {"near": 400.0, "count": 2}, "mesh": reference_mesh(2e-3, 2),
+    })
+    table = mode_table(scene, error_estimate=False)
+    first = table.rows[0]
+    assert first["label"] == "bending-z 1"
+    fraction = first["meff_z_kg"] / table.total_mass["z"]
+    assert fraction == pytest.approx(0.6131, rel=0.01), fraction
+    assert first["cum_fraction_z"] == pytest.approx(fraction)
+    assert first["fa_Hz"] is None and first["k_eff"] is None  # no electrodes
+
+
+def test_k31_bar_table_pairs_fa_and_writes_csv(tmp_path, capsys):
+    scene = k31_bar_scene(2e-3)
+    table = mode_table(scene, near=47e3, count=4, error_estimate=False)
+    axial = next(r for r in table.rows if r["label"] == "axial 2")
+    assert axial["fa_Hz"] > axial["frequency_Hz"]
+    assert 0.25 < axial["k_eff"] < 0.35  # IEEE k31 bar: k_eff 0.310 (tests/oracles/analytic.py)
+    assert abs(axial["force_factor_N_per_V"]) > 0
+    assert axial["meff_x_kg"] < 1e-12 * table.total_mass["x"]  # a free bar's elastic modes carry no net mass
+    table.write_csv(tmp_path / "t.csv")
+    rows = list(csv.reader((tmp_path / "t.csv").read_text().splitlines()))
+    assert tuple(rows[0]) == CSV_COLUMNS and len(rows) == len(table.rows) + 1
+    assert json.loads(json.dumps(table.to_json()))["modes"][0]["label"] == table.rows[0]["label"]
+
+
+def test_cli_table_refuses_near_with_band(capsys):
+    assert main(["table", "cube_plate", "--near", "40e3", "--band", "30e3", "50e3"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--near" in err[0]

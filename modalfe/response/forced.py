@@ -368,7 +368,11 @@ def harmonic_response(model, frequency, *, outputs, damping: Damping, reference_
     disp = {name: np.zeros((len(freqs), 3), dtype=complex) for name in probes}
     Y = np.zeros(len(freqs), dtype=complex)
     dissipated = np.zeros(len(freqs))
-    for i, f in enumerate(freqs):
+    from tqdm import tqdm
+
+    steps = tqdm(freqs, desc=f"direct harmonic FE ({A.shape[0]} unknowns)", unit="frequency", leave=False,
+                 disable=len(freqs) < 3)  # on stderr: --json output stays clean
+    for i, f in enumerate(steps):
         w = 2 * np.pi * f
         x = splu((A - w**2 * B + 1j * w * C).tocsc(), permc_spec="MMD_AT_PLUS_A",
                  options={"SymmetricMode": True}).solve(F.astype(complex))

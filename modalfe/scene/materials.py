@@ -246,7 +246,8 @@ class StrengthLimits:
 
 _TP226 = ("Morgan Electro Ceramics (Berlincourt, Krueger & Near), Technical Publication TP-226, 'Properties "
           "of Morgan Electro Ceramic Ceramics': PZT-4 AC depoling field >= 10 kV/cm at 25 C (taken as 1 kV/mm), "
-          "static tensile strength 11,000 psi = 76 MPa")
+          "static tensile strength 11,000 psi = 76 MPa (not re-checked against the document in this release: "
+          "confirm with your supplier's datasheet; a scene file may set its own limits)")
 # only limits with a datasheet behind them; every other material has "no limit in the table"
 LIMITS: dict[str, StrengthLimits] = {"PZT-4": StrengthLimits(1.0e6, 76e6, _TP226)}
 LIMIT_KEYS = ("depolarising_field", "tensile_strength", "limits_source")

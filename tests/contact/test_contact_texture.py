@@ -3,10 +3,10 @@
 import numpy as np
 import pytest
 
-from modalfe.plot import contact as plots
 from modalfe.contact.foot import simulate_contact, steady_state
 from modalfe.contact.texture import NotchTexture, render_texture
 from modalfe.errors import ContactError
+from modalfe.plot import contact as plots
 from tests.helpers import assert_one_line_error
 
 

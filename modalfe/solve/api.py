@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import logging
 import math
 import numbers
 from dataclasses import replace
@@ -10,6 +11,8 @@ from modalfe.errors import SolverError
 from modalfe.results.modes import Modes
 from modalfe.scene.scene import Analysis, Scene
 from modalfe.solve.fidelity import solve_at_fidelity
+
+log = logging.getLogger(__name__)
 
 FIDELITIES = ("auto", "beam", "plate", "solid")
 # relative frequency error asked of ``fidelity="auto"``: below the seeds' 2-7 % model-to-measurement gaps
@@ -70,8 +73,11 @@ def solve_modes(
         # a band is a frequency range the mesh must resolve; ``near`` is only the shift of the eigen solve
         scene = replace(scene, mesh=replace(scene.mesh, max_frequency=a.band[1]))
     with single_threaded_blas():
-        return solve_at_fidelity(scene, a, fidelity=fidelity, tol=tol, check=check, size_factor=size_factor,
-                                 solver=solver, error_estimate=error_estimate, frame=frame)
+        modes = solve_at_fidelity(scene, a, fidelity=fidelity, tol=tol, check=check, size_factor=size_factor,
+                                  solver=solver, error_estimate=error_estimate, frame=frame)
+    stages = ", ".join(f"{k} {v:.2f} s" for k, v in modes.timings.items() if isinstance(v, float))
+    log.info("%s: %d modes, %d DOFs, %s fidelity (%s)", scene.name, len(modes), modes.dofs, modes.fidelity, stages)
+    return modes
 
 
 def single_threaded_blas():

@@ -26,6 +26,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from modalfe.errors import SceneError, SolverError
+from modalfe.response.loads import load_vector, output_operators
 from modalfe.results.coupling import k_eff
 from modalfe.results.modes import Mode
 
@@ -91,28 +92,6 @@ class Damping:
         if self.Q is not None:
             return f"quality factor Q = {self.Q:g} (zeta = {1 / (2 * self.Q):.3g})"
         return f"Rayleigh alpha = {self.alpha:g} 1/s, beta = {self.beta:g} s"
-
-
-def output_points(scene, outputs) -> dict[str, np.ndarray]:
-    """Points [m] for named outputs: a face group's centre (e.g. ``foot_1``: the foot tip), or
-    explicit coordinates given as (x, y, z)."""
-    assembly = scene.full_assembly()
-    out = {}
-    for item in outputs:
-        if isinstance(item, str):
-            if item not in assembly.faces:
-                raise SceneError(f"outputs: no face group '{item}'; known: {sorted(assembly.faces)}")
-            centres = []
-            for f in assembly.faces[item]:
-                axis, c, lo, hi = assembly.part(f.part).face_bounds(f.side, f.window)
-                centre = [(lo[k] + hi[k]) / 2 for k in range(3)]
-                centre[axis] = c
-                centres.append(centre)
-            out[item] = np.mean(centres, axis=0)
-        else:
-            name, point = item
-            out[str(name)] = np.asarray(point, dtype=float)
-    return out
 
 
 @dataclass(frozen=True)
@@ -235,8 +214,6 @@ def _drive(model, load=None):
         load_full = model.voltage_load(1.0)
         x_v = model.prescribed_potential(1.0)
         return T, T.T @ load_full, float(x_v @ load_full), x_v
-    from modalfe.response.loads import load_vector
-
     load_full, x_p = load_vector(model, load)
     return T, T.T @ load_full, 0.0, x_p
 
@@ -268,8 +245,6 @@ def reduce(mode: Mode, *, outputs, damping: Damping, reference: str | None = Non
     ``reference`` output (default: the one with the largest normal motion) carries the modal mass.
     ``load`` (``modalfe.response.loads.Load``, default: 1 V on the driven electrodes) sets what the force
     factor is per: N/V for a voltage, N/N for a force, N/Pa for a pressure, N/(m/s^2) for a base acceleration."""
-    from modalfe.response.loads import output_operators
-
     if mode.circuit != "short":
         raise SolverError(f"mode: the reduced model needs a short-circuit mode, got {mode.circuit}")
     model = mode.model
@@ -353,8 +328,6 @@ def harmonic_response(model, frequency, *, outputs, damping: Damping, reference_
     """Direct damped solve at each frequency [Hz] (one complex factorization each), per unit ``load``
     (default 1 V on the driven electrodes; the admittance is zero for other loads)."""
     from scipy.sparse.linalg import splu
-
-    from modalfe.response.loads import output_operators
 
     T, F, C_b, x_v = _drive(model, load)
     A = (T.T @ model.K @ T).tocsc()

@@ -20,145 +20,36 @@ displacement over the face group) or ``(name, (x, y, z))`` [m].
 from __future__ import annotations
 
 import math
-import re
-from collections.abc import Mapping
-from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
 
 from modalfe.errors import SceneError
+from modalfe.scene.loads import Load, check_load
 
-KINDS = ("voltage", "force", "pressure", "base-acceleration")
-UNITS = {"voltage": "V", "force": "N", "pressure": "Pa", "base-acceleration": "m/s^2"}
 MEAN_PREFIX = "mean:"
 
 
-@dataclass(frozen=True)
-class Load:
-    """One load case: ``kind`` (one of KINDS), the face ``group`` it acts on (force, pressure),
-    ``value`` (force: (Fx, Fy, Fz) [N] in total; pressure: (P,) [Pa]), ``axis`` (base acceleration)."""
-
-    kind: str = "voltage"
-    group: str | None = None
-    value: tuple[float, ...] = ()
-    axis: str | None = None
-
-    def __post_init__(self) -> None:
-        field = "drive.load"
-        if self.kind not in KINDS:
-            raise SceneError(f"{field}: kind must be one of {', '.join(KINDS)}, got {self.kind!r}")
-        object.__setattr__(self, "value", tuple(float(x) for x in self.value))
-        if self.kind in ("force", "pressure"):
-            if not isinstance(self.group, str) or not self.group:
-                raise SceneError(f"{field}.group: a {self.kind} needs a face group")
-            n = 3 if self.kind == "force" else 1
-            if len(self.value) != n or not all(math.isfinite(x) for x in self.value):
-                what = "Fx, Fy, Fz [N]" if n == 3 else "one pressure [Pa]"
-                raise SceneError(f"{field}.value: a {self.kind} needs {what}, got {list(self.value)}")
-            if not any(self.value):
-                raise SceneError(f"{field}.value: the {self.kind} is zero")
-        if self.kind == "base-acceleration" and self.axis not in ("x", "y", "z"):
-            raise SceneError(f"{field}.axis: base acceleration needs an axis x, y or z, got {self.axis!r}")
-
-    @property
-    def unit(self) -> str:
-        """Unit of one load: the results are per this unit."""
-        return UNITS[self.kind]
-
-    def describe(self) -> str:
-        if self.kind == "voltage":
-            return "voltage on the driven electrodes"
-        if self.kind == "force":
-            return f"force ({', '.join(f'{x:g}' for x in self.value)}) N on '{self.group}', spread by area"
-        if self.kind == "pressure":
-            return f"pressure {self.value[0]:g} Pa on '{self.group}'"
-        return f"base acceleration along {self.axis} (clamps and spring anchors move rigidly)"
-
-    @classmethod
-    def parse(cls, text: str, field: str = "drive.load") -> Load:
-        """``voltage``, ``force GROUP=Fx,Fy,Fz``, ``pressure GROUP=P`` or ``base-acceleration x|y|z``."""
-        if not isinstance(text, str):
-            raise SceneError(f"{field}: expected a load such as 'force actuator=0,0,1', got {text!r}")
-        words = text.strip().split(None, 1)
-        kind = words[0].replace("_", "-") if words else ""
-        rest = words[1].strip() if len(words) > 1 else ""
-        if kind == "voltage" and not rest:
-            return cls()
-        if kind == "base-acceleration":
-            return cls(kind=kind, axis=rest or None)
-        match = re.fullmatch(r"([^=\s]+)\s*=\s*(.+)", rest)
-        if kind in ("force", "pressure") and match:
-            try:
-                numbers = tuple(float(x) for x in match.group(2).split(","))
-            except ValueError:
-                raise SceneError(f"{field}: expected numbers after '{match.group(1)}=', got {text!r}") from None
-            return cls(kind=kind, group=match.group(1), value=numbers)
-        raise SceneError(f"{field}: expected 'voltage', 'force GROUP=FX,FY,FZ', 'pressure GROUP=P' or "
-                         f"'base-acceleration x|y|z', got {text!r}")
-
-    @classmethod
-    def from_value(cls, value, field: str = "drive.load") -> Load:
-        """A Load, a text (``parse``) or a table ``{kind, group, value, axis}`` from a scene file."""
-        if isinstance(value, Load):
-            return value
-        if isinstance(value, str):
-            return cls.parse(value, field)
-        if not isinstance(value, Mapping):
-            raise SceneError(f"{field}: must be a text such as 'force actuator=0,0,1' or a table "
-                             f"{{kind, group, value, axis}}, got {value!r}")
-        unknown = sorted(set(value) - {"kind", "group", "value", "axis"})
-        if unknown:
-            raise SceneError(f"{field}.{unknown[0]}: unknown key; known: axis, group, kind, value")
-        kind = value.get("kind", "voltage")
-        if not isinstance(kind, str):
-            raise SceneError(f"{field}.kind: must be one of {', '.join(KINDS)}, got {kind!r}")
-        raw = value.get("value", ())
-        raw = [raw] if isinstance(raw, (int, float)) and not isinstance(raw, bool) else raw
-        if not isinstance(raw, (list, tuple)) or not all(isinstance(x, (int, float)) and not isinstance(x, bool)
-                                                         for x in raw):
-            raise SceneError(f"{field}.value: must be a number or an array of numbers, got {raw!r}")
-        group = value.get("group")
-        if group is not None and not isinstance(group, str):
-            raise SceneError(f"{field}.group: must be a face group name, got {group!r}")
-        return cls(kind=kind.replace("_", "-"), group=group, value=tuple(raw), axis=value.get("axis"))
-
-
-def check_load(scene, load: Load) -> None:
-    """Refuse a load the scene cannot take, before any solve: a missing face group or driven electrode, or a
-    load that is not symmetric about the mirror planes of a half (quarter) model."""
-    if load.kind == "voltage":
-        if "drive" not in scene.electrodes.values():
-            raise SceneError("drive.load: the scene has no driven electrode to apply a voltage to; give a force, "
-                             "pressure or base acceleration (--force GROUP=FX,FY,FZ, --pressure GROUP=P, "
-                             "--base-acceleration z, or drive.load)")
-        return
-    full = scene.full_assembly()
-    if load.kind in ("force", "pressure") and load.group not in full.faces:
-        raise SceneError(f"drive.load.group: no face group '{load.group}'; known: {sorted(full.faces)}")
-    for axis in scene.symmetry:
-        k = "xyz".index(axis)
-        if load.kind == "base-acceleration" and load.axis == axis:
-            raise SceneError(f"drive.load.axis: a base acceleration along {axis} is antisymmetric about the "
-                             f"{axis} mid-plane the model keeps (symmetry); set symmetry = [] to solve it")
-        if load.kind in ("force", "pressure"):
-            lo, hi = _group_bounds(full, load.group)
-            mid = 0.5 * (full.bounds[0][k] + full.bounds[1][k])
-            if not math.isclose(lo[k] + hi[k], 2 * mid, rel_tol=0, abs_tol=1e-9 * (full.bounds[1][k] + 1)):
-                raise SceneError(f"drive.load.group: '{load.group}' is not symmetric about the {axis} mid-plane "
-                                 f"the model keeps (symmetry); load a symmetric group or set symmetry = []")
-            if load.kind == "force" and load.value[k] != 0:
-                raise SceneError(f"drive.load.value: a force along {axis} is antisymmetric about the {axis} "
-                                 f"mid-plane the model keeps (symmetry); set symmetry = [] to solve it")
-
-
-def _group_bounds(assembly, group: str) -> tuple[np.ndarray, np.ndarray]:
-    los, his = [], []
-    for f in assembly.faces[group]:
-        _, _, lo, hi = assembly.part(f.part).face_bounds(f.side, f.window)
-        los.append(lo)
-        his.append(hi)
-    return np.min(los, axis=0), np.max(his, axis=0)
+def output_points(scene, outputs) -> dict[str, np.ndarray]:
+    """Points [m] for named outputs: a face group's centre (e.g. ``foot_1``: the foot tip), or
+    explicit coordinates given as (x, y, z)."""
+    assembly = scene.full_assembly()
+    out = {}
+    for item in outputs:
+        if isinstance(item, str):
+            if item not in assembly.faces:
+                raise SceneError(f"outputs: no face group '{item}'; known: {sorted(assembly.faces)}")
+            centres = []
+            for f in assembly.faces[item]:
+                axis, c, lo, hi = assembly.part(f.part).face_bounds(f.side, f.window)
+                centre = [(lo[k] + hi[k]) / 2 for k in range(3)]
+                centre[axis] = c
+                centres.append(centre)
+            out[item] = np.mean(centres, axis=0)
+        else:
+            name, point = item
+            out[str(name)] = np.asarray(point, dtype=float)
+    return out
 
 
 def load_vector(model, load: Load) -> tuple[np.ndarray, np.ndarray]:
@@ -211,8 +102,6 @@ def face_traction_load(model, load: Load) -> np.ndarray:
 def output_operators(model, outputs) -> dict[str, sp.csr_matrix]:
     """Name -> (3, ndofs) rows giving (ux, uy, uz) [m] of an output from a full DOF vector: a face group's
     centre point (``foot_1``), the area mean over a face group (``mean:foot_1``) or a point (name, (x, y, z))."""
-    from modalfe.response.forced import output_points
-
     out = {}
     points = output_points(model.scene, [o for o in outputs if not _is_mean(o)])
     for name, p in points.items():

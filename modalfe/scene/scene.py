@@ -15,8 +15,8 @@ from typing import Any
 
 import modalfe.scene.values as v
 from modalfe.errors import SceneError
-from modalfe.response.loads import Load
 from modalfe.scene.frozen import FrozenMap, freeze
+from modalfe.scene.loads import Load, check_load
 
 DEFAULT_DAMPING_SOURCE = "assumption (docs/assumptions.md, Damping: default Q ~ 150)"
 USER_DAMPING_SOURCE = "set by the user"
@@ -321,8 +321,6 @@ class Scene:
         for group, m in self.masses.items():
             v.number(f"masses.{group}", m, unit="kg", positive=True)
         if self.drive.load.kind != "voltage":
-            from modalfe.response.loads import check_load
-
             check_load(self, self.drive.load)  # the face group exists, the load is symmetric like the model
         a = self.analysis
         if a.near is not None and not a.near > 0:

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from modalfe.models.build import build_model
-from modalfe.results.labels import label
+from modalfe.results.labels import unique_labels
 from modalfe.results.modes import Mode, Modes
 from modalfe.solve.eigen import eigenpairs
 
@@ -26,11 +26,10 @@ def modes_of(model, analysis, *, fidelity: str, solver: str = "auto", timings: d
     B = (T.T @ model.M @ T).tocsr()
     solution = eigenpairs(A, B, analysis, solver)
     shapes = T @ solution.vectors
-    modes = []
-    for i, lam in enumerate(solution.values):
-        frequency = float(np.sqrt(max(lam, 0.0)) / (2 * np.pi))
-        name, wavelength = label(model, shapes[:, i])
-        modes.append(Mode(i, frequency, name, shapes[:, i], model, analysis.circuit, wavelength=wavelength))
+    frequencies = [float(np.sqrt(max(lam, 0.0)) / (2 * np.pi)) for lam in solution.values]
+    names = unique_labels(model, shapes, frequencies)  # unique in the solve; degenerate pairs in their clearest basis
+    modes = [Mode(i, f, name, shapes[:, i], model, analysis.circuit, wavelength=w)
+             for i, (f, (name, w)) in enumerate(zip(frequencies, names))]
     seconds = {**(timings or {}), "factorization": solution.factorization_seconds,
                "eigensolve": solution.eigensolve_seconds, "solver": solution.solver}
     return Modes(tuple(modes), model, analysis.circuit, fidelity, A.shape[0], seconds,

@@ -312,6 +312,8 @@ class BeamModel(LayeredModel):
     clamped : u DOF indices fixed to zero; reference : beam axis (y_r, z_r) [m]
     """
 
+    copies = 1  # the beam model always solves the whole device
+
     sections: tuple[Section, ...] = ()
     reference: tuple[float, float] = (0.0, 0.0)
 

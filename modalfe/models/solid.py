@@ -33,6 +33,13 @@ class PiezoUnknowns:
     ``n_phi``, ``electrodes`` (face group -> indices into the phi unknowns) and ``clamped``."""
 
     @property
+    def copies(self) -> int:
+        """Copies of the solved part in the whole device: 2 per mirror plane of a symmetric model (its modes are
+        the symmetric ones), so charges, capacitances and modal masses of the whole device are ``copies`` times
+        the solved part's."""
+        return 2 ** len(self.scene.symmetry)
+
+    @property
     def ndofs(self) -> int:
         return self.n_u + self.n_phi
 

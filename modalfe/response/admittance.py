@@ -244,11 +244,6 @@ def frequency_grid(band, points: int) -> np.ndarray:
     return np.linspace(f1, f2, int(points))
 
 
-def _symmetry_factor(model) -> int:
-    """Copies of the solved part in the whole device: 2 per mirror plane."""
-    return 2 ** len(tuple(getattr(model.scene, "symmetry", ()) or ()))
-
-
 def blocked_capacitance(model) -> float:
     """C_0 [F] of the solved part with every displacement held at zero (the dielectric alone)."""
     from scipy.sparse.linalg import splu
@@ -402,7 +397,7 @@ def modal_admittance(modes, frequency, losses: Losses, *, residual: str = "centr
     d = omega_r[None, :] ** 2 - w[:, None] ** 2 + 1j * (c[None, :] * w[:, None] + h[None, :])
     C0 = blocked_capacitance(model)
     q = q_res0 + (w**2 - sigma) * q_res1 + (theta[None, :] ** 2 / d).sum(axis=1) - 1j * losses.tan_delta * C0
-    factor = _symmetry_factor(model)
+    factor = model.copies
     notes = [note] if note else []
     if rigid:
         notes.append(f"{rigid} rigid-body modes (no charge) left to the residual")
@@ -468,7 +463,7 @@ def direct_admittance(model, frequency, losses: Losses, *, progress: bool = Fals
         if not np.all(np.isfinite(x)):
             raise SolverError(f"harmonic solve at {f[i]:g} Hz returned NaN")
         Y[i] = 1j * w[i] * (F @ x + C_b)
-    factor = _symmetry_factor(model)
+    factor = model.copies
     if factor > 1:
         notes.append(f"solved on 1/{factor} of the device (symmetry); charge scaled by {factor}")
     dofs = T.shape[1]

@@ -270,11 +270,12 @@ def reduce(mode: Mode, *, outputs, damping: Damping, reference: str | None = Non
     if abs(ref) < 1e-12 * max(np.abs(np.concatenate(list(phi.values())))):
         raise SolverError(f"outputs: the reference '{reference}' sits on a node of mode {mode.label}")
     zeta = damping.ratio(omega_r)
-    m_eff = 1.0 / ref**2
+    copies = model.copies  # a half (quarter) model: the whole device's masses, forces and charges
+    m_eff = copies / ref**2
     return ReducedModel(
         label=mode.label, frequency=mode.frequency, zeta=zeta, damping_description=damping.describe(),
         reference=reference, modal_mass=m_eff, stiffness=m_eff * omega_r**2, damping=2 * zeta * omega_r * m_eff,
-        force_factor=theta / ref, capacitance=capacitance,
+        force_factor=copies * theta / ref, capacitance=copies * capacitance,
         shapes={n: list(map(float, phi[n] / ref)) for n in phi},
         feedthrough={n: list(map(float, feed[n])) for n in feed},
         **({} if voltage else {"drive_load": load.describe(), "load_unit": load.unit}),
@@ -354,7 +355,7 @@ def harmonic_response(model, frequency, *, outputs, damping: Damping, reference_
         full = T @ x + x_v
         for name, P in probes.items():
             disp[name][i] = P @ full
-        Y[i] = 1j * w * (F @ x + C_b) if voltage else 0.0
+        Y[i] = 1j * w * model.copies * (F @ x + C_b) if voltage else 0.0  # the whole device's charge
         dissipated[i] = 0.5 * w**2 * float(np.real(np.conj(x) @ (C @ x)))
     description = damping.describe()
     if damping.zeta is not None or damping.Q is not None:

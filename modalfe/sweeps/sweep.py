@@ -160,10 +160,33 @@ def _cell(key: str, value) -> str:
     return str(value)
 
 
-def _encode(row: Mapping, names: Sequence[str]) -> dict[str, str]:
+# units of the swept settings that are not builder parameters (those carry their own, modalfe.geometry)
+_SETTING_UNITS = {"analysis.near": "Hz", "mesh.max_frequency": "Hz", "mesh.max_size": "m", "mesh.min_size": "m",
+                  "mesh.elements_per_wavelength": "-", "mesh.min_layers": "-", "mesh.clamp_grading": "-",
+                  "springs": "N/m", "masses": "kg", "E": "Pa", "rho": "kg/m^3", "nu": "-"}
+
+
+def parameter_column(scene, name: str) -> str:
+    """The table column of a swept parameter: its name and SI unit, e.g. ``ceramic_thickness [m]``."""
+    from modalfe.geometry import BUILDERS, builder_parameters
+
+    unit = ""
+    if scene.device in BUILDERS and name in builder_parameters(scene.device):
+        unit = builder_parameters(scene.device)[name].unit
+    unit = unit or _SETTING_UNITS.get(name) or _SETTING_UNITS.get(name.split(".")[0]) \
+        or _SETTING_UNITS.get(name.rsplit(".", 1)[-1]) or "SI"
+    return f"{name} [{unit}]"
+
+
+def _parameter(column: str) -> str:
+    """The parameter named by a table column (its unit dropped)."""
+    return column.split(" [", 1)[0]
+
+
+def _encode(row: Mapping, columns: Sequence[str]) -> dict[str, str]:
     out = {k: _cell(k, row.get(k)) for k in COLUMNS}
-    for n in names:
-        out[n] = json.dumps(row["params"][n]) if n in row["params"] else ""
+    for c in columns:
+        out[c] = json.dumps(row["params"][_parameter(c)]) if _parameter(c) in row["params"] else ""
     return out
 
 
@@ -173,7 +196,7 @@ def _decode(raw: Mapping[str, str], names: Sequence[str]) -> dict:
     def number(text: str, kind=float):
         return kind(text) if text not in ("", None) else None
 
-    row = {"params": {n: json.loads(raw[n]) for n in names if raw.get(n) not in ("", None)},
+    row = {"params": {_parameter(n): json.loads(raw[n]) for n in names if raw.get(n) not in ("", None)},
            "point": number(raw["point"], int), "point_id": raw["point_id"], "scene": raw["scene"],
            "scene_sha256": raw["scene_sha256"], "overrides": json.loads(raw["overrides"] or "{}"),
            "selector": raw["selector"], "near_hz": number(raw["near_hz"]), "count": number(raw["count"], int),
@@ -311,7 +334,8 @@ def sweep(scene_ref: str, params: Mapping[str, Sequence], *, out: str | Path, se
 
     base = dict(base or {})
     for p in (points[0], points[-1]):  # bad parameter names or values fail here, in one line
-        load_scene(scene_ref, **{**base, **p})
+        scene = load_scene(scene_ref, **{**base, **p})
+    columns = [parameter_column(scene, n) for n in names]
     context = definition(scene_ref, base, selector, near, count, extra)
     keys = [point_id(p, context) for p in points]
     try:
@@ -322,7 +346,7 @@ def sweep(scene_ref: str, params: Mapping[str, Sequence], *, out: str | Path, se
         _repair_tail(out)
         header, existing = _read_raw(out)
         stored_names = [c for c in header if c not in COLUMNS]
-        stored_names += [n for n in names if n not in stored_names]
+        stored_names += [c for c in columns if _parameter(c) not in {_parameter(s) for s in stored_names}]
         header = DEFINITION + stored_names + RESULT
         _write_atomic(out, header, existing)  # the union header, the torn tail gone
         done: dict[str, dict] = {}

@@ -121,11 +121,11 @@ def test_the_table_has_one_column_per_parameter_tracking_columns_and_grid_order(
     _run(beam, out, values=E[::-1])  # computed in the opposite order ...
     rows = _run(beam, out, values=E)  # ... then resumed: every row reused, written in this grid's order
     header, lines = _table(out)
-    assert "materials.m.E" in header and set(COLUMNS) <= set(header)
+    assert "materials.m.E [Pa]" in header and set(COLUMNS) <= set(header)
     for column in ("tracked_label", "tracked_frequency_hz", "mac_previous", "crossing"):
         assert column in header
     table = [dict(zip(header, line)) for line in lines]
-    assert [float(t["materials.m.E"]) for t in table] == E
+    assert [float(t["materials.m.E [Pa]"]) for t in table] == E
     assert [int(t["point"]) for t in table] == [0, 1, 2]
     assert [float(t["tracked_frequency_hz"]) for t in table] == [r["tracked_frequency_hz"] for r in rows]
     assert [t["crossing"] for t in table] == ["False"] * 3

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import textwrap
+
 import numpy as np
 
 
@@ -17,12 +19,14 @@ def _figure(rows: int = 1, **kwargs):
 def plot_frf(frequency, responses: dict[str, np.ndarray], *, ylabel: str = "amplitude [m/V]", title: str = ""):
     """|response| vs frequency [Hz] for each named curve, log scale."""
     fig, ax = _figure()
+    f = np.asarray(frequency, dtype=float)
+    scale, unit = (1e3, "kHz") if f.max() >= 2e3 else (1.0, "Hz")  # the tile's 47 Hz heave reads as Hz
     for name, r in responses.items():
-        ax.semilogy(np.asarray(frequency) / 1e3, np.abs(r), label=name)
-    ax.set_xlabel("frequency [kHz]")
+        ax.semilogy(f / scale, np.abs(r), label=name)
+    ax.set_xlabel(f"frequency [{unit}]")
     ax.set_ylabel(ylabel)
     ax.legend()
-    ax.set_title(title)
+    ax.set_title(textwrap.fill(title, 70), fontsize=10)  # long titles wrap instead of running off the figure
     fig.tight_layout()
     return fig
 

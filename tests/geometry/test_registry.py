@@ -7,6 +7,7 @@ from skfem import Basis, ElementHex1, ElementTetP1, Functional
 
 from modalfe.models.mesh import build_mesh, element_sizes
 from modalfe.models.solid import face_area
+from modalfe.response.loads import MEAN_PREFIX
 from modalfe.scene import load_scene
 from modalfe.scene.builtin import BUILTIN
 
@@ -34,8 +35,9 @@ def test_every_builtin_scene_meshes_with_its_named_groups(name):
     for role, group in used.items():
         assert group in assembly.faces, f"{name}: {role} is not a face group of the meshed assembly"
     for output in scene.drive.outputs:
-        if isinstance(output, str):
-            assert output in full.faces, f"{name}: drive output '{output}' is not a face group"
+        if isinstance(output, str):  # a face group's centre, or "mean:GROUP", the mean over it
+            group = output.removeprefix(MEAN_PREFIX)
+            assert group in full.faces, f"{name}: drive output '{output}' is not a face group"
     # every face group of the meshed assembly is a non-empty mesh group of the right area
     for group in assembly.faces:
         assert len(dm.faces.get(group, ())) > 0, f"{name}: face group '{group}' is empty in the mesh"

@@ -182,16 +182,27 @@ def _sign_changes(values: np.ndarray, threshold: float) -> list[int]:
     return flips
 
 
+def _flip_counts(lines: np.ndarray, thresholds: np.ndarray) -> np.ndarray:
+    """Sign flips along each row of ``lines`` among its significant samples (finite, |w| >= the row's
+    threshold), all rows at once: ``len(_sign_changes(row, threshold))`` of every row."""
+    values = np.nan_to_num(lines, nan=0.0)
+    signs = np.where(np.isfinite(lines) & (np.abs(values) >= thresholds[:, None]), np.sign(values), 0.0)
+    columns = np.arange(signs.shape[1])
+    last = np.maximum.accumulate(np.where(signs != 0, columns, -1), axis=1)  # last significant sample so far
+    previous = np.take_along_axis(signs, np.maximum(last[:, :-1], 0), axis=1) * (last[:, :-1] >= 0)
+    return np.sum((signs[:, 1:] != 0) & (previous != 0) & (signs[:, 1:] != previous), axis=1)
+
+
 def _line_count(lines: np.ndarray, peak: float) -> tuple[int, float]:
     """(nodal lines crossed, consistency in [0, 1]) from the sign changes along each grid line (rows of
     ``lines``) whose peak is significant: the count most of the lines in the outer quarters agree on (the
     smaller on a tie), as a closed nodal curve inside the plate crosses none of them; consistency: the share of
     all significant lines that agree."""
-    amplitude = np.array([np.nanmax(np.abs(r)) if np.isfinite(r).any() else 0.0 for r in lines])
+    amplitude = np.max(np.abs(np.nan_to_num(lines, nan=0.0)), axis=1)  # 0 for a row with no finite sample
     voting = np.flatnonzero(amplitude >= _LINE * peak)
     if len(voting) == 0:
         return 0, 0.0
-    counts = {i: len(_sign_changes(lines[i], _SMALL * amplitude[i])) for i in voting}
+    counts = dict(zip(voting.tolist(), _flip_counts(lines[voting], _SMALL * amplitude[voting]).tolist()))
     quarter = len(lines) / 4
     outer = [counts[i] for i in voting if i < quarter or i >= len(lines) - quarter] or list(counts.values())
     tally = Counter(outer)

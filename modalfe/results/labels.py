@@ -153,8 +153,6 @@ def _rigid(points: np.ndarray, u: np.ndarray) -> tuple[str, float, float]:
 def _grid_w(points: np.ndarray, u: np.ndarray, samples: int = 48):
     """w on a regular (x, y) grid over the top of the main parts (max z at each sample): ``samples`` along
     the longer side, at least 24 (and the same spacing) along the other."""
-    from scipy.interpolate import griddata
-
     z_top = points[2].max()
     thickness = points[2].max() - points[2].min()
     top = points[2] > z_top - 0.05 * thickness
@@ -165,8 +163,26 @@ def _grid_w(points: np.ndarray, u: np.ndarray, samples: int = 48):
     xs = np.linspace(points[0, top].min(), points[0, top].max(), nx)
     ys = np.linspace(points[1, top].min(), points[1, top].max(), ny)
     X, Y = np.meshgrid(xs, ys)
-    W = griddata(points[:2, top].T, u[2, top], (X, Y), method="linear")
+    W = _triangulation(points[:2, top].T)(u[2, top])(X, Y)
     return xs, ys, W
+
+
+_TRIANGULATIONS: dict = {}
+
+
+def _triangulation(xy: np.ndarray):
+    """``values -> LinearNDInterpolator`` over the points ``xy`` (n, 2), the Delaunay triangulation built once per
+    point set: every mode of a solve shares its model's sample points (the same result as griddata, linear)."""
+    from scipy.interpolate import LinearNDInterpolator
+    from scipy.spatial import Delaunay
+
+    key = (xy.shape, hash(xy.tobytes()))
+    if key not in _TRIANGULATIONS:
+        if len(_TRIANGULATIONS) > 8:
+            _TRIANGULATIONS.clear()
+        _TRIANGULATIONS[key] = Delaunay(xy)
+    triangulation = _TRIANGULATIONS[key]
+    return lambda values: LinearNDInterpolator(triangulation, values)
 
 
 def _sign_changes(values: np.ndarray, threshold: float) -> list[int]:

@@ -356,7 +356,7 @@ def harmonic_response(model, frequency, *, outputs, damping: Damping, reference_
         for name, P in probes.items():
             disp[name][i] = P @ full
         Y[i] = 1j * w * model.copies * (F @ x + C_b) if voltage else 0.0  # the whole device's charge
-        dissipated[i] = 0.5 * w**2 * float(np.real(np.conj(x) @ (C @ x)))
+        dissipated[i] = 0.5 * w**2 * model.copies * float(np.real(np.conj(x) @ (C @ x)))  # the whole device
     description = damping.describe()
     if damping.zeta is not None or damping.Q is not None:
         description += f"; full model: Rayleigh beta = {beta:.3g} s (gives it at {reference_omega / 2 / np.pi:.0f} Hz)"

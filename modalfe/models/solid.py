@@ -91,6 +91,16 @@ class PiezoUnknowns:
             raise SceneError("electrodes: the scene has no driven electrode to apply a voltage to")
         return -(self.K @ self.prescribed_potential(volts))
 
+    def mechanical_stiffness(self) -> sp.csr_matrix:
+        """K with the piezoelectric coupling and permittivity blocks removed: the elastic stiffness (ndofs, ndofs)
+        that stiffness-proportional damping and loss factors act on."""
+        return sp.block_diag([self.K[: self.n_u, : self.n_u], sp.csr_matrix((self.n_phi, self.n_phi))],
+                             format="csr")
+
+    def rayleigh_damping(self, alpha: float, beta: float) -> sp.csr_matrix:
+        """C = alpha M + beta K_mech [N s/m] (Rayleigh damping on the elastic unknowns)."""
+        return (alpha * self.M + beta * self.mechanical_stiffness()).tocsr()
+
     def potential_scale(self) -> float:
         """Scale of the potential unknowns: sqrt(mean diag K_uu / mean diag K_phiphi)."""
         if self.n_phi == 0:

@@ -23,7 +23,6 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 import numpy as np
-import scipy.sparse as sp
 
 from modalfe.errors import SceneError, SolverError
 from modalfe.response.loads import load_vector, output_operators
@@ -328,14 +327,13 @@ def harmonic_response(model, frequency, *, outputs, damping: Damping, reference_
                       load=None) -> HarmonicResponse:
     """Direct damped solve at each frequency [Hz] (one complex factorization each), per unit ``load``
     (default 1 V on the driven electrodes; the admittance is zero for other loads)."""
-    from scipy.sparse.linalg import splu
+    from modalfe.solve.linalg import solve_complex
 
     T, F, C_b, x_v = _drive(model, load)
     A = (T.T @ model.K @ T).tocsc()
     B = (T.T @ model.M @ T).tocsc()
-    K_mech = sp.block_diag([model.K[: model.n_u, : model.n_u], sp.csr_matrix((model.n_phi, model.n_phi))])
     alpha, beta = damping.rayleigh_at(reference_omega)
-    C = (T.T @ (alpha * model.M + beta * K_mech) @ T).tocsc()
+    C = (T.T @ model.rayleigh_damping(alpha, beta) @ T).tocsc()
     probes = output_operators(model, outputs)
     voltage = load is None or load.kind == "voltage"
     freqs = np.atleast_1d(np.asarray(frequency, dtype=float))
@@ -348,8 +346,7 @@ def harmonic_response(model, frequency, *, outputs, damping: Damping, reference_
                  disable=len(freqs) < 3)  # on stderr: --json output stays clean
     for i, f in enumerate(steps):
         w = 2 * np.pi * f
-        x = splu((A - w**2 * B + 1j * w * C).tocsc(), permc_spec="MMD_AT_PLUS_A",
-                 options={"SymmetricMode": True}).solve(F.astype(complex))
+        x = solve_complex((A - w**2 * B + 1j * w * C).tocsr(), F)
         if not np.all(np.isfinite(x)):
             raise SolverError(f"harmonic solve at {f:g} Hz returned NaN")
         full = T @ x + x_v

@@ -154,20 +154,15 @@ def harmonic_state(model, load: Load, frequency: float, *, damping=None, referen
     """Full DOF response (complex) per unit ``load`` at ``frequency`` [Hz] by one direct solve of
     (A - omega^2 B + i omega C) x = T^T f; ``damping`` (``modalfe.response.forced.Damping``) as in
     ``harmonic_response``, none when None. At 0 Hz this is the static response (supports must hold the body)."""
-    from scipy.sparse.linalg import splu
-
-    from modalfe.solve.linalg import factorize
+    from modalfe.solve.linalg import factorize, solve_complex
 
     T = model.constraints("short").T
     f, x_p = load_vector(model, load)
     w = 2 * np.pi * float(frequency)
     A = (T.T @ (model.K - w**2 * model.M) @ T).tocsr()
     if damping is not None:
-        alpha, beta = damping.rayleigh_at(reference_omega or w)
-        K_mech = sp.block_diag([model.K[: model.n_u, : model.n_u], sp.csr_matrix((model.n_phi, model.n_phi))])
-        A = (A + 1j * w * (T.T @ (alpha * model.M + beta * K_mech) @ T)).tocsr()
-    if damping is None:
-        solve, _ = factorize(A)
-    else:
-        solve = splu(A.tocsc(), permc_spec="MMD_AT_PLUS_A", options={"SymmetricMode": True}).solve
-    return T @ solve((T.T @ f).astype(A.dtype)) + x_p
+        C = model.rayleigh_damping(*damping.rayleigh_at(reference_omega or w))
+        A = (A + 1j * w * (T.T @ C @ T)).tocsr()
+        return T @ solve_complex(A, T.T @ f) + x_p
+    solve, _ = factorize(A)
+    return T @ solve(T.T @ f) + x_p

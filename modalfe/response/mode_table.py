@@ -19,6 +19,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from modalfe.errors import SceneError
+from modalfe.response.loads import rigid_translation
 
 OPEN_MARGIN = 1.1  # the open-circuit band reaches 10 % higher (fa - fr is a few % for k_eff up to ~0.4)
 CSV_COLUMNS = (
@@ -81,9 +82,8 @@ def rigid_translations(model) -> np.ndarray:
     if not hasattr(model, "u_basis"):
         raise SceneError("fidelity: the mode table needs the 3-D solid model")
     r = np.zeros((3, model.ndofs))
-    dofs = np.arange(model.n_u)
-    for d in range(3):
-        r[d, dofs[dofs % 3 == d]] = 1.0
+    for d, axis in enumerate("xyz"):
+        r[d, : model.n_u] = rigid_translation(model, axis)
     return r
 
 

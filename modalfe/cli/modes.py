@@ -73,7 +73,8 @@ def _modes(args) -> int:
              "wavelength_m": None if m.wavelength != m.wavelength else m.wavelength} for m in modes]
     if args.json:
         print(json.dumps({"scene": scene.name, "circuit": modes.circuit, "fidelity": modes.fidelity,
-                          "fidelity_note": modes.fidelity_note, "dofs": modes.dofs,
+                          "fidelity_note": modes.fidelity_note, "estimate_method": modes.estimate_method,
+                          "dofs": modes.dofs,
                           "mesh_frequency_hz": modes.mesh_frequency, "modes": rows,
                           "timings": {k: v for k, v in modes.timings.items()}}, indent=2))
         return 0
@@ -81,6 +82,8 @@ def _modes(args) -> int:
           f"up to {modes.mesh_frequency:.6g} Hz (mesh.max_frequency)")
     if modes.fidelity_note:
         print(modes.fidelity_note)
+    if modes.estimate_method:
+        print(f"error estimates: {modes.estimate_method}")
     print(f"{'#':>3} {'f [Hz]':>12} {'label':<14} {'err est':>8}")
     for r in rows:
         err = ("unresolved" if r["error_unresolved"] else "n/a" if r["error_estimate"] is None

@@ -39,6 +39,7 @@ class ReportRow:
     k_eff: float | None = None
     notes: list[str] = field(default_factory=list)
     fidelity_note: str = ""
+    estimate_method: str = ""
     assumptions: list[str] = field(default_factory=list)
 
     def to_json(self) -> dict:
@@ -104,7 +105,8 @@ def device_report(scene, *, error_estimate: bool = True, fidelity: str = "auto",
         rows.append(ReportRow(
             scene=scene.name, mode=mode.label, frequency_hz=mode.frequency, targets=targets,
             error_estimate=None if math.isnan(mode.error_estimate) else mode.error_estimate,
-            dofs=modes.dofs, fidelity=modes.fidelity, fidelity_note=modes.fidelity_note, seconds=0.0,
+            dofs=modes.dofs, fidelity=modes.fidelity, fidelity_note=modes.fidelity_note,
+            estimate_method=modes.estimate_method, seconds=0.0,
             wavelength_m=None if math.isnan(mode.wavelength) else mode.wavelength,
             antiresonance_hz=fa, k_eff=coupling, notes=notes,
             assumptions=list(scene.assumptions),
@@ -254,6 +256,8 @@ def format_rows(rows: list[ReportRow]) -> str:
             lines.append(f"{'':<15} wavelength along x {1e3 * r.wavelength_m:.2f} mm")
         if r.fidelity_note:
             lines.append(f"{'':<15} {r.fidelity_note}")
+        if r.estimate_method:
+            lines.append(f"{'':<15} error estimate: {r.estimate_method}")
         if r.k_eff is not None:
             lines.append(f"{'':<15} antiresonance {r.antiresonance_hz:.1f} Hz, k_eff {r.k_eff:.4f}")
         for t in r.targets:

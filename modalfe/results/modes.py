@@ -72,7 +72,8 @@ class Modes:
     solved for; timings : seconds per stage (mesh, assembly, factorization, eigensolve, error_estimate,
     cross_check); fidelity_note : which fidelity answered and why (``auto``); cross_check : the 3-D solid
     levels (finer coarse level first) that a reduced model's model error was measured against, else empty;
-    mesh_frequency : the highest frequency [Hz] the mesh resolves at the scene's elements per wavelength
+    mesh_frequency : the highest frequency [Hz] the mesh resolves at the scene's elements per wavelength;
+    estimate_method : how the error estimates were made (p- or h-refinement), empty when not estimated
     """
 
     modes: tuple[Mode, ...]
@@ -84,6 +85,7 @@ class Modes:
     fidelity_note: str = ""
     cross_check: tuple[Modes, ...] = ()
     mesh_frequency: float = float("nan")
+    estimate_method: str = ""
 
     def __len__(self) -> int:
         return len(self.modes)

@@ -63,7 +63,7 @@ def near_eigenpairs(A, B, near: float, count: int, solver: str = "auto") -> Eige
     n = A.shape[0]
     if count > n - 2:
         raise SolverError(f"count: {count} modes asked but the model has {n} unknowns (at most {max(n - 2, 0)})")
-    ncv = min(n, max(2 * count + 1, 20))
+    ncv = lanczos_vectors(count, n)
     if ncv * n * 8 > LANCZOS_BYTES:
         raise SolverError(f"count: {count} modes of {n} unknowns need {ncv * n * 8 / 1e9:.1f} GB of Lanczos "
                           f"vectors; ask for fewer, or for a band (solved in windows)")
@@ -239,6 +239,12 @@ def _factor_nudged(A, B, sigma: float, solver: str):
     raise SolverError(f"no regular shift near {np.sqrt(abs(sigma)) / (2 * np.pi):.6g} Hz ({first})")
 
 
+def lanczos_vectors(k: int, n: int) -> int:
+    """ARPACK's Lanczos basis size for ``k`` modes of ``n`` unknowns: 2k + 1, at least k + 8. Measured on the
+    Cu-Be plate's (0,6) mode: one mode in 10 solves (scipy's floor of 20 vectors took 21), 8 modes in 39 (36)."""
+    return min(n, max(2 * k + 1, k + 8))
+
+
 def _lanczos(A, B, sigma: float, k: int, solve, deflate=None) -> tuple[np.ndarray, np.ndarray]:
     """ARPACK shift-invert on the factorization ``solve`` of A - sigma B: (values sorted, vectors). With
     ``deflate`` (n, m) B-orthonormal eigenvectors, the operator is projected B-orthogonally to them (their
@@ -256,7 +262,8 @@ def _lanczos(A, B, sigma: float, k: int, solve, deflate=None) -> tuple[np.ndarra
     # a fixed, generic Lanczos start vector: the same answer on every run (ARPACK's default is random)
     start = np.random.default_rng(0 if deflate is None else deflate.shape[1]).standard_normal(n)
     try:
-        lam, X = eigsh(A, k=k, M=B, sigma=sigma, which="LM", OPinv=op, tol=1e-8, v0=start)
+        lam, X = eigsh(A, k=k, M=B, sigma=sigma, which="LM", OPinv=op, tol=1e-8, v0=start,
+                       ncv=lanczos_vectors(k, n))
     except (ArpackNoConvergence, ArpackError) as exc:
         near_hz = np.sqrt(abs(sigma)) / (2 * np.pi)
         raise SolverError(f"the eigen solve did not converge near {near_hz:.4g} Hz: {exc}") from None

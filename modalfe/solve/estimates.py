@@ -39,6 +39,15 @@ CLUSTER = 0.05  # relative frequency span of the coarse modes a subspace pairing
 # than the coarsening does (the Cu-Be plate's first coarse level: 1.24 across y, the least of the seeds)
 MIN_RATIO = 1.2
 SAMPLES = 400  # sample points for the MAC: 1200 values a shape, enough to tell modes apart
+# p-refinement (``p_extrapolation``): the eigenvalue error of order-p elements on a fixed grid falls like p^-q, with
+# q >= 4 alpha >= 2 where a singular field of strength r^alpha limits it (the p-version doubles the h-version's
+# rate at singular points on element vertices: Babuska & Suri, SIAM J. Numer. Anal. 24 (1987) 750; eigenvalue
+# errors are the squares of energy-norm errors); smooth fields converge faster than any power (geometrically),
+# which the power law with the rate observed from three orders over-estimates, i.e. covers. Observed rates above
+# MAX_P_RATE are not trusted (the lowest order may be pre-asymptotic, its step then too large).
+MIN_P_RATE = 2.0
+MAX_P_RATE = 8.0
+LOWEST_P_LEVEL = 2  # order-1 hexahedra lock in bending (their error is not the start of the p-sequence)
 
 
 def coarse_level(scene, factor: float, size_factor: float = 1.0) -> dict:
@@ -208,6 +217,59 @@ def richardson(fine: Modes, coarse: Modes, ratio: float, coarsest: Modes | None 
                 order = min(max(p, MIN_ORDER), CONVERGENCE_ORDER)
         estimates[mode.index] = step / ((ratio**order - 1) * mode.frequency)
     return estimates
+
+
+def p_rate(p: int, d_low: float, d_high: float) -> float | None:
+    """Rate q of e_k = C k^-q through the orders p-2, p-1, p from the steps ``d_low`` = f_(p-2) - f_(p-1) and
+    ``d_high`` = f_(p-1) - f_p; None where the steps change sign or vanish (no rate to observe)."""
+    if d_low == 0 or d_high == 0 or (d_low > 0) != (d_high > 0):
+        return None
+    target = d_high / d_low
+
+    def ratio(q: float) -> float:  # decreases from 1 toward 0 as q grows
+        return ((p - 1) ** -q - p**-q) / ((p - 2) ** -q - (p - 1) ** -q)
+
+    lo, hi = 0.01, 60.0
+    if ratio(lo) <= target:
+        return lo
+    if ratio(hi) >= target:
+        return hi
+    for _ in range(80):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if ratio(mid) > target else (lo, mid)
+    return 0.5 * (lo + hi)
+
+
+def p_extrapolation(fine: Modes, lower: Modes, lowest: Modes | None = None) -> tuple[dict[int, float], list[float]]:
+    """(relative error estimate of each mode of ``fine``, the rates observed) from the same grid at orders p-1
+    (``lower``) and p-2 (``lowest``, may be None): |f_p - f_(p-1)| / ((p / (p-1))^q - 1) / f_p, the tail of
+    e_k = C k^-q beyond order p, with q observed through the three orders within [MIN_P_RATE, MAX_P_RATE], else
+    MIN_P_RATE (see those constants). Modes are paired by shape; inf where a mode has no partner."""
+    p = fine.model.scene.mesh.order
+    estimates, rates = {}, []
+    top = max(m.frequency for m in fine)
+    pairs = shape_partners(fine, lower)
+    chain = shape_partners(lower, lowest) if lowest is not None and len(lowest) else {}
+    for mode in fine:
+        if mode.frequency < 1e-6 * top:
+            continue
+        if mode.index not in pairs:
+            log.info("mode %s at %.6g Hz has no partner at order %d on the same grid: error unknown, refine",
+                     mode.label, mode.frequency, p - 1)
+            estimates[mode.index] = math.inf
+            continue
+        other, f1, _ = pairs[mode.index]
+        step = f1 - mode.frequency
+        q = MIN_P_RATE
+        if other.index in chain:
+            observed = p_rate(p, chain[other.index][1] - f1, step)
+            if observed is not None:
+                q = min(max(observed, MIN_P_RATE), MAX_P_RATE)
+                rates.append(q)
+            else:  # pre-asymptotic: the larger step at the lowest rate
+                step = max(abs(step), abs(chain[other.index][1] - f1))
+        estimates[mode.index] = abs(step) / (((p / (p - 1)) ** q - 1) * mode.frequency)
+    return estimates, rates
 
 
 def axis_sizes(mesh, scene) -> np.ndarray:

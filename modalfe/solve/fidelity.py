@@ -4,17 +4,19 @@ meets a tolerance.
 Every frequency of a reduced model (``modalfe.models.beam``, ``modalfe.models.plate``) carries two errors:
 - discretization: Richardson from three mesh levels (element sizes x1, x1.5 and x2.25), as for the solid, at
   the order observed within [1, 2] (``modalfe.solve.estimates``), modes paired by shape;
-- model: distance from the 3-D solid, found by a cheap cross-check, the solid on two coarse levels
-  (element sizes x1.5 and x2.25 of the default, thickness layers scaled alike) extrapolated to zero
-  element size at the assumed convergence order; the extrapolation's own uncertainty is added: how far
-  the extrapolated value moves over the orders possible (``OBSERVED_ORDERS``: down to order 1).
+- model: distance from the 3-D solid, found by a cheap cross-check, the solid's own two estimate levels
+  (``solid_levels``): hexahedra of ``mesh.order`` >= 4 at the two lower orders on the default grid,
+  extrapolated in the order (e_p ~ p^-q), else two coarse grids (element sizes x1.5 and x2.25 of the default,
+  thickness layers scaled alike) extrapolated to zero element size at the assumed convergence order; the
+  extrapolation's own uncertainty is added: how far the extrapolated value moves over the rates possible
+  (``MIN_P_RATE``-``MAX_P_RATE``, or the h-orders ``OBSERVED_ORDERS``).
 A mode's ``error_estimate`` is the sum of the two, ``model_error`` the second, with ``fidelity="auto"`` and
 with ``fidelity="beam"|"plate"`` asked directly alike (a reduced model's figure always includes its model error).
 
 ``auto`` tries the reduced model that suits the scene's kind (beam or plate) and answers with it when
 the estimated error of the modes asked about is within ``tol``; otherwise the 3-D solid answers,
-reusing the cross-check's finer coarse level for its own error estimate. ``Modes.fidelity_note`` says
-which fidelity answered and why.
+reusing the cross-check's levels for its own error estimate (nothing is solved twice or for nothing).
+``Modes.fidelity_note`` says which fidelity answered and why, ``Modes.estimate_method`` how errors were estimated.
 
 Where the scene declares mirror symmetry the plate model solves the symmetric part, as the solid does;
 the beam model solves the whole beam and the modes antisymmetric about those planes are dropped, so that
@@ -36,10 +38,14 @@ from modalfe.results.modes import Modes, select
 from modalfe.solve.estimates import (
     COARSE_FACTOR,
     CONVERGENCE_ORDER,
+    LOWEST_P_LEVEL,
+    MAX_P_RATE,
+    MIN_P_RATE,
     OBSERVED_ORDERS,
     axis_ratio,
     coarse_level,
     coarser,
+    p_extrapolation,
     partner,
     refinement_ratio,
     richardson,
@@ -70,63 +76,100 @@ def solve_at_fidelity(scene, analysis, *, fidelity: str, tol: float, check, size
         return modes
     # a reduced model asked directly states its model error too: the same cross-check as ``auto``
     start = time.perf_counter()
-    levels = _solid_check_levels(scene, analysis, size_factor, solver)
-    checked = with_model_errors(modes, *levels, scene)
+    levels = solid_levels(scene, analysis, size_factor, solver)
+    checked = with_model_errors(modes, levels, scene)
     note = (f"{fidelity} model: error estimates are discretization (three levels) plus model error against a "
-            f"coarse 3-D solid cross-check")
+            f"3-D solid cross-check")
     return replace(checked, fidelity_note=note, cross_check=tuple(levels),
                    timings=dict(checked.timings, cross_check=time.perf_counter() - start))
 
 
-def _solid_check_levels(scene, analysis, size_factor: float, solver: str) -> list[Modes]:
-    """The cross-check's solid levels (elements x1.5 and x2.25 of the default), each asked a little wider."""
+def uses_orders(scene) -> bool:
+    """Whether the solid's error is estimated from the two lower element orders on its own grid (p-refinement:
+    hexahedra of ``mesh.order`` >= 4, so that both are at least ``LOWEST_P_LEVEL``) rather than from coarser
+    grids (h-refinement)."""
+    return scene.mesh.element == "hex" and scene.mesh.order - 2 >= LOWEST_P_LEVEL
+
+
+def solid_levels(scene, analysis, size_factor: float, solver: str, frame=None) -> list[Modes]:
+    """The solid's two estimate levels, each asked a little wider: orders p-1 and p-2 on the same grid
+    (``uses_orders``), else elements x1.5 and x2.25 of the default. They estimate the solid's own error and are
+    the reduced models' 3-D cross-check."""
     levels, a = [], analysis
-    for factor in CHECK_FACTORS:
+    for level in range(2):
         a = coarser(a)
-        levels.append(solve_level(scene, a, solver=solver, **coarse_level(scene, factor, size_factor)))
+        sc, grid = level_options(scene, level, size_factor)
+        levels.append(solve_level(sc, a, solver=solver, frame=frame, **grid))
     return levels
+
+
+def level_options(scene, level: int, size_factor: float) -> tuple[object, dict]:
+    """(scene, mesh options) of estimate level 0 or 1 (``solid_levels``)."""
+    if uses_orders(scene):
+        lower = replace(scene, mesh=replace(scene.mesh, order=scene.mesh.order - 1 - level))
+        return lower, {"size_factor": size_factor}
+    return scene, coarse_level(scene, CHECK_FACTORS[level], size_factor)
+
+
+def solid_estimates(fine: Modes, levels: list[Modes], scene) -> Modes:
+    """``fine`` (the solid) with its error estimates from ``solid_levels`` and ``estimate_method`` saying how."""
+    if uses_orders(scene):
+        estimates, rates = p_extrapolation(fine, *levels)
+        orders = "-".join(str(m.model.scene.mesh.order) for m in (*reversed(levels), fine))
+        seen = f"observed rate q {min(rates):.1f}-{max(rates):.1f}" if rates else f"rate q = {MIN_P_RATE:g} assumed"
+        method = f"p-refinement: orders {orders} on one grid ({seen}, error ~ p^-q)"
+    else:
+        coarse, coarsest = levels
+        estimates = richardson(fine, coarse, axis_ratio(fine.model.mesh, coarse.model.mesh, scene), coarsest,
+                               axis_ratio(fine.model.mesh, coarsest.model.mesh, scene))
+        method = "h-refinement: Richardson through three grids (elements x1, x1.5, x2.25)"
+    return replace(fine.with_error_estimates(estimates), estimate_method=method)
 
 
 def solve_estimated(scene, analysis, fidelity: str, *, size_factor: float = 1.0, solver: str = "auto",
                     error_estimate: bool = True, frame=None) -> Modes:
-    """Modes of one fidelity with Richardson discretization estimates from levels 1.5x and 2.25x coarser
-    (``modalfe.solve.estimates.richardson``; no model error: ``with_model_errors`` adds it for a reduced model)."""
+    """Modes of one fidelity with discretization estimates: the solid's from ``solid_levels`` (lower orders or
+    coarser grids), a reduced model's Richardson from levels 1.5x and 2.25x coarser
+    (``modalfe.solve.estimates.richardson``; no model error: ``with_model_errors`` adds it)."""
     if fidelity != "solid" and fidelity not in reduced_fidelities(scene):
         raise SceneError(f"fidelity: '{fidelity}' does not apply to a {scene.kind} scene "
                          f"(use {[*reduced_fidelities(scene), 'solid', 'auto']})")
     if frame is not None and fidelity != "solid":
         raise SolverError("frame: rotating the device is supported at solid fidelity only")
+    if fidelity == "solid":
+        fine = solve_level(scene, analysis, solver=solver, frame=frame, size_factor=size_factor)
+        if not error_estimate:
+            return fine
+        start = time.perf_counter()
+        result = solid_estimates(fine, solid_levels(scene, analysis, size_factor, solver, frame), scene)
+        return replace(result, timings=dict(fine.timings, error_estimate=time.perf_counter() - start))
 
     def solve(a, **level):
         if SOLVES_SYMMETRIC_PART[fidelity]:
-            return solve_level(scene, a, fidelity=fidelity, solver=solver, frame=frame, **level)
+            return solve_level(scene, a, fidelity=fidelity, solver=solver, **level)
         return _same_family(solve_level(scene, _widened(a, scene), fidelity=fidelity, solver=solver, **level), scene, a)
 
     fine = solve(analysis, size_factor=size_factor)
     if not error_estimate:
         return fine
     start = time.perf_counter()
-    if fidelity == "solid":
-        coarse = solve(coarser(analysis), **coarse_level(scene, COARSE_FACTOR, size_factor))
-        coarsest = solve(coarser(coarser(analysis)), **coarse_level(scene, COARSE_FACTOR**2, size_factor))
-        ratio = axis_ratio(fine.model.mesh, coarse.model.mesh, scene)
-        ratio_2 = axis_ratio(fine.model.mesh, coarsest.model.mesh, scene)
-    else:
-        coarse = solve(coarser(analysis), size_factor=size_factor * COARSE_FACTOR)
-        coarsest = solve(coarser(coarser(analysis)), size_factor=size_factor * COARSE_FACTOR**2)
-        ratio, ratio_2 = COARSE_FACTOR, COARSE_FACTOR**2
-    result = fine.with_error_estimates(richardson(fine, coarse, ratio, coarsest, ratio_2))
-    return replace(result, timings=dict(fine.timings, error_estimate=time.perf_counter() - start))
+    coarse = solve(coarser(analysis), size_factor=size_factor * COARSE_FACTOR)
+    coarsest = solve(coarser(coarser(analysis)), size_factor=size_factor * COARSE_FACTOR**2)
+    result = fine.with_error_estimates(richardson(fine, coarse, COARSE_FACTOR, coarsest, COARSE_FACTOR**2))
+    method = f"h-refinement: Richardson through three {fidelity} meshes (elements x1, x1.5, x2.25)"
+    seconds = time.perf_counter() - start
+    return replace(result, estimate_method=method, timings=dict(fine.timings, error_estimate=seconds))
 
 
 def solve_auto(scene, analysis, *, tol: float, check=None, size_factor: float = 1.0, solver: str = "auto") -> Modes:
-    """The cheapest fidelity whose estimated error on the checked modes is within ``tol``."""
+    """The cheapest fidelity whose estimated error on the checked modes is within ``tol``; the solid's estimate
+    levels are solved once, as the reduced models' cross-check and, if the solid answers, for its own estimate."""
     reasons = []
-    levels = []  # the solid cross-check levels, solved at most once
+    levels = []  # the solid's estimate levels, solved at most once
 
-    def solid_levels():
+    def solid_check():
         if not levels:
-            levels.extend(_solid_check_levels(scene, analysis, size_factor, solver))
+            levels.extend(solid_levels(scene, analysis, size_factor, solver))
         return levels
 
     for fidelity in reduced_fidelities(scene):
@@ -136,21 +179,18 @@ def solve_auto(scene, analysis, *, tol: float, check=None, size_factor: float = 
             reasons.append(f"{fidelity} model not applicable: {exc}")
             continue
         start = time.perf_counter()
-        checked = with_model_errors(reduced, *solid_levels(), scene)
+        checked = with_model_errors(reduced, solid_check(), scene)
         checked = replace(checked, timings=dict(checked.timings, cross_check=time.perf_counter() - start))
         worst, why = _worst(checked, check)
         if worst <= tol:
             model = max((m.model_error for m in _checked_modes(checked, check)), default=0.0)
             note = (f"auto: {fidelity} answered, estimated error {worst:.2%} <= tol {tol:.2%} "
-                    f"(model error {model:.2%} from a coarse 3-D solid cross-check, plus discretization)")
-            return replace(checked, fidelity_note=note, cross_check=tuple(solid_levels()))
+                    f"(model error {model:.2%} from a 3-D solid cross-check, plus discretization)")
+            return replace(checked, fidelity_note=note, cross_check=tuple(solid_check()))
         reasons.append(f"{fidelity} model: {why} > tol {tol:.2%}")
     fine = solve_level(scene, analysis, size_factor=size_factor, solver=solver)
     start = time.perf_counter()
-    coarse, coarsest = solid_levels()
-    solid = fine.with_error_estimates(richardson(
-        fine, coarse, axis_ratio(fine.model.mesh, coarse.model.mesh, scene), coarsest,
-        axis_ratio(fine.model.mesh, coarsest.model.mesh, scene)))
+    solid = solid_estimates(fine, solid_check(), scene)
     solid = replace(solid, timings=dict(fine.timings, error_estimate=time.perf_counter() - start))
     worst, why = _worst(solid, check)
     note = "auto: solid answered" + (f" ({'; '.join(reasons)})" if reasons else " (no reduced model for a "
@@ -160,10 +200,11 @@ def solve_auto(scene, analysis, *, tol: float, check=None, size_factor: float = 
     return replace(solid, fidelity_note=note)
 
 
-def with_model_errors(reduced: Modes, solid_1: Modes, solid_2: Modes, scene) -> Modes:
-    """``reduced`` with each mode's model error against the solid extrapolated from two coarse levels,
-    and its error estimate raised by it (inf where the solid has no partner mode)."""
-    ratio = refinement_ratio(solid_1.model.mesh, solid_2.model.mesh, scene)
+def with_model_errors(reduced: Modes, levels: list[Modes], scene) -> Modes:
+    """``reduced`` with each mode's model error against the solid extrapolated from its two estimate levels
+    (``solid_levels``), and its error estimate raised by it (inf where the solid has no partner mode)."""
+    solid_1, solid_2 = levels
+    extrapolate = _order_extrapolation(scene) if uses_orders(scene) else _grid_extrapolation(solid_1, solid_2, scene)
     top = max(m.frequency for m in reduced)
     # paired by shape at the reduced model's own sample points (inside the solid too)
     to_solid = shape_partners(reduced, solid_1, sample_points(reduced))
@@ -178,14 +219,37 @@ def with_model_errors(reduced: Modes, solid_1: Modes, solid_2: Modes, scene) -> 
         if far is None:
             error = math.inf
         else:
-            step = near[1] - far[1]
-            extrapolated = near[1] + step / (ratio**CONVERGENCE_ORDER - 1)
-            uncertainty = max(abs(step / (ratio**p - 1) - step / (ratio**CONVERGENCE_ORDER - 1))
-                              for p in OBSERVED_ORDERS) / extrapolated
-            error = abs(mode.frequency - extrapolated) / extrapolated + uncertainty
+            extrapolated, uncertainty = extrapolate(near[1], far[1])
+            error = (abs(mode.frequency - extrapolated) + uncertainty) / extrapolated
         discretization = 0.0 if math.isnan(mode.error_estimate) else mode.error_estimate
         modes.append(replace(mode, model_error=error, error_estimate=discretization + error))
     return replace(reduced, modes=tuple(modes))
+
+
+def _grid_extrapolation(solid_1: Modes, solid_2: Modes, scene):
+    """(f_1, f_2) -> (solid frequency extrapolated to zero element size at ``CONVERGENCE_ORDER``, its uncertainty
+    [Hz]: how far it moves over the orders ``OBSERVED_ORDERS``) for levels of two grids."""
+    ratio = refinement_ratio(solid_1.model.mesh, solid_2.model.mesh, scene)
+
+    def extrapolate(f1: float, f2: float) -> tuple[float, float]:
+        step = f1 - f2
+        value = f1 + step / (ratio**CONVERGENCE_ORDER - 1)
+        return value, max(abs(step / (ratio**q - 1) - step / (ratio**CONVERGENCE_ORDER - 1)) for q in OBSERVED_ORDERS)
+
+    return extrapolate
+
+
+def _order_extrapolation(scene):
+    """(f_(p-1), f_(p-2)) -> (solid frequency extrapolated along e_k = C k^-q at the rate ``MIN_P_RATE``, its
+    uncertainty [Hz]: how far it moves for rates up to ``MAX_P_RATE``) for levels of two orders on one grid."""
+    top = scene.mesh.order - 1
+
+    def extrapolate(f1: float, f2: float) -> tuple[float, float]:
+        step = f1 - f2
+        tails = [step / ((top / (top - 1)) ** q - 1) for q in (MIN_P_RATE, MAX_P_RATE)]
+        return f1 + tails[0], abs(tails[0] - tails[1])
+
+    return extrapolate
 
 
 def _checked_modes(modes: Modes, check) -> list:
@@ -240,7 +304,7 @@ def _parity(model, shape: np.ndarray, axis: int, scene) -> float:
 
 
 def coupling_check_level(modes: Modes, mode, *, size_factor: float = 1.0, solver: str = "auto") -> tuple[float, float]:
-    """(fr, fa) [Hz] of ``mode``'s partner in the 3-D solid at the cross-check's finer coarse level that
+    """(fr, fa) [Hz] of ``mode``'s partner in the 3-D solid at the cross-check's first level that
     ``modes`` (answered by a reduced model) was checked against: short circuit from that level, open circuit
     solved on the same mesh. A reduced model's piezo layers (uniform field, no shear lag at the patch edges)
     misplace k_eff by 10-15 % on the seed devices, while the solid's fa / fr at this level is within ~2.5 %
@@ -253,9 +317,8 @@ def coupling_check_level(modes: Modes, mode, *, size_factor: float = 1.0, solver
     short = partner(mode, level)
     if short is None:
         raise SolverError(f"no 3-D partner of {mode.label} at {mode.frequency:.6g} Hz in the cross-check")
-    scene = modes.model.scene
-    open_ = solve_level(scene, Analysis(near=short.frequency, count=6, circuit="open"), solver=solver,
-                        **coarse_level(scene, CHECK_FACTORS[0], size_factor))
+    scene, grid = level_options(modes.model.scene, 0, size_factor)
+    open_ = solve_level(scene, Analysis(near=short.frequency, count=6, circuit="open"), solver=solver, **grid)
     fa = partner(short, open_)
     if fa is None:  # the shape pairing failed: the label, as before
         fa = select(open_, short.label, short.frequency)

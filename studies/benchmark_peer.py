@@ -1,29 +1,37 @@
-"""modalfe against a peer FE code (NGSolve, quadratic tetrahedra): time to 0.1 % frequency error.
+"""modalfe against a peer FE code (NGSolve): time and DOFs to 0.1 % and 0.01 % frequency error, per element order.
 
 Two cases, the whole device in both codes (no symmetry planes, so both solve the same problem):
 
 - ``plate``: Cu-Be plate 64 x 38 x 3 mm, free-free, the (0,6) bending mode near 36 kHz;
 - ``beam``: the ciliary beam (brass cantilever, PZT-5A bimorph sheets, electrodes short-circuited),
-  mode ``bending-z 6`` near 21.7 kHz, piezoelectric in both codes (u and phi, e-form).
+  mode ``bending-z 6`` near 21.5 kHz, piezoelectric in both codes (u and phi, e-form).
 
-Each code runs a refinement sweep: modalfe the size factor (structured quadratic hexahedra, layers
-through the thickness refined alike; on the beam with ``mesh.clamp_grading`` = 4, geometric element
-layers toward the clamp), NGSolve ``maxh`` (order-2 tetrahedra, straight-sided). The
-geometry, materials, poling and supports of the peer model are read from the same modalfe scene.
-Peer eigen solve: K and M are exported from NGSolve to scipy and solved with modalfe's own
-shift-invert path (``modalfe.solve.eigen.eigenpairs``: PARDISO through ``modalfe.solve.linalg.factorize`` and
-ARPACK), so the measured difference is the discretization, meshing and assembly, not the eigen
-solver. NGSolve assembles inside its ``TaskManager``, as usually run.
+Sweeps, coarse to fine, each chosen to bracket both accuracies where affordable:
 
-Each point runs in its own process with ``--threads`` threads (1 by default, both codes: on a shared
-machine threaded MKL and NGSolve were erratic), fresh mesh caches and peak RSS from ``ru_maxrss``,
-after an untimed warm-up solve on the coarsest mesh that loads libraries; ``--repeats`` timed
-solves, the median run quoted. The codes take turns, coarse to fine. Total time = wall time of the
-whole solve (mesh, assembly, factorization, eigen solve, and picking the mode: modalfe's labels,
-the peer's nodal-line count), split shown per stage.
-Reference frequency per case: Richardson extrapolation f(N) = f_inf + c N^(-q) through modalfe's
-three finest levels (cross-check: the same through NGSolve's). Time to 0.1 % is interpolated
-log-log between the two sweep points bracketing 0.1 % error.
+- modalfe, structured hexahedra of ``mesh.order`` 2 (20-node serendipity), 3 and 4 (Gauss-Lobatto
+  Lagrange), each a list of (size factor, ``min_layers``): in-plane size and element layers across
+  the main part's thin directions are set separately (at orders 3-4 one or two layers resolve
+  bending); the beam with ``mesh.clamp_grading`` = 4 (geometric element layers toward the clamp);
+- NGSolve, straight tetrahedra, ``VectorH1(order=p)`` (x ``H1(order=p)`` for the potential), p = 2,
+  3 and 4, each with its own ``maxh`` list; on the beam a local maxh / 4 on the clamp face (the
+  expert's refinement at the singular clamped edges). Geometry, materials, poling and supports are
+  read from the same modalfe scene.
+
+Same eigen solver both sides: NGSolve's K and M go to scipy and through modalfe's shift-invert path
+(``modalfe.solve.eigen.eigenpairs``: PARDISO and ARPACK), so the comparison is discretization,
+meshing and assembly. NGSolve assembles inside its ``TaskManager``.
+
+Each point runs in its own process with ``--threads`` threads (1 by default), fresh mesh caches,
+one untimed warm-up solve on its sweep's coarsest level, then ``--repeats`` timed solves: the
+median run is quoted with its split (mesh, assembly, factorization, eigen solve; "other" is picking
+the mode). The sweeps take turns, coarse to fine, so that a change in the machine's load hits all.
+
+Reference per case: Richardson extrapolation f(N) = f_inf + c N^(-q) through modalfe's three finest
+order-4 levels, its uncertainty taken as the extrapolation step |f_inf - f(finest)| (outside the
+asymptotic range: the finest point, its uncertainty its last change); cross-check: the same through
+NGSolve's three finest order-4 levels. Time and DOFs to each accuracy are
+interpolated log-log between the two sweep points bracketing it. Growth with DOFs: per stage and
+sweep, the exponent a of time ~ DOFs^a, least squares in log-log over the sweep's points.
 
     python studies/benchmark_peer.py [--quick] [--repeats 3] [--threads 1] [--cases plate beam]
                                      [--out studies/out/benchmark_peer] [--results FILE.json]
@@ -32,6 +40,7 @@ log-log between the two sweep points bracketing 0.1 % error.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import math
 import os
@@ -50,75 +59,100 @@ if TYPE_CHECKING:
     from modalfe.geometry.parts import Assembly
     from modalfe.scene import Scene
 
-TARGET = 1e-3  # accuracy target: relative discretization error of the mode's frequency
+TARGETS = (1e-3, 1e-4)  # accuracies: relative discretization error of the mode's frequency
+STAGES = ("mesh", "assembly", "factorization", "eigensolve")
+GOAL = 0.5  # the issue's goal: modalfe's time to 0.1 % at most half the peer's
+
+Sweeps = dict[str, dict[int, tuple]]  # code -> element order -> levels, coarse to fine
 
 
 @dataclass(frozen=True)
 class Case:
-    """One benchmark problem: the mode (modalfe selector, Hz), its nodal-line signature for the peer
-    and the two sweeps (modalfe size factors, NGSolve maxh [m]), full and ``--quick``."""
+    """One benchmark problem: the mode (modalfe selector, Hz), its nodal-line signature for the peer and
+    the sweeps, full and ``--quick``: modalfe levels (size factor, min_layers), NGSolve levels maxh [m]."""
 
     selector: str
     near: float
     nodes_along: int  # sign changes of u_z along the long centre line
     check_across: bool  # also require no nodal line along the length (plate (0,n) modes)
-    size_factors: tuple[float, ...]
-    maxh: tuple[float, ...]
-    quick_size_factors: tuple[float, ...]
-    quick_maxh: tuple[float, ...]
+    sweeps: Sweeps
+    quick: Sweeps
     clamp_refinement: float | None = None  # peer: maxh / this on the clamp face (modalfe grades it too)
 
 
 GRADING_LAYERS = 4  # beam case: element layers toward the clamp, sizes h 0.4^k (modalfe.models.mesh.graded_breaks)
 # beam case, the peer's refinement at the clamp: local maxh h / 4 on the clamp face (netgen grades away from
-# it); of h / 4 and h / 8 tried, h / 4 reached 0.1 % sooner (22k DOFs at h = 2 mm against 32k)
+# it); at order 2, of h / 4 and h / 8 tried, h / 4 reached 0.1 % sooner (22k DOFs at h = 2 mm against 32k)
 PEER_CLAMP_REFINEMENT = 4.0
 
 CASES = {
-    "plate": Case("(0,6)", 36e3, 6, True, (1.5, 1.0, 2 / 3, 4 / 9), (3e-3, 2e-3, 1.5e-3, 1e-3, 0.75e-3),
-                  (2.0, 1.5, 1.0), (6e-3, 4e-3, 3e-3)),
-    "beam": Case("bending-z 6", 21.7e3, 5, False, (1.5, 1.0, 2 / 3, 4 / 9, 8 / 27),
-                 (4e-3, 3e-3, 2e-3, 1.4e-3, 1e-3), (2.0, 1.5, 1.0), (6e-3, 4e-3, 3e-3), PEER_CLAMP_REFINEMENT),
+    "plate": Case(
+        "(0,6)", 36e3, 6, True,
+        sweeps={"modalfe": {2: ((1.5, 2), (1.0, 3), (2 / 3, 4), (4 / 9, 7)),
+                            3: ((3.0, 1), (2.0, 1), (1.5, 1), (1.0, 2), (2 / 3, 2)),
+                            4: ((3.0, 1), (2.5, 1), (2.0, 1), (1.5, 1), (1.0, 1))},
+                "NGSolve": {2: (3e-3, 2e-3, 1.5e-3, 1e-3, 0.75e-3),
+                            3: (8e-3, 6e-3, 4e-3, 3e-3, 2e-3),
+                            4: (12e-3, 9e-3, 6e-3, 4e-3)}},
+        quick={"modalfe": {2: ((2.0, 2), (1.5, 2)), 3: ((3.0, 1), (2.0, 1)), 4: ((3.0, 1), (2.5, 1))},
+               "NGSolve": {2: (6e-3, 4e-3), 3: (10e-3, 8e-3), 4: (16e-3, 12e-3)}}),
+    "beam": Case(
+        "bending-z 6", 21.5e3, 5, False,
+        sweeps={"modalfe": {2: ((1.5, 2), (1.0, 3), (2 / 3, 4), (4 / 9, 7), (8 / 27, 10)),
+                            3: ((2.0, 1), (1.5, 1), (1.5, 2), (1.0, 2), (2 / 3, 3), (4 / 9, 3)),
+                            4: ((3.0, 1), (2.0, 1), (1.5, 2), (1.0, 3), (2 / 3, 4))},
+                "NGSolve": {2: (4e-3, 3e-3, 2e-3, 1.4e-3, 1e-3),
+                            3: (10e-3, 6e-3, 4e-3, 3e-3, 2e-3),
+                            4: (8e-3, 6e-3, 4e-3)}},
+        quick={"modalfe": {2: ((2.0, 2), (1.5, 2)), 3: ((2.0, 1), (1.5, 1)), 4: ((3.0, 1), (2.0, 1))},
+               "NGSolve": {2: (6e-3, 4e-3), 3: (12e-3, 10e-3)}},
+        clamp_refinement=PEER_CLAMP_REFINEMENT),
 }
 
 
-def scene(case: str) -> Scene:
-    """The modalfe scene of a case, whole (no symmetry)."""
+def scene(case: str, order: int = 2) -> Scene:
+    """The modalfe scene of a case, whole (no symmetry), hexahedra of ``order``."""
     from modalfe.scene import load_scene, scene_from_dict
 
     if case == "beam":
         # graded layers toward the clamp (mesh.clamp_grading): the clamped edge's singularity otherwise
         # holds uniform refinement to order ~1.9 (docs/benchmark_peer.md)
-        return load_scene("ciliary_beam", symmetry=(), **{"analysis.near": CASES[case].near,
-                                                          "mesh.clamp_grading": GRADING_LAYERS})
-    return scene_from_dict({
-        "name": "cube_plate_bare",
-        "parts": [{"name": "plate", "region": "plate", "material": "CuBe", "origin": [0, 0, 0],
-                   "size": [64e-3, 38e-3, 3e-3]}],
-        "analysis": {"near": CASES[case].near, "count": 8},
-        "kind": "plate",
-    })
+        sc = load_scene("ciliary_beam", symmetry=(), **{"analysis.near": CASES[case].near,
+                                                        "mesh.clamp_grading": GRADING_LAYERS})
+    else:
+        sc = scene_from_dict({
+            "name": "cube_plate_bare",
+            "parts": [{"name": "plate", "region": "plate", "material": "CuBe", "origin": [0, 0, 0],
+                       "size": [64e-3, 38e-3, 3e-3]}],
+            "analysis": {"near": CASES[case].near, "count": 8},
+            "kind": "plate",
+        })
+    return dataclasses.replace(sc, mesh=dataclasses.replace(sc.mesh, order=order))
 
 
-def layers(size_factor: float) -> int:
-    """Elements through the thickness at a size factor: 3 at 1, scaled like the in-plane size."""
-    return max(2, round(3 / size_factor))
+def describe(code: str, level) -> str:
+    """A sweep level for the tables: ``s 2/3 L2`` (modalfe) or ``h 1.5 mm`` (NGSolve)."""
+    if code == "modalfe":
+        s, layers = level
+        return f"s {s:.3g} L{layers}"
+    return f"h {1e3 * level:.3g} mm"
 
 
 # ---- modalfe side ------------------------------------------------------------------------------
 
-def modalfe_solve(case: str, size_factor: float) -> dict:
-    """One modalfe solve: DOFs, stage times [s] and the case's mode frequency [Hz]."""
+def modalfe_solve(case: str, order: int, level: tuple[float, int]) -> dict:
+    """One modalfe solve at (size factor, min_layers): DOFs, stage times [s] and the mode frequency [Hz]."""
     from modalfe.results.modes import select
     from modalfe.solve.levels import solve_level
 
-    sc = scene(case)
+    sc = scene(case, order)
+    size_factor, layers = level
     start = time.perf_counter()
-    modes = solve_level(sc, sc.analysis, size_factor=size_factor, solver="auto", min_layers=layers(size_factor))
+    modes = solve_level(sc, sc.analysis, size_factor=size_factor, solver="auto", min_layers=int(layers))
     mode = select(modes, CASES[case].selector, CASES[case].near)
     total = time.perf_counter() - start
-    stages = {k: modes.timings[k] for k in ("mesh", "assembly", "factorization", "eigensolve")}
-    return {"dofs": modes.dofs, "frequency": mode.frequency, "total": total, **stages}
+    return {"dofs": modes.dofs, "frequency": mode.frequency, "total": total,
+            **{k: modes.timings[k] for k in STAGES}}
 
 
 def _fresh_modalfe_caches(folder: Path) -> None:
@@ -164,9 +198,9 @@ def _voigt_strain(u):
     return CF((G[0, 0], G[1, 1], G[2, 2], G[1, 2] + G[2, 1], G[0, 2] + G[2, 0], G[0, 1] + G[1, 0]))
 
 
-def peer_matrices(sc: Scene, mesh):
-    """K, M (scipy CSR, free DOFs only), the space and the free DOF indices, for the scene's
-    elastic and piezoelectric parts: electrodes grounded (phi = 0, short circuit), clamps fixed."""
+def peer_matrices(sc: Scene, mesh, order: int):
+    """K, M (scipy CSR, free DOFs only), the space and the free DOF indices, for the scene's elastic and
+    piezoelectric parts at polynomial ``order``: electrodes grounded (phi = 0, short circuit), clamps fixed."""
     import scipy.sparse as sp
     from ngsolve import CF, H1, BilinearForm, Compress, Grad, InnerProduct, VectorH1, dx
 
@@ -179,9 +213,9 @@ def peer_matrices(sc: Scene, mesh):
     piezo = [name for name, m in mats.items() if m.is_piezoelectric]
     C = mesh.MaterialCF({name: CF(tuple(m.C.ravel()), dims=(6, 6)) for name, m in mats.items()})
     rho = mesh.MaterialCF({name: m.rho for name, m in mats.items()})
-    U = VectorH1(mesh, order=2, dirichlet="|".join(sc.clamps))
+    U = VectorH1(mesh, order=order, dirichlet="|".join(sc.clamps))
     if piezo:
-        P = Compress(H1(mesh, order=2, definedon="|".join(piezo), dirichlet="|".join(sc.electrodes)))
+        P = Compress(H1(mesh, order=order, definedon="|".join(piezo), dirichlet="|".join(sc.electrodes)))
         fes = U * P
         (u, phi), (v, psi) = fes.TnT()
         on = mesh.Materials("|".join(piezo))
@@ -261,8 +295,8 @@ def _sign_changes(values: np.ndarray) -> int:
     return int(np.count_nonzero(np.diff(np.sign(big))))
 
 
-def peer_solve(case: str, maxh: float) -> dict:
-    """One NGSolve solve at ``maxh`` [m]: DOFs, stage times [s] and the mode frequency [Hz]."""
+def peer_solve(case: str, order: int, maxh: float) -> dict:
+    """One NGSolve solve at ``order`` and ``maxh`` [m]: DOFs, stage times [s] and the mode frequency [Hz]."""
     from netgen.occ import OCCGeometry
     from ngsolve import Mesh, SetNumThreads, TaskManager
 
@@ -276,20 +310,19 @@ def peer_solve(case: str, maxh: float) -> dict:
         local = {g: maxh / refine for g in sc.clamps} if refine else None
         mesh = Mesh(OCCGeometry(occ_shape(sc.assembly(), local)).GenerateMesh(maxh=maxh))
         t_mesh = time.perf_counter() - start
-        K, M, fes, free = peer_matrices(sc, mesh)
+        K, M, fes, free = peer_matrices(sc, mesh, order)
         t_assembly = time.perf_counter() - start - t_mesh
     solution = eigenpairs(K, M, sc.analysis)
-    lam, X = solution.values, solution.vectors
-    t_fact, t_eig = solution.factorization_seconds, solution.eigensolve_seconds
-    frequency = peer_pick(case, sc, mesh, fes, free, lam, X)
+    frequency = peer_pick(case, sc, mesh, fes, free, solution.values, solution.vectors)
     return {"dofs": K.shape[0], "frequency": frequency, "total": time.perf_counter() - start, "mesh": t_mesh,
-            "assembly": t_assembly, "factorization": t_fact, "eigensolve": t_eig}
+            "assembly": t_assembly, "factorization": solution.factorization_seconds,
+            "eigensolve": solution.eigensolve_seconds}
 
 
 # ---- one sweep point in its own process --------------------------------------------------------
 
-def point(code: str, case: str, level: float, warm: float | None, repeats: int) -> dict:
-    """Median of ``repeats`` timed solves after one untimed warm-up solve at ``warm`` (None: none);
+def point(code: str, case: str, order: int, level, warm, repeats: int) -> dict:
+    """Median of ``repeats`` timed solves after one untimed warm-up solve at level ``warm`` (None: none);
     peak RSS [MB]."""
     solve = modalfe_solve if code == "modalfe" else peer_solve
     runs = []
@@ -298,22 +331,23 @@ def point(code: str, case: str, level: float, warm: float | None, repeats: int) 
             if code == "modalfe":
                 _fresh_modalfe_caches(Path(root) / str(i))
             if i:
-                runs.append(solve(case, level))
+                runs.append(solve(case, order, level))
             elif warm is not None:
-                solve(case, warm)
+                solve(case, order, warm)
     out = dict(sorted(runs, key=lambda r: r["total"])[len(runs) // 2])  # the median run, with its split
     out["peak_rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     return out
 
 
-def run_point(code: str, case: str, level: float, warm: float | None, repeats: int, threads: int) -> dict:
+def run_point(code: str, case: str, order: int, level, warm, repeats: int, threads: int) -> dict:
     """``point`` in a fresh interpreter with ``threads`` threads (MKL, OpenMP, NGSolve); its JSON result."""
-    spec = json.dumps({"code": code, "case": case, "level": level, "warm": warm, "repeats": repeats})
+    spec = json.dumps({"code": code, "case": case, "order": order, "level": level, "warm": warm,
+                       "repeats": repeats})
     env = dict(os.environ, OMP_NUM_THREADS=str(threads), MKL_NUM_THREADS=str(threads))
     done = subprocess.run([sys.executable, __file__, "--point", spec], capture_output=True, text=True, check=False,
                           env=env)
     if done.returncode != 0:
-        raise RuntimeError(f"{code} {case} at {level:g} failed:\n{done.stderr[-2000:]}")
+        raise RuntimeError(f"{code} p={order} {case} at {level}: failed:\n{done.stderr[-2000:]}")
     return json.loads(done.stdout.strip().splitlines()[-1])
 
 
@@ -322,9 +356,12 @@ def run_point(code: str, case: str, level: float, warm: float | None, repeats: i
 def richardson(points: list[dict]) -> tuple[float, float]:
     """(f_inf [Hz], observed order p in h ~ N^(-1/3)) from the three finest points, by fitting
     f = f_inf + c N^(-q) exactly (q = p / 3; the meshes need not be refined by a constant ratio).
-    Outside the asymptotic range (no such fit with 0.05 < q < 5): the finest frequency, order NaN."""
+    Fewer than three points or outside the asymptotic range (no such fit with 0.05 < q < 5): the
+    finest frequency, order NaN."""
     from scipy.optimize import brentq
 
+    if len(points) < 3:
+        return points[-1]["frequency"], math.nan
     (n1, f1), (n2, f2), (n3, f3) = [(p["dofs"], p["frequency"]) for p in points[-3:]]
     if (f1 - f2) * (f2 - f3) <= 0:
         return f3, math.nan
@@ -341,85 +378,181 @@ def richardson(points: list[dict]) -> tuple[float, float]:
     return f3 - c * n3**-q, 3 * q
 
 
-def time_to_target(points: list[dict]) -> tuple[float, float, bool]:
-    """(seconds, DOFs) at the target error, interpolated log-log between the bracketing points (the
-    first point, coarse to fine, at or below the target, and the one before it); ``exact`` False
-    when the coarsest point already meets it (its time is an upper bound) or none does (NaN)."""
+def time_to_target(points: list[dict], target: float) -> tuple[float, float, str]:
+    """(seconds, DOFs, how) at error ``target``, interpolated log-log between the bracketing points (the
+    first point, coarse to fine, at or below the target, and the one before it); how: "interpolated",
+    "bound" (the coarsest point already meets it: its time is an upper bound) or "not reached" (NaN)."""
     for i, p in enumerate(points):
-        if p["error"] <= TARGET:
+        if p["error"] <= target:
             if i == 0:
-                return p["total"], p["dofs"], False
+                return p["total"], p["dofs"], "bound"
             a = points[i - 1]
             low = max(p["error"], 1e-12)  # a point on the reference itself
-            s = (math.log(TARGET) - math.log(a["error"])) / (math.log(low) - math.log(a["error"]))
+            s = (math.log(target) - math.log(a["error"])) / (math.log(low) - math.log(a["error"]))
             return (math.exp(math.log(a["total"]) + s * (math.log(p["total"]) - math.log(a["total"]))),
-                    math.exp(math.log(a["dofs"]) + s * (math.log(p["dofs"]) - math.log(a["dofs"]))), True)
-    return math.nan, math.nan, False
+                    math.exp(math.log(a["dofs"]) + s * (math.log(p["dofs"]) - math.log(a["dofs"]))), "interpolated")
+    return math.nan, math.nan, "not reached"
+
+
+def growth(points: list[dict], key: str) -> float:
+    """Exponent a of ``key`` time ~ DOFs^a, least squares in log-log (points under 1 ms left out; NaN
+    with fewer than two points or under a factor 2 in DOFs)."""
+    pts = [(p["dofs"], p[key]) for p in points if p[key] >= 1e-3]
+    if len(pts) < 2 or max(n for n, _ in pts) < 2 * min(n for n, _ in pts):
+        return math.nan
+    n, t = np.log(np.array(pts, dtype=float)).T
+    return float(np.polyfit(n, t, 1)[0])
 
 
 def plot(results: dict, path: Path) -> None:
+    """Error against time, log-log, one panel per case, one line per code and order."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(1, len(results), figsize=(5.5 * len(results), 4.2), squeeze=False)
-    for ax, (case, sweeps) in zip(axes[0], results.items()):
-        for code, style in (("modalfe", "o-"), ("NGSolve", "s--")):
-            pts = sweeps[code]
-            ax.loglog([p["total"] for p in pts], [max(p["error"], 1e-7) for p in pts], style, label=code)
-        ax.axhline(TARGET, color="grey", lw=0.8, ls=":")
+    fig, axes = plt.subplots(1, len(results), figsize=(6 * len(results), 4.5), squeeze=False)
+    for ax, (case, result) in zip(axes[0], results.items()):
+        for sweep in result["sweeps"]:
+            pts = sweep["points"]
+            ax.loglog([p["total"] for p in pts], [max(p["error"], 1e-7) for p in pts],
+                      "o-" if sweep["code"] == "modalfe" else "s--", label=f"{sweep['code']} p={sweep['order']}")
+        for target in TARGETS:
+            ax.axhline(target, color="grey", lw=0.8, ls=":")
         ax.set(xlabel="wall time per solve [s] (median)", ylabel="relative frequency error",
                title=f"{case}: {CASES[case].selector}")
-        ax.legend()
+        ax.legend(fontsize=8)
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=110)
 
 
-def report(case: str, sweeps: dict) -> dict:
+def _fastest(found: dict, code: str, target: float) -> str | None:
+    """The sweep of ``code`` ("modalfe 3", ...) that reaches ``target`` soonest; None if none does."""
+    keys = [k for k in found if k.startswith(code) and found[k][target][0] == found[k][target][0]]
+    return min(keys, key=lambda k: found[k][target][0]) if keys else None
+
+
+def _name(key: str) -> str:
+    """A sweep's name in the ratio lines: "NGSolve 3" -> "NGSolve p=3"; "best NGSolve" as it is."""
+    code, order = key.split()
+    return key if code == "best" else f"{code} p={order}"
+
+
+def _pct(x: float) -> str:
+    return f"{100 * x:.4f} %" if x == x else "-"
+
+
+def reference(sweeps: list[dict]) -> dict:
+    """The case's reference frequency and its cross-check (see the module docstring), each with its
+    uncertainty: the extrapolation step, or outside the asymptotic range the finest point's last change."""
+    out = {}
+    for role, code in (("reference", "modalfe"), ("cross_check", "NGSolve")):
+        top = max((s for s in sweeps if s["code"] == code), key=lambda s: s["order"])
+        pts = top["points"]
+        f, order = richardson(pts)
+        last = pts[-2]["frequency"] if order != order and len(pts) > 1 else pts[-1]["frequency"]
+        out[role] = {"code": code, "order": top["order"], "frequency": f, "observed_order": order,
+                     "finest": pts[-1]["frequency"], "uncertainty": abs(f / last - 1)}
+    out["difference"] = out["cross_check"]["frequency"] / out["reference"]["frequency"] - 1
+    return out
+
+
+def report(case: str, sweeps: list[dict]) -> dict:
     """Print the case's tables and ratios; return the figures."""
-    ref_m, order_m = richardson(sweeps["modalfe"])
-    ref_p, order_p = richardson(sweeps["NGSolve"])
+    ref = reference(sweeps)
+    f_ref = ref["reference"]["frequency"]
     print(f"\n== {case}: {CASES[case].selector} near {CASES[case].near:g} Hz, whole device, no symmetry")
-    for what, ref, order in (("reference (Richardson, modalfe 3 finest)", ref_m, order_m),
-                             ("cross-check (Richardson, NGSolve 3 finest)", ref_p, order_p)):
-        how = f"observed order {order:.2f}" if order == order else "not in the asymptotic range: the finest point"
-        print(f"{what}: {ref:.2f} Hz, {how}")
-    print(f"cross-check - reference: {100 * (ref_p / ref_m - 1):+.4f} %")
-    head = (f"{'code':8} {'level':>7} {'DOFs':>8} {'f [Hz]':>10} {'error %':>8} {'mesh':>6} {'assem':>6} "
-            f"{'factor':>6} {'eigen':>6} {'other':>6} {'total s':>7} {'RSS MB':>7}")
-    print(head)
-    found = {}
-    for code, pts in sweeps.items():
-        for p in pts:
-            p["error"] = abs(p["frequency"] / ref_m - 1)
-            other = p["total"] - sum(p[k] for k in ("mesh", "assembly", "factorization", "eigensolve"))
-            print(f"{code:8} {p['level']:>7.4g} {p['dofs']:>8} {p['frequency']:>10.2f} {100 * p['error']:>8.4f} "
-                  f"{p['mesh']:>6.2f} {p['assembly']:>6.2f} {p['factorization']:>6.2f} {p['eigensolve']:>6.2f} "
-                  f"{other:>6.2f} {p['total']:>7.2f} {p['peak_rss_mb']:>7.0f}")
-        found[code] = time_to_target(pts)
-    for code, (t, n, exact) in found.items():
-        how = "interpolated log-log" if exact else ("coarsest point, an upper bound" if t == t else "not reached")
-        print(f"time to {100 * TARGET:g} %: {code:8} {t:7.2f} s at ~{n:,.0f} DOFs ({how})")
-    ratio = found["modalfe"][0] / found["NGSolve"][0]
-    if order_m != order_m:  # the errors above are against modalfe's finest point, which favours modalfe
-        print("modalfe's sweep is not in the asymptotic range: no reference, ratio undetermined")
-        ratio = math.nan
-    print(f"ratio modalfe / NGSolve time to {100 * TARGET:g} %: {ratio:.3f}  (NGSolve / modalfe {1 / ratio:.2f}x)")
-    # how much the figures hang on the reference: the same against the NGSolve extrapolation
-    other = {code: time_to_target([dict(p, error=abs(p["frequency"] / ref_p - 1)) for p in pts])[0]
-             for code, pts in sweeps.items()}
-    print(f"  against the NGSolve reference instead: modalfe {other['modalfe']:.2f} s, "
-          f"NGSolve {other['NGSolve']:.2f} s, ratio {other['modalfe'] / other['NGSolve']:.3f}")
-    return {"reference": ref_m, "peer_reference": ref_p, "ratio": ratio, "time_to_target": found,
-            "ratio_peer_reference": other["modalfe"] / other["NGSolve"]}
+    for role, what in (("reference", "reference"), ("cross_check", "cross-check")):
+        r = ref[role]
+        how = (f"Richardson through {r['code']} p={r['order']}'s 3 finest, observed order {r['observed_order']:.2f}; "
+               f"finest {r['finest']:.2f} Hz, extrapolation step" if r["observed_order"] == r["observed_order"] else
+               f"{r['code']} p={r['order']}'s finest point, not in the asymptotic range; its last change")
+        print(f"{what}: {r['frequency']:.2f} Hz ({how} {_pct(r['uncertainty'])})")
+    print(f"cross-check - reference: {100 * ref['difference']:+.4f} %; reference uncertainty "
+          f"{_pct(ref['reference']['uncertainty'])}: "
+          f"{'well below' if ref['reference']['uncertainty'] < 0.1 * TARGETS[-1] else 'NOT well below'} "
+          f"{100 * TARGETS[-1]:g} %")
+
+    print(f"\n{'code':8} {'p':>2} {'level':>12} {'DOFs':>8} {'f [Hz]':>10} {'error':>9} {'mesh':>6} {'assem':>6} "
+          f"{'factor':>6} {'eigen':>6} {'other':>6} {'total s':>7} {'RSS MB':>7}")
+    for sweep in sweeps:
+        for p in sweep["points"]:
+            p["error"] = abs(p["frequency"] / f_ref - 1)
+            other = p["total"] - sum(p[k] for k in STAGES)
+            print(f"{sweep['code']:8} {sweep['order']:>2} {describe(sweep['code'], p['level']):>12} {p['dofs']:>8} "
+                  f"{p['frequency']:>10.2f} {_pct(p['error']):>9} "
+                  + " ".join(f"{p[k]:>6.2f}" for k in STAGES)
+                  + f" {other:>6.2f} {p['total']:>7.2f} {p['peak_rss_mb']:>7.0f}")
+
+    found = {f"{s['code']} {s['order']}": {t: time_to_target(s["points"], t) for t in TARGETS} for s in sweeps}
+    print("\ntime [s] and DOFs to each accuracy (median run; '<=' the coarsest point already meets it, '-' not "
+          "reached in the sweep)")
+    print(f"{'code':8} {'p':>2} " + " ".join(f"{f'DOFs {100 * t:g}%':>12} {f'time {100 * t:g}%':>12}" for t in TARGETS))
+    for key, per in found.items():
+        code, order = key.split()
+        cells = []
+        for t in TARGETS:
+            s, n, how = per[t]
+            mark = "<=" if how == "bound" else ""
+            cells.append(f"{(mark + f'{n:,.0f}') if n == n else '-':>12} {(mark + f'{s:.2f}') if s == s else '-':>12}")
+        print(f"{code:8} {order:>2} " + " ".join(cells))
+
+    summary = {"reference": ref, "time_to_target": {k: {str(t): v for t, v in per.items()} for k, per in found.items()},
+               "best": {}, "ratios": {}}
+    peers = [k for k in found if k.startswith("NGSolve")]
+    for t in TARGETS:
+        ours, theirs = _fastest(found, "modalfe", t), _fastest(found, "NGSolve", t)
+        summary["best"][str(t)] = {"modalfe": ours, "NGSolve": theirs}
+        if ours is None:
+            print(f"to {100 * t:g} %: no modalfe order reached it")
+            continue
+        ratios = {k: found[ours][t][0] / found[k][t][0] for k in peers}
+        ratios["best NGSolve"] = found[ours][t][0] / found[theirs][t][0] if theirs else math.nan
+        summary["ratios"][str(t)] = ratios
+        print(f"to {100 * t:g} %: best modalfe p={ours.split()[1]} {found[ours][t][0]:.2f} s; ratio modalfe / "
+              + ", ".join(f"{_name(k)} {r:.3f}" for k, r in ratios.items() if k in peers)
+              + f", / best NGSolve ({_name(theirs) if theirs else '-'}) {ratios['best NGSolve']:.3f}")
+    goal_peer = "NGSolve 3" if case == "plate" else "best NGSolve"
+    ratio = summary["ratios"].get(str(TARGETS[0]), {}).get(goal_peer, math.nan)
+    summary["goal"] = {"against": goal_peer, "ratio": ratio, "met": bool(ratio <= GOAL)}
+    print(f"goal: modalfe / {_name(goal_peer)} to {100 * TARGETS[0]:g} % <= {GOAL}: ratio {ratio:.3f}, "
+          f"{'met' if ratio <= GOAL else 'NOT met'}")
+
+    print("\ngrowth with DOFs: a in time ~ DOFs^a, least squares over each sweep's points")
+    print(f"{'code':8} {'p':>2} {'DOFs':>17} " + " ".join(f"{k:>13}" for k in (*STAGES, "total")))
+    summary["growth"] = {}
+    for sweep in sweeps:
+        pts = sweep["points"]
+        a = {k: growth(pts, k) for k in (*STAGES, "total")}
+        summary["growth"][f"{sweep['code']} {sweep['order']}"] = a
+        span = f"{pts[0]['dofs']:,}-{pts[-1]['dofs']:,}"
+        print(f"{sweep['code']:8} {sweep['order']:>2} {span:>17} "
+              + " ".join(f"{v:>13.2f}" if v == v else f"{'-':>13}" for v in a.values()))
+    return summary
+
+
+def run_case(case: str, quick: bool, repeats: int, threads: int) -> list[dict]:
+    """Every sweep of a case, taking turns coarse to fine; each point in its own process."""
+    plan = CASES[case].quick if quick else CASES[case].sweeps
+    sweeps = [{"code": code, "order": order, "levels": levels, "points": []}
+              for code, orders in plan.items() for order, levels in orders.items()]
+    for i in range(max(len(s["levels"]) for s in sweeps)):
+        for s in sweeps:
+            if i >= len(s["levels"]):
+                continue
+            level = s["levels"][i]
+            p = run_point(s["code"], case, s["order"], level, None if quick else s["levels"][0], repeats, threads)
+            s["points"].append({"level": level, **p})
+            print(f"{case} {s['code']} p={s['order']} {describe(s['code'], level)}: {p['dofs']} DOFs, "
+                  f"{p['frequency']:.2f} Hz, {p['total']:.2f} s", flush=True)
+    return [{k: v for k, v in s.items() if k != "levels"} for s in sweeps]
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true",
-                        help="three coarse levels per code, no warm-up solve: a smoke test")
+                        help="two coarse levels per code and order, no warm-up solve: a smoke test")
     parser.add_argument("--repeats", type=int, default=3, help="timed solves per point (median quoted)")
     parser.add_argument("--threads", type=int, default=1,
                         help="threads per solve, both codes (1 by default: steadier timings on a shared machine)")
@@ -430,38 +563,24 @@ def main() -> None:
     args = parser.parse_args()
     if args.point:
         spec = json.loads(args.point)
-        print(json.dumps(point(spec["code"], spec["case"], spec["level"], spec["warm"], spec["repeats"])))
+        print(json.dumps(point(spec["code"], spec["case"], spec["order"], spec["level"], spec["warm"],
+                               spec["repeats"])))
         return
     if args.results:
         saved = json.loads(Path(args.results).read_text())
-        results = {case: {code: saved[case][code] for code in ("modalfe", "NGSolve")} for case in saved}
-        for case, sweeps in results.items():
-            sweeps["summary"] = report(case, sweeps)
-        plot(results, Path(args.out) / "benchmark_peer.png")
-        return
-    results = {}
-    for case in args.cases:
-        c = CASES[case]
-        levels = {"modalfe": c.quick_size_factors if args.quick else c.size_factors,
-                  "NGSolve": c.quick_maxh if args.quick else c.maxh}
-        sweeps = {code: [] for code in levels}
-        # the codes take turns, coarse to fine, so that a change in the machine's load hits both alike
-        for i in range(max(map(len, levels.values()))):
-            for code, values in levels.items():
-                if i >= len(values):
-                    continue
-                p = run_point(code, case, values[i], None if args.quick else values[0], args.repeats, args.threads)
-                sweeps[code].append({"level": values[i], **p})
-                print(f"{case} {code} {values[i]:.4g}: {p['dofs']} DOFs, {p['frequency']:.2f} Hz, "
-                      f"{p['total']:.2f} s", flush=True)
+        results = {case: {"sweeps": r["sweeps"]} for case, r in saved.items()}
+    else:
+        results = {case: {"sweeps": run_case(case, args.quick, args.repeats, args.threads)} for case in args.cases}
         if args.quick:
             print("\n(--quick: coarse meshes only, the reference is not converged; a smoke test, not a result)")
-        results[case] = {**sweeps, "summary": report(case, sweeps)}
+    for case, result in results.items():
+        result["summary"] = report(case, result["sweeps"])
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    (out / "benchmark_peer.json").write_text(json.dumps(results, indent=1, default=float))
+    if not args.results:
+        (out / "benchmark_peer.json").write_text(json.dumps(results, indent=1, default=float))
     plot(results, out / "benchmark_peer.png")
-    print(f"\nwrote {out / 'benchmark_peer.png'} and {out / 'benchmark_peer.json'}")
+    print(f"\nwrote {out / 'benchmark_peer.png'}" + ("" if args.results else f" and {out / 'benchmark_peer.json'}"))
 
 
 if __name__ == "__main__":

@@ -1,5 +1,5 @@
-"""studies/benchmark_peer.py: its quick path runs both codes end to end, and its reference and
-time-to-target arithmetic recovers known answers."""
+"""studies/benchmark_peer.py: its quick path runs every code and order end to end, and its reference,
+time-to-accuracy, ratio and growth arithmetic recovers known answers."""
 
 import json
 import math
@@ -14,6 +14,7 @@ from tests.helpers import load_study
 pytest.importorskip("ngsolve")
 
 SCRIPT = Path(__file__).resolve().parents[2] / "studies" / "benchmark_peer.py"
+PLATE_06 = 36294.4  # Hz: Richardson through modalfe p=4 and NGSolve p=4 agree within 0.001 % (2026-11-23)
 
 
 def _study():
@@ -27,39 +28,87 @@ def test_richardson_recovers_the_limit_of_a_power_law():
     f_inf, order = study.richardson(points)
     assert f_inf == pytest.approx(36e3, rel=1e-9)
     assert order == pytest.approx(4.0, rel=1e-6)
-    # not monotone: no extrapolation, the finest point and no order
-    f_inf, order = study.richardson([{"dofs": 1, "frequency": 3.0}, {"dofs": 2, "frequency": 1.0},
-                                     {"dofs": 3, "frequency": 2.0}])
-    assert f_inf == 2.0 and math.isnan(order)
+    # not monotone, or under three points: no extrapolation, the finest point and no order
+    for points in ([{"dofs": 1, "frequency": 3.0}, {"dofs": 2, "frequency": 1.0}, {"dofs": 3, "frequency": 2.0}],
+                   [{"dofs": 1, "frequency": 3.0}, {"dofs": 2, "frequency": 2.0}]):
+        f_inf, order = study.richardson(points)
+        assert f_inf == 2.0 and math.isnan(order)
 
 
 def test_time_to_target_interpolates_log_log_between_bracketing_points():
     study = _study()
     points = [{"error": 1e-2, "total": 1.0, "dofs": 1000}, {"error": 1e-4, "total": 100.0, "dofs": 100000}]
-    seconds, dofs, exact = study.time_to_target(points)
     # 1e-3 is halfway in log error between 1e-2 and 1e-4, so halfway in log time and log DOFs
-    assert exact and seconds == pytest.approx(10.0) and dofs == pytest.approx(10000.0)
-    assert study.time_to_target(points[:1])[2] is False and math.isnan(study.time_to_target(points[:1])[0])
+    seconds, dofs, how = study.time_to_target(points, 1e-3)
+    assert how == "interpolated" and seconds == pytest.approx(10.0) and dofs == pytest.approx(10000.0)
+    assert study.time_to_target(points, 1e-1)[::2] == (1.0, "bound")
+    seconds, _, how = study.time_to_target(points, 1e-5)
+    assert how == "not reached" and math.isnan(seconds)
 
 
-def test_quick_run_both_codes_find_the_same_modes(tmp_path):
-    done = subprocess.run([sys.executable, str(SCRIPT), "--quick", "--repeats", "1", "--out", str(tmp_path)],
-                          capture_output=True, text=True, check=False, timeout=300)
+def test_growth_fits_the_exponent_per_stage():
+    study = _study()
+    points = [{"dofs": n, "assembly": 1e-5 * n, "eigensolve": 1e-8 * n**1.5, "mesh": 0.0} for n in (1e3, 1e4, 1e5)]
+    assert study.growth(points, "assembly") == pytest.approx(1.0)
+    assert study.growth(points, "eigensolve") == pytest.approx(1.5)
+    assert math.isnan(study.growth(points, "mesh"))  # under 1 ms: not timed
+
+
+def test_report_ratios_against_each_peer_order_and_the_best(capsys):
+    study = _study()
+
+    def sweep(code, order, seconds):  # errors 1 %, 0.05 %, 0.005 % against the reference point
+        f = [1.01, 1.0005, 1.00005, 1.0]
+        return {"code": code, "order": order, "points": [
+            {"level": (1.0, 1) if code == "modalfe" else 1e-3, "dofs": 1000 * 10**i, "frequency": 36e3 * f[i],
+             "total": seconds * 10**i, "mesh": 0.1, "assembly": 0.1, "factorization": 0.1, "eigensolve": 0.1,
+             "peak_rss_mb": 100.0} for i in range(4)]}
+
+    sweeps = [sweep("modalfe", 4, 1.0), sweep("NGSolve", 2, 4.0), sweep("NGSolve", 3, 2.5), sweep("NGSolve", 4, 3.0)]
+    summary = study.report("plate", sweeps)
+    ratios = summary["ratios"][str(1e-3)]
+    # the errors are alike in every sweep, so the ratios are those of the time scales
+    assert ratios["NGSolve 3"] == pytest.approx(0.4) and ratios["NGSolve 2"] == pytest.approx(0.25)
+    assert ratios["best NGSolve"] == pytest.approx(0.4) and summary["best"][str(1e-3)]["NGSolve"] == "NGSolve 3"
+    assert summary["goal"] == {"against": "NGSolve 3", "ratio": pytest.approx(0.4), "met": True}
+    assert summary["reference"]["reference"]["frequency"] == pytest.approx(36e3, rel=1e-5)
+    assert "goal: modalfe / NGSolve p=3 to 0.1 % <= 0.5: ratio 0.400, met" in capsys.readouterr().out
+
+
+def _quick(tmp_path: Path, case: str) -> tuple[dict, str]:
+    done = subprocess.run([sys.executable, str(SCRIPT), "--quick", "--repeats", "1", "--cases", case,
+                           "--out", str(tmp_path)], capture_output=True, text=True, check=False, timeout=600)
     assert done.returncode == 0, done.stderr[-2000:]
-    results = json.loads((tmp_path / "benchmark_peer.json").read_text())
     assert (tmp_path / "benchmark_peer.png").stat().st_size > 0
-    # finest quick levels: both codes converge from above to one frequency; on these meshes they are
-    # 0.74 % apart on the plate (36.54 / 36.81 kHz) and 0.20 % on the beam (21.648 / 21.605 kHz). The
-    # tolerances catch a wrong mode: the plate's (2,5) and (1,6) sit 2.9 % and 7.9 % above (0,6), the
-    # beam's bending-y 6 1.0 % below bending-z 6
-    for case, converged, rel in (("plate", 36.30e3, 0.02), ("beam", 21.54e3, 0.005)):
-        ours, peer = results[case]["modalfe"], results[case]["NGSolve"]
-        for points in (ours, peer):
-            assert all(p["total"] > 0 and p["factorization"] > 0 and p["peak_rss_mb"] > 0 for p in points)
-            assert [p["dofs"] for p in points] == sorted(p["dofs"] for p in points)
-            # the coarse quick meshes sit 0.3-8.2 % above the converged modes (2026-11-23 quick run)
-            assert all(0 < p["frequency"] / converged - 1 < 0.1 for p in points)
-        assert ours[-1]["frequency"] == pytest.approx(peer[-1]["frequency"], rel=rel)
-        # the two extrapolated references (or finest points) of the quick levels agree as well
-        summary = results[case]["summary"]
-        assert summary["reference"] == pytest.approx(summary["peer_reference"], rel=0.02)
+    return json.loads((tmp_path / "benchmark_peer.json").read_text())[case], done.stdout
+
+
+def _check_quick(result: dict, out: str, converged: float, orders: dict[str, set[int]]) -> None:
+    for title in ("time [s] and DOFs to each accuracy", "goal: modalfe / ", "growth with DOFs"):
+        assert title in out
+    assert {s["code"] for s in result["sweeps"]} == set(orders)
+    for code, wanted in orders.items():
+        assert {s["order"] for s in result["sweeps"] if s["code"] == code} == wanted
+    for sweep in result["sweeps"]:
+        pts = sweep["points"]
+        assert all(p["total"] > 0 and p["factorization"] > 0 and p["peak_rss_mb"] > 0 for p in pts)
+        assert [p["dofs"] for p in pts] == sorted(p["dofs"] for p in pts)
+        # coarse meshes converge from above; 10 % catches a wrong mode only on the coarsest order-2 meshes,
+        # the closer ones sit 2.9 % (plate (2,5)) and 1.0 % (beam bending-y 6) away
+        assert all(0 < p["frequency"] / converged - 1 < 0.1 for p in pts)
+    # the reference (modalfe's highest order) and the cross-check (NGSolve's) are the same mode, and
+    # both already within 0.2 % of the converged frequency on the quick meshes
+    ref = result["summary"]["reference"]
+    assert abs(ref["difference"]) < 2e-3
+    assert ref["reference"]["frequency"] == pytest.approx(converged, rel=2e-3)
+
+
+def test_quick_plate_run_prints_the_tables_and_a_consistent_reference(tmp_path):
+    result, out = _quick(tmp_path, "plate")
+    _check_quick(result, out, PLATE_06, {"modalfe": {2, 3, 4}, "NGSolve": {2, 3, 4}})
+
+
+@pytest.mark.slow
+def test_quick_beam_run_prints_the_tables_and_a_consistent_reference(tmp_path):
+    result, out = _quick(tmp_path, "beam")
+    _check_quick(result, out, 21542.0, {"modalfe": {2, 3, 4}, "NGSolve": {2, 3}})

@@ -93,7 +93,9 @@ def device_report(scene, *, error_estimate: bool = True, fidelity: str = "auto",
         fa = coupling = None
         notes = device_notes(scene, modes, mode)
         if "drive" in scene.electrodes.values() and modes.fidelity == "solid":
-            open_modes = solve_modes(scene, near=mode.frequency, count=6, circuit="open", error_estimate=False)
+            # at the short circuit's shift its factorization is reused (``modalfe.solve.levels.open_circuit_solve``)
+            open_modes = solve_modes(scene, near=mode.frequency if band is not None else wm.near,
+                                     count=6 if band is not None else count, circuit="open", error_estimate=False)
             fa = antiresonance(mode, open_modes).frequency
             coupling = k_eff(mode.frequency, fa)
         elif "drive" in scene.electrodes.values():

@@ -49,17 +49,20 @@ class EigenSolution:
     eigensolve_seconds: float
     solver: str
     expected: int | None = None
+    factor: tuple | None = None  # (solve, shift): the factorization of A - shift B used (near/count solves)
 
 
-def eigenpairs(A, B, analysis, solver: str = "auto") -> EigenSolution:
-    """Eigenpairs of A x = lam B x near ``analysis``'s target (``near`` and ``count``, or every mode in ``band``)."""
+def eigenpairs(A, B, analysis, solver: str = "auto", factor: tuple | None = None) -> EigenSolution:
+    """Eigenpairs of A x = lam B x near ``analysis``'s target (``near`` and ``count``, or every mode in ``band``);
+    ``factor``: see ``near_eigenpairs``."""
     if analysis.band is not None:
         return band_eigenpairs(A, B, analysis.band, solver)
-    return near_eigenpairs(A, B, analysis.near, analysis.count, solver)
+    return near_eigenpairs(A, B, analysis.near, analysis.count, solver, factor)
 
 
-def near_eigenpairs(A, B, near: float, count: int, solver: str = "auto") -> EigenSolution:
-    """The ``count`` eigenpairs nearest ``near`` [Hz] (nearest in omega^2, as shift-invert finds them)."""
+def near_eigenpairs(A, B, near: float, count: int, solver: str = "auto", factor: tuple | None = None) -> EigenSolution:
+    """The ``count`` eigenpairs nearest ``near`` [Hz] (nearest in omega^2, as shift-invert finds them); ``factor``
+    (solve, shift): a solve with A - shift B to use instead of factorizing, when its shift is this one."""
     n = A.shape[0]
     if count > n - 2:
         raise SolverError(f"count: {count} modes asked but the model has {n} unknowns (at most {max(n - 2, 0)})")
@@ -72,7 +75,10 @@ def near_eigenpairs(A, B, near: float, count: int, solver: str = "auto") -> Eige
     if sigma < 1e2 * floor:
         return _lowest(A, B, count, floor, solver)
     t = time.perf_counter()
-    solve, used, moved = _factor_nudged(A, B, sigma, solver)
+    if factor is not None and factor[1] == sigma:
+        (solve, moved), used = factor, "reused"
+    else:
+        solve, used, moved = _factor_nudged(A, B, sigma, solver)
     t_fact = time.perf_counter() - t
     t = time.perf_counter()
     # on a moved shift, two more modes, then the ``count`` nearest the shift asked for
@@ -81,7 +87,7 @@ def near_eigenpairs(A, B, near: float, count: int, solver: str = "auto") -> Eige
     if k > count:
         nearest = np.sort(np.argsort(np.abs(lam - sigma), kind="stable")[:count])
         lam, X = lam[nearest], X[:, nearest]
-    return EigenSolution(lam, X, t_fact, time.perf_counter() - t, used)
+    return EigenSolution(lam, X, t_fact, time.perf_counter() - t, used, factor=(solve, moved))
 
 
 def _lowest(A, B, count: int, floor: float, solver: str) -> EigenSolution:

@@ -10,6 +10,9 @@ from modalfe.results.labels import unique_labels
 from modalfe.results.modes import Mode, Modes
 from modalfe.solve.eigen import eigenpairs
 
+_KEPT_FACTORS = 3  # short-circuit factorizations kept for an open-circuit solve of the same model and shift
+_SHORT_FACTORS: list = []  # (model, short-circuit unknowns, (solve, shift)), newest first
+
 
 def solve_level(scene, analysis, *, fidelity: str = "solid", size_factor: float = 1.0, solver: str = "auto",
                 frame=None, min_layers: int | None = None) -> Modes:
@@ -20,11 +23,19 @@ def solve_level(scene, analysis, *, fidelity: str = "solid", size_factor: float 
 
 
 def modes_of(model, analysis, *, fidelity: str, solver: str = "auto", timings: dict | None = None) -> Modes:
-    """Modes of an assembled ``model`` (solid, plate or beam) for ``analysis``."""
+    """Modes of an assembled ``model`` (solid, plate or beam) for ``analysis``. An open-circuit solve at the shift
+    of a short-circuit one of the same model reuses its factorization (``open_circuit_solve``)."""
     T = model.constraints(analysis.circuit).T
     A = (T.T @ model.K @ T).tocsr()
     B = (T.T @ model.M @ T).tocsr()
-    solution = eigenpairs(A, B, analysis, solver)
+    factor = None
+    if analysis.circuit == "open" and analysis.band is None:
+        factor = next((open_circuit_solve(A, n_short, f) for kept, n_short, f in _SHORT_FACTORS
+                       if kept is model and f[1] == (2 * np.pi * analysis.near) ** 2), None)
+    solution = eigenpairs(A, B, analysis, solver, factor)
+    if analysis.circuit == "short" and solution.factor is not None:
+        _SHORT_FACTORS.insert(0, (model, A.shape[0], solution.factor))
+        del _SHORT_FACTORS[_KEPT_FACTORS:]
     shapes = T @ solution.vectors
     frequencies = [float(np.sqrt(max(lam, 0.0)) / (2 * np.pi)) for lam in solution.values]
     names = unique_labels(model, shapes, frequencies)  # unique in the solve; degenerate pairs in their clearest basis
@@ -34,3 +45,22 @@ def modes_of(model, analysis, *, fidelity: str, solver: str = "auto", timings: d
                "eigensolve": solution.eigensolve_seconds, "solver": solution.solver}
     return Modes(tuple(modes), model, analysis.circuit, fidelity, A.shape[0], seconds,
                  mesh_frequency=model.scene.max_frequency)
+
+
+def open_circuit_solve(A_open, n_short: int, factor: tuple) -> tuple:
+    """(solve, shift) with A_open - shift B_open from the short-circuit factorization ``factor`` of the same model:
+    the open circuit's unknowns are the short circuit's plus one potential per floating electrode (the last
+    columns of ``PiezoUnknowns.constraints``), which carry no mass, so the shifted matrix is the short one
+    bordered by [b; c] and solves by its Schur complement c - b^T S^-1 b (one solve per floating electrode)."""
+    short_solve, shift = factor
+    b = A_open[:n_short, n_short:].toarray()
+    c = A_open[n_short:, n_short:].toarray()
+    W = np.column_stack([short_solve(b[:, j]) for j in range(b.shape[1])])
+    schur = c - b.T @ W
+
+    def solve(r):
+        x = short_solve(r[:n_short])
+        y = np.linalg.solve(schur, r[n_short:] - b.T @ x)
+        return np.concatenate([x - W @ y, y])
+
+    return solve, shift

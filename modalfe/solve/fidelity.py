@@ -8,8 +8,9 @@ Every frequency of a reduced model (``modalfe.models.beam``, ``modalfe.models.pl
   (``solid_levels``): hexahedra of ``mesh.order`` >= 4 at the two lower orders on the default grid,
   extrapolated in the order (e_p ~ p^-q), else two coarse grids (element sizes x1.5 and x2.25 of the default,
   thickness layers scaled alike) extrapolated to zero element size at the assumed convergence order; the
-  extrapolation's own uncertainty is added: how far the extrapolated value moves over the rates possible
-  (``MIN_P_RATE``-``MAX_P_RATE``, or the h-orders ``OBSERVED_ORDERS``).
+  extrapolation's own uncertainty is added: half the order tail at the slowest rate ``MIN_P_RATE`` (the exact
+  value lies between the level and its extrapolation at that rate), or how far the extrapolated value moves
+  over the h-orders ``OBSERVED_ORDERS``.
 A mode's ``error_estimate`` is the sum of the two, ``model_error`` the second, with ``fidelity="auto"`` and
 with ``fidelity="beam"|"plate"`` asked directly alike (a reduced model's figure always includes its model error).
 
@@ -39,7 +40,6 @@ from modalfe.solve.estimates import (
     COARSE_FACTOR,
     CONVERGENCE_ORDER,
     LOWEST_P_LEVEL,
-    MAX_P_RATE,
     MIN_P_RATE,
     OBSERVED_ORDERS,
     axis_ratio,
@@ -116,8 +116,8 @@ def solid_estimates(fine: Modes, levels: list[Modes], scene) -> Modes:
     if uses_orders(scene):
         estimates, rates = p_extrapolation(fine, *levels)
         orders = "-".join(str(m.model.scene.mesh.order) for m in (*reversed(levels), fine))
-        seen = f"observed rate q {min(rates):.1f}-{max(rates):.1f}" if rates else f"rate q = {MIN_P_RATE:g} assumed"
-        method = f"p-refinement: orders {orders} on one grid ({seen}, error ~ p^-q)"
+        seen = f"; observed {min(rates):.1f}-{max(rates):.1f}" if rates else ""
+        method = f"p-refinement: orders {orders} on one grid (error ~ p^-q, q = {MIN_P_RATE:g} or slower{seen})"
     else:
         coarse, coarsest = levels
         estimates = richardson(fine, coarse, axis_ratio(fine.model.mesh, coarse.model.mesh, scene), coarsest,
@@ -240,14 +240,14 @@ def _grid_extrapolation(solid_1: Modes, solid_2: Modes, scene):
 
 
 def _order_extrapolation(scene):
-    """(f_(p-1), f_(p-2)) -> (solid frequency extrapolated along e_k = C k^-q at the rate ``MIN_P_RATE``, its
-    uncertainty [Hz]: how far it moves for rates up to ``MAX_P_RATE``) for levels of two orders on one grid."""
+    """(f_(p-1), f_(p-2)) -> (solid frequency, its uncertainty [Hz]) for levels of two orders on one grid: with
+    e_k = C k^-q and q >= ``MIN_P_RATE`` the exact value lies between f_(p-1) and its extrapolation at that rate;
+    the midpoint, and half the interval."""
     top = scene.mesh.order - 1
 
     def extrapolate(f1: float, f2: float) -> tuple[float, float]:
-        step = f1 - f2
-        tails = [step / ((top / (top - 1)) ** q - 1) for q in (MIN_P_RATE, MAX_P_RATE)]
-        return f1 + tails[0], abs(tails[0] - tails[1])
+        tail = (f1 - f2) / ((top / (top - 1)) ** MIN_P_RATE - 1)
+        return f1 + tail / 2, abs(tail) / 2
 
     return extrapolate
 

@@ -7,8 +7,10 @@ Linear piezoelectricity in e-form (Allik & Hughes 1970), unknowns u (displacemen
     [ K_uphi^T  -K_phiphi] [phi] = [-Q]        K_uphi = int B^T e^T grad N
                                                K_phiphi = int grad N^T eps^S grad N
 
-The mass matrix acts on u only. Element matrices are computed for all elements of a part at once
-(batched over elements and quadrature points) from scikit-fem bases, then scattered.
+The mass matrix acts on u only. Axis-aligned box elements (the structured hexahedra) are summed from
+integrals on the reference cube scaled per element (``modalfe.models.box_assembly``); the others (rotated
+frames, tetrahedra, distorted hexahedra) are computed in batches of elements and quadrature points from
+scikit-fem bases, then scattered.
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from modalfe.errors import SceneError
+from modalfe.models import box_assembly
 from modalfe.models.symmetry import fold, unfold
 
 log = logging.getLogger(__name__)
@@ -246,30 +249,40 @@ def assemble(scene, device_mesh, *, frame: np.ndarray | None = None) -> Model:
     # batches hold (3 nloc) x nq basis values per element: keep the serendipity's 60 x 27 memory per batch
     chunk_size = max(1, _CHUNK * 60 * 27 // (u_basis.Nbfun * len(get_quadrature(mesh.refdom, intorder)[1])))
     n_u = u_basis.N
+    scalar_dofs = u_basis.element_dofs[::3] // 3  # scikit-fem numbers vector DOFs 3 s + c
     K_blocks, M_blocks = [], []
-    piezo_parts = []
+    boxes, piezo_parts = [], []
     for part in assembly.parts:
         mat = scene.material(part.material)
         if part.poling:
             mat = mat.poled(part.poling)
         if frame is not None:
             mat = mat.rotated(frame)
+        found, rest = box_assembly.find_boxes(mesh, scalar, scalar_dofs, device_mesh.parts[part.name])
+        boxes.append((found, mat))
         if part.poling:
-            piezo_parts.append((part, mat))
-        elements = device_mesh.parts[part.name]
-        for chunk in np.array_split(elements, max(1, int(np.ceil(len(elements) / chunk_size)))):
+            piezo_parts.append((mat, found, rest))
+        for chunk in _chunks(rest, chunk_size):
             b = Basis(mesh, ElementVector(scalar), intorder=intorder, elements=chunk)
             Bv, V = _strain_and_value(b)
             K_blocks.append(_scatter(b.element_dofs, b.element_dofs, _contract(Bv, mat.C, Bv, b.dx), n_u, n_u))
             M_blocks.append(_scatter(b.element_dofs, b.element_dofs, mat.rho * _contract(V, None, V, b.dx), n_u, n_u))
-    Kuu = sum(K_blocks[1:], K_blocks[0]).tocsr()
-    Muu = sum(M_blocks[1:], M_blocks[0]).tocsr()
-    Kuu = Kuu + _face_springs(scene, device_mesh, u_basis, scalar, intorder)
-    Muu = Muu + _face_masses(scene, device_mesh, u_basis, scalar, intorder)
-    phi_dofs, Kup, Kpp = _piezo_blocks(mesh, scalar, intorder, device_mesh, piezo_parts, n_u)
+    Kuu, Muu = box_assembly.assemble_elastic(scalar, intorder, boxes, n_u // 3)
+    Kuu = sum(K_blocks, Kuu).tocsr()
+    Muu = sum(M_blocks, Muu).tocsr()
+    if scene.springs:
+        Kuu = Kuu + _face_springs(scene, device_mesh, u_basis, scalar, intorder)
+    if scene.masses:
+        Muu = Muu + _face_masses(scene, device_mesh, u_basis, scalar, intorder)
+    phi_dofs, Kup, Kpp = _piezo_blocks(mesh, scalar, intorder, scalar_dofs, piezo_parts, n_u, chunk_size)
     n_phi = len(phi_dofs)
-    K = sp.bmat([[Kuu, Kup], [Kup.T, -Kpp]], format="csr") if n_phi else Kuu
-    M = sp.block_diag([Muu, sp.csr_matrix((n_phi, n_phi))], format="csr") if n_phi else Muu
+    if n_phi:  # stacking CSR blocks row by row is twice as fast as sp.bmat
+        K = sp.vstack([sp.hstack([Kuu, Kup], format="csr"), sp.hstack([Kup.T.tocsr(), -Kpp], format="csr")],
+                      format="csr")
+        M = sp.csr_matrix((Muu.data, Muu.indices, np.r_[Muu.indptr, np.full(n_phi, Muu.indptr[-1])]),
+                          shape=(n_u + n_phi, n_u + n_phi))
+    else:
+        K, M = Kuu, Muu
     electrodes = _electrode_dofs(scene, device_mesh, mesh, scalar, phi_dofs)
     clamped = _clamped_dofs(scene, device_mesh, u_basis)
     return Model(scene, device_mesh, u_basis, K, M, n_u, phi_dofs, electrodes, clamped,
@@ -284,6 +297,11 @@ def _clamped_dofs(scene, device_mesh, u_basis) -> np.ndarray:
         for c in components:
             fixed.append(dofs.all(f"u^{'xyz'.index(c) + 1}"))
     return np.unique(np.concatenate(fixed)).astype(int)
+
+
+def _chunks(elements: np.ndarray, size: int) -> list[np.ndarray]:
+    """``elements`` in batches of at most ``size``."""
+    return [elements[i:i + size] for i in range(0, len(elements), size)]
 
 
 def _strain_and_value(b):
@@ -312,31 +330,29 @@ def _scatter(rows, cols, Ke, n_rows, n_cols) -> sp.csr_matrix:
     return sp.coo_matrix((Ke.ravel(), (r, c)), shape=(n_rows, n_cols)).tocsr()
 
 
-def _piezo_blocks(mesh, scalar, intorder, device_mesh, piezo_parts, n_u):
-    """K_uphi and K_phiphi over the piezo parts, on the potential unknowns they use."""
+def _piezo_blocks(mesh, scalar, intorder, scalar_dofs, piezo_parts, n_u, chunk_size):
+    """K_uphi and K_phiphi over the piezo parts ((material, boxes, other elements) each), on the potential
+    unknowns they use."""
     from skfem import Basis, ElementVector
 
     if not piezo_parts:
         return np.array([], dtype=int), None, None
-    used = np.unique(np.concatenate([
-        Basis(mesh, scalar, intorder=intorder, elements=device_mesh.parts[p.name]).element_dofs.ravel()
-        for p, _ in piezo_parts
-    ]))
-    n_scalar = Basis(mesh, scalar, intorder=1, elements=np.arange(1)).N
-    index = np.full(n_scalar, -1)
+    used = np.unique(np.concatenate([found.dofs.ravel() for _, found, _ in piezo_parts]
+                                    + [scalar_dofs[:, rest].ravel() for _, _, rest in piezo_parts]))
+    index = np.full(n_u // 3, -1)
     index[used] = np.arange(len(used))
     n_phi = len(used)
-    Kup = sp.csr_matrix((n_u, n_phi))
-    Kpp = sp.csr_matrix((n_phi, n_phi))
-    for part, mat in piezo_parts:
-        elements = device_mesh.parts[part.name]
-        ub = Basis(mesh, ElementVector(scalar), intorder=intorder, elements=elements)
-        pb = Basis(mesh, scalar, intorder=intorder, elements=elements)
-        Bv, _ = _strain_and_value(ub)
-        Gp = np.array([f[0].grad for f in pb.basis])  # (nloc, 3, nel, nq)
-        phi_rows = index[pb.element_dofs]
-        Kup = Kup + _scatter(ub.element_dofs, phi_rows, _contract(Bv, mat.e.T, Gp, ub.dx), n_u, n_phi)
-        Kpp = Kpp + _scatter(phi_rows, phi_rows, _contract(Gp, mat.eps_S, Gp, pb.dx), n_phi, n_phi)
+    Kup, Kpp = box_assembly.assemble_piezo(scalar, intorder, [(found, mat) for mat, found, _ in piezo_parts],
+                                           index, n_phi, n_u)
+    for mat, _, rest in piezo_parts:
+        for chunk in _chunks(rest, chunk_size):
+            ub = Basis(mesh, ElementVector(scalar), intorder=intorder, elements=chunk)
+            pb = Basis(mesh, scalar, intorder=intorder, elements=chunk)
+            Bv, _ = _strain_and_value(ub)
+            Gp = np.array([f[0].grad for f in pb.basis])  # (nloc, 3, nel, nq)
+            phi_rows = index[pb.element_dofs]
+            Kup = Kup + _scatter(ub.element_dofs, phi_rows, _contract(Bv, mat.e.T, Gp, ub.dx), n_u, n_phi)
+            Kpp = Kpp + _scatter(phi_rows, phi_rows, _contract(Gp, mat.eps_S, Gp, pb.dx), n_phi, n_phi)
     return used, Kup.tocsr(), Kpp.tocsr()
 
 

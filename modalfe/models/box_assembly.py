@@ -1,0 +1,186 @@
+"""Fast assembly on axis-aligned box elements.
+
+A hexahedron whose eight vertices are the corners of an axis-aligned box (edges h = (hx, hy, hz)) maps its
+reference cube by a signed permutation of the axes and a scaling.  The nodal elements used here (Hex1,
+serendipity S2, Gauss-Lobatto Q_p) have their nodes on a tensor grid symmetric under those maps, so the
+shape function at a physical node is the same whatever the element's local orientation: in the *canonical*
+order (the reference element's own nodes, reference axes along x, y, z) every box shares the reference
+integrals M_ref = int N_a N_b and S[k, l] = int dN_a/dX_k dN_b/dX_l over the unit cube (the general path's
+quadrature), and its element matrices are sums of them with per-element factors V / (h_k h_l) (V the
+volume) times the material's constants.  These are summed through each element's canonical DOF map into
+a CSR pattern built once (``np.bincount``).
+
+The vector field numbers its DOFs 3 s + c (scalar DOF s, component c; scikit-fem's ``ElementVector``), so
+K is assembled in 3 x 3 blocks on the scalar pattern.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+BOX_TOLERANCE = 1e-12  # vertices within this fraction of the edge lengths of a box's corners
+_VOIGT = np.array([[0, 5, 4], [5, 1, 3], [4, 3, 2]])  # Voigt index of the strain component (i, j)
+
+
+@dataclass(frozen=True)
+class Boxes:
+    """Box elements of one material: scalar DOFs (nloc, nel) in the canonical order, edge lengths (3, nel) [m]."""
+
+    dofs: np.ndarray
+    h: np.ndarray
+
+
+def _grid(scalar) -> tuple[int, np.ndarray, bool] | None:
+    """(q, (nloc, 3) index of each reference node on the (q+1)^3 grid of GLL points, whether each element
+    orients its nodes (``ElementHexGLL.slots``)), None for an element without a fast path."""
+    from skfem import ElementHex1, ElementHexS2
+
+    from modalfe.models.hex_elements import ElementHexGLL
+
+    if isinstance(scalar, ElementHexGLL):
+        return scalar.p, scalar.reference_slots, True
+    for kind, q in ((ElementHex1, 1), (ElementHexS2, 2)):  # their nodes: the GLL grids {0, 1}, {0, 1/2, 1}
+        if type(scalar) is kind:
+            return q, np.rint(q * scalar.doflocs).astype(int), False
+    return None
+
+
+def find_boxes(mesh, scalar, element_dofs: np.ndarray, elements: np.ndarray) -> tuple[Boxes, np.ndarray]:
+    """Split ``elements`` into axis-aligned boxes (with their canonical scalar DOFs, from ``element_dofs``
+    (nloc, all elements)) and the rest, left to the general path."""
+    from skfem.refdom import RefHex
+
+    grid = _grid(scalar)
+    if grid is None or len(elements) == 0:
+        return Boxes(np.zeros((element_dofs.shape[0], 0), dtype=int), np.zeros((3, 0))), elements
+    q, ref, oriented = grid
+    P = mesh.p[:, mesh.t[:, elements]]  # (3, 8, nel)
+    lo = P.min(axis=1)
+    h = P.max(axis=1) - lo
+    with np.errstate(divide="ignore", invalid="ignore"):
+        Y = np.nan_to_num((P - lo[:, None]) / h[:, None], nan=0.5)
+    corner = np.rint(Y).astype(int)  # each vertex's box corner, 0 or 1 per axis
+    Xv = RefHex.p.T.astype(int)  # (8, 3) reference vertices
+    origin = int(np.flatnonzero((Xv == 0).all(axis=1))[0])
+    axes = [int(np.flatnonzero((Xv == np.eye(3, dtype=int)[k]).all(axis=1))[0]) for k in range(3)]
+    c = corner[:, origin]  # (3, nel): the reference origin's corner
+    Q = np.stack([corner[:, a] - c for a in axes], axis=1)  # (3, 3, nel): reference axis k -> Q[:, k]
+    ok = (np.all(np.abs(Y - corner) <= BOX_TOLERANCE, axis=(0, 1)) & np.all(h > 0, axis=0)
+          & np.all(corner == c[:, None] + np.einsum("jke,vk->jve", Q, Xv), axis=(0, 1))
+          & np.all(np.abs(Q).sum(axis=0) == 1, axis=0) & np.all(np.abs(Q).sum(axis=1) == 1, axis=0))
+    if oriented:
+        G = scalar.slots(mesh)[:, :, elements].astype(int)  # (3, nloc, nel) per-element node of each slot
+    else:
+        G = np.broadcast_to(ref.T[:, :, None], (3, ref.shape[0], len(elements)))
+    Yg = q * c[:, None, :] + np.einsum("jke,kie->jie", Q, G)  # canonical grid index of each slot's node
+    lookup = np.full((q + 1) ** 3, -1)
+    lookup[(ref[:, 0] * (q + 1) + ref[:, 1]) * (q + 1) + ref[:, 2]] = np.arange(len(ref))
+    flat = (Yg[0] * (q + 1) + Yg[1]) * (q + 1) + Yg[2]
+    canon = lookup[np.clip(flat, 0, len(lookup) - 1)]  # (nloc, nel) canonical slot of each slot
+    ok &= np.all(np.sort(canon, axis=0) == np.arange(len(ref))[:, None], axis=0)
+    dofs = np.empty((len(ref), int(ok.sum())), dtype=element_dofs.dtype)
+    dofs[canon[:, ok], np.arange(dofs.shape[1])] = element_dofs[:, elements[ok]]
+    return Boxes(dofs, h[:, ok]), elements[~ok]
+
+
+def _reference(scalar, intorder: int) -> tuple[np.ndarray, np.ndarray]:
+    """Mass (nloc, nloc) and gradient products S (3, 3, nloc, nloc), S[k, l, a, b] = int dN_a/dX_k dN_b/dX_l,
+    on the unit cube, in the canonical order, with the general path's quadrature."""
+    from skfem.quadrature import get_quadrature
+    from skfem.refdom import RefHex
+
+    X, W = get_quadrature(RefHex, intorder)
+    values, grads = zip(*(scalar.lbasis(X, j) for j in range(len(scalar.doflocs))), strict=True)
+    phi, dphi = np.array(values), np.array(grads)
+    return (phi * W) @ phi.T, np.tensordot(dphi * W, dphi, axes=(2, 2)).transpose(1, 3, 0, 2)
+
+
+def _scales(h: np.ndarray) -> np.ndarray:
+    """(nel, 3, 3) volume / (h_k h_l): the factor of S[k, l] in a box of edges h (3, nel)."""
+    return np.prod(h, axis=0)[:, None, None] / (h.T[:, :, None] * h.T[:, None, :])
+
+
+def _pattern(dofs: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """CSR pattern (indptr, indices) of the DOF pairs sharing an element, and the position in it of each
+    element entry (element, row, column; flat) of ``dofs`` (nloc, nel) over n unknowns."""
+    nloc, nel = dofs.shape
+    E = sp.csr_matrix((np.ones(dofs.size), dofs.T.ravel(), np.arange(0, dofs.size + 1, nloc)), shape=(nel, n))
+    A = (E.T @ E).tocsr()
+    A.sort_indices()
+    keys = np.repeat(np.arange(n, dtype=np.int64), np.diff(A.indptr)) * n + A.indices
+    order = np.argsort(dofs, axis=0)
+    s = np.take_along_axis(dofs, order, axis=0).T.astype(np.int64)  # ascending per element: sorted queries
+    pos = np.searchsorted(keys, (s[:, :, None] * n + s[:, None, :]).ravel()).reshape(nel, nloc, nloc)
+    rank = np.argsort(order, axis=0).T  # (nel, nloc): where each canonical slot sits in the sorted order
+    rows = np.arange(nel)[:, None, None]
+    return A.indptr, A.indices, pos[rows, rank[:, :, None], rank[:, None, :]].ravel()
+
+
+def _sum(pos: np.ndarray, coef: np.ndarray, S: np.ndarray, nnz: int) -> np.ndarray:
+    """Pattern data of the element matrices coef @ S: per-element factors (nel, 9) of the reference integrals
+    S (9, nloc^2), summed at the elements' positions ``pos``."""
+    return np.bincount(pos, weights=np.einsum("ek,kq->eq", coef, S).ravel(), minlength=nnz)
+
+
+def _interleave(A: sp.csr_matrix) -> sp.csr_matrix:
+    """kron(A, I_3) for a scalar CSR matrix A (the same operator on each displacement component), built
+    directly: row 3 r + c holds row r of A at columns 3 s + c."""
+    n = A.shape[0]
+    lens = np.repeat(np.diff(A.indptr), 3)
+    indptr = np.r_[0, np.cumsum(lens)]
+    src = np.arange(indptr[-1]) - np.repeat(indptr[:-1] - np.repeat(A.indptr[:-1], 3), lens)
+    comp = np.repeat(np.tile(np.arange(3), n), lens)
+    return sp.csr_matrix((A.data[src], 3 * A.indices[src] + comp, indptr), shape=(3 * n, 3 * n))
+
+
+def assemble_elastic(scalar, intorder: int, parts: list[tuple[Boxes, object]],
+                     n: int) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+    """K_uu and M_uu (3n, 3n) over the box elements of ``parts`` ((Boxes, material) pairs), n scalar DOFs.
+
+    K[3a+c, 3b+d] = sum_kl C_ckdl V / (h_k h_l) S[k, l, a, b] (C_ckdl the elastic tensor), M = rho V M_ref x I_3.
+    """
+    parts = [(boxes, mat) for boxes, mat in parts if boxes.dofs.shape[1]]
+    if not parts:
+        return sp.csr_matrix((3 * n, 3 * n)), sp.csr_matrix((3 * n, 3 * n))
+    M_ref, S = _reference(scalar, intorder)
+    coef = np.concatenate([np.einsum("ekl,ckdl->ecdkl", _scales(boxes.h), mat.C[_VOIGT[:, :, None, None], _VOIGT])
+                           for boxes, mat in parts]).reshape(-1, 3, 3, 9)
+    mass = np.concatenate([mat.rho * np.prod(boxes.h, axis=0) for boxes, mat in parts])
+    indptr, indices, pos = _pattern(np.concatenate([boxes.dofs for boxes, _ in parts], axis=1), n)
+    S = S.reshape(9, -1)
+    data = np.empty((len(indices), 3, 3))
+    for c in range(3):
+        for d in range(3):
+            data[:, c, d] = _sum(pos, coef[:, c, d], S, len(indices))
+    Kuu = sp.bsr_matrix((data, indices, indptr), shape=(3 * n, 3 * n)).tocsr()
+    Ms = np.bincount(pos, weights=np.outer(mass, M_ref).ravel(), minlength=len(indices))
+    return Kuu, _interleave(sp.csr_matrix((Ms, indices, indptr), shape=(n, n)))
+
+
+def assemble_piezo(scalar, intorder: int, parts: list[tuple[Boxes, object]], index: np.ndarray, n_phi: int,
+                   n_u: int) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+    """K_uphi (n_u, n_phi) and K_phiphi (n_phi, n_phi) over the box elements of the piezo ``parts``;
+    ``index`` maps scalar DOFs to potential unknowns (-1 off the piezo parts).
+
+    K_uphi[3a+c, b] = sum_kl e_l,ck V / (h_k h_l) S[k, l, a, b] (e_l,ck the piezoelectric tensor),
+    K_phiphi[a, b] = sum_kl eps_kl V / (h_k h_l) S[k, l, a, b].
+    """
+    parts = [(boxes, mat) for boxes, mat in parts if boxes.dofs.shape[1]]
+    if not parts:
+        return sp.csr_matrix((n_u, n_phi)), sp.csr_matrix((n_phi, n_phi))
+    _, S = _reference(scalar, intorder)
+    S = S.reshape(9, -1)
+    scales = [_scales(boxes.h) for boxes, _ in parts]
+    coupling = np.concatenate([np.einsum("ekl,lck->eckl", g, mat.e[:, _VOIGT]) for g, (_, mat) in zip(scales, parts)])
+    permittivity = np.concatenate([g * mat.eps_S for g, (_, mat) in zip(scales, parts)])
+    indptr, indices, pos = _pattern(np.concatenate([index[boxes.dofs] for boxes, _ in parts], axis=1), n_phi)
+    data = np.stack([_sum(pos, coupling[:, c].reshape(-1, 9), S, len(indices)) for c in range(3)], axis=1)
+    small = sp.bsr_matrix((data[:, :, None], indices, indptr), shape=(3 * n_phi, n_phi)).tocsr()  # rows 3 i + c
+    used = np.flatnonzero(index >= 0)
+    rows = (3 * used[:, None] + np.arange(3)).ravel()
+    spread = sp.csr_matrix((np.ones(3 * n_phi), (rows, np.arange(3 * n_phi))), shape=(n_u, 3 * n_phi))
+    Kpp = _sum(pos, permittivity.reshape(-1, 9), S, len(indices))
+    return (spread @ small).tocsr(), sp.csr_matrix((Kpp, indices, indptr), shape=(n_phi, n_phi))

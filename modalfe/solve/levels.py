@@ -3,6 +3,8 @@ circuit, solve the eigen problem near the target and label each mode from its sh
 
 from __future__ import annotations
 
+import weakref
+
 import numpy as np
 
 from modalfe.models.build import build_model
@@ -11,7 +13,9 @@ from modalfe.results.modes import Mode, Modes
 from modalfe.solve.eigen import eigenpairs
 
 _KEPT_FACTORS = 3  # short-circuit factorizations kept for an open-circuit solve of the same model and shift
-_SHORT_FACTORS: list = []  # (model, short-circuit unknowns, (solve, shift)), newest first
+# (weak reference to the model, short-circuit unknowns, (solve, shift)), newest first: a factorization lives no
+# longer than its model in ``modalfe.models.build``'s cache
+_SHORT_FACTORS: list = []
 
 
 def solve_level(scene, analysis, *, fidelity: str = "solid", size_factor: float = 1.0, solver: str = "auto",
@@ -28,13 +32,15 @@ def modes_of(model, analysis, *, fidelity: str, solver: str = "auto", timings: d
     T = model.constraints(analysis.circuit).T
     A = (T.T @ model.K @ T).tocsr()
     B = (T.T @ model.M @ T).tocsr()
+    _SHORT_FACTORS[:] = [entry for entry in _SHORT_FACTORS if entry[0]() is not None]
     factor = None
     if analysis.circuit == "open" and analysis.band is None:
         factor = next((open_circuit_solve(A, n_short, f) for kept, n_short, f in _SHORT_FACTORS
-                       if kept is model and f[1] == (2 * np.pi * analysis.near) ** 2), None)
+                       if kept() is model and f[1] == (2 * np.pi * analysis.near) ** 2), None)
     solution = eigenpairs(A, B, analysis, solver, factor)
-    if analysis.circuit == "short" and solution.factor is not None:
-        _SHORT_FACTORS.insert(0, (model, A.shape[0], solution.factor))
+    driven = "drive" in model.scene.electrodes.values()  # else the open circuit is the short one: nothing to reuse
+    if analysis.circuit == "short" and driven and solution.factor is not None:
+        _SHORT_FACTORS.insert(0, (weakref.ref(model), A.shape[0], solution.factor))
         del _SHORT_FACTORS[_KEPT_FACTORS:]
     shapes = T @ solution.vectors
     frequencies = [float(np.sqrt(max(lam, 0.0)) / (2 * np.pi)) for lam in solution.values]
@@ -53,6 +59,8 @@ def open_circuit_solve(A_open, n_short: int, factor: tuple) -> tuple:
     columns of ``PiezoUnknowns.constraints``), which carry no mass, so the shifted matrix is the short one
     bordered by [b; c] and solves by its Schur complement c - b^T S^-1 b (one solve per floating electrode)."""
     short_solve, shift = factor
+    if A_open.shape[0] == n_short:  # no floating electrode in this model: the same matrix
+        return factor
     b = A_open[:n_short, n_short:].toarray()
     c = A_open[n_short:, n_short:].toarray()
     W = np.column_stack([short_solve(b[:, j]) for j in range(b.shape[1])])

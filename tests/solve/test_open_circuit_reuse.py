@@ -28,3 +28,35 @@ def test_another_shift_factorizes_afresh():
     solve_modes(scene, near=21.7e3, count=4, fidelity="solid", error_estimate=False)
     other = solve_modes(scene, near=15e3, count=4, circuit="open", fidelity="solid", error_estimate=False)
     assert other.timings["solver"] != "reused"
+
+
+def test_open_circuit_of_an_undriven_scene_after_a_short_one_at_the_same_shift():
+    # no floating electrode: the open circuit is the short one (was a traceback: a border of no columns)
+    from modalfe.scene import scene_from_dict
+
+    scene = scene_from_dict({"name": "bare", "kind": "plate", "analysis": {"near": 36e3, "count": 4},
+                             "parts": [{"name": "plate", "region": "plate", "material": "CuBe", "origin": [0, 0, 0],
+                                        "size": [64e-3, 38e-3, 3e-3]}], "mesh": {"elements_per_wavelength": 3}})
+    options = {"near": 36e3, "count": 4, "fidelity": "solid", "error_estimate": False}
+    short = solve_modes(scene, **options)
+    open_ = solve_modes(scene, circuit="open", **options)
+    assert np.allclose(open_.frequencies, short.frequencies, rtol=1e-8, atol=0)
+
+
+def test_a_kept_factorization_does_not_keep_its_model_alive():
+    import gc
+    import weakref
+
+    from modalfe.models.build import clear_cache
+
+    levels._SHORT_FACTORS.clear()
+    modes = solve_modes(load_scene("ciliary_beam"), near=21.7e3, count=4, fidelity="solid", error_estimate=False)
+    model = weakref.ref(modes.model)
+    assert [kept() for kept, _, _ in levels._SHORT_FACTORS] == [model()]
+    del modes
+    clear_cache()
+    gc.collect()
+    assert model() is None  # only the build cache held it; the kept factorization did not
+    assert [kept() for kept, _, _ in levels._SHORT_FACTORS] == [None]  # a dead entry, dropped at the next solve
+    solve_modes(load_scene("ciliary_beam"), near=15e3, count=4, fidelity="beam", error_estimate=False)
+    assert all(kept() is not None for kept, _, _ in levels._SHORT_FACTORS)

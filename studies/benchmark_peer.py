@@ -9,7 +9,7 @@ Two cases, the whole device in both codes (no symmetry planes, so both solve the
 Sweeps, coarse to fine, each chosen to bracket both accuracies where affordable:
 
 - modalfe, structured hexahedra of ``mesh.order`` 2 (20-node serendipity), 3 and 4 (Gauss-Lobatto
-  Lagrange), each a list of (size factor, ``min_layers``): in-plane size and element layers across
+  Lagrange) and, on the plate, 3S (the 32-node cubic serendipity, ``mesh.family = "serendipity"``), each a list of (size factor, ``min_layers``): in-plane size and element layers across
   the main part's thin directions are set separately (at orders 3-4 one or two layers resolve
   bending); the beam with ``mesh.clamp_grading`` = 4 (geometric element layers toward the clamp);
 - NGSolve, straight tetrahedra, ``VectorH1(order=p)`` (x ``H1(order=p)`` for the potential), p = 2,
@@ -63,7 +63,7 @@ TARGETS = (1e-3, 1e-4)  # accuracies: relative discretization error of the mode'
 STAGES = ("mesh", "assembly", "factorization", "eigensolve")
 GOAL = 0.5  # the issue's goal: modalfe's time to 0.1 % at most half the peer's
 
-Sweeps = dict[str, dict[int, tuple]]  # code -> element order -> levels, coarse to fine
+Sweeps = dict[str, dict[int | str, tuple]]  # code -> element order (3S: cubic serendipity) -> levels, coarse to fine
 
 
 @dataclass(frozen=True)
@@ -90,11 +90,13 @@ CASES = {
         "(0,6)", 36e3, 6, True,
         sweeps={"modalfe": {2: ((1.5, 2), (1.0, 3), (2 / 3, 4), (4 / 9, 7)),
                             3: ((3.0, 1), (2.0, 1), (1.5, 1), (1.0, 2), (2 / 3, 2)),
+                            "3S": ((2.0, 1), (1.5, 1), (1.25, 1), (1.0, 1), (2 / 3, 2), (0.5, 2)),
                             4: ((3.0, 1), (2.5, 1), (2.0, 1), (1.5, 1), (1.0, 1))},
                 "NGSolve": {2: (3e-3, 2e-3, 1.5e-3, 1e-3, 0.75e-3),
                             3: (8e-3, 6e-3, 4e-3, 3e-3, 2e-3),
                             4: (12e-3, 9e-3, 6e-3, 4e-3)}},
-        quick={"modalfe": {2: ((2.0, 2), (1.5, 2)), 3: ((3.0, 1), (2.0, 1)), 4: ((3.0, 1), (2.5, 1))},
+        quick={"modalfe": {2: ((2.0, 2), (1.5, 2)), 3: ((3.0, 1), (2.0, 1)), "3S": ((2.0, 1), (1.5, 1)),
+                           4: ((3.0, 1), (2.5, 1))},
                "NGSolve": {2: (6e-3, 4e-3), 3: (10e-3, 8e-3), 4: (16e-3, 12e-3)}}),
     "beam": Case(
         "bending-z 6", 21.5e3, 5, False,
@@ -115,8 +117,8 @@ CASES = {
 MODES_ASKED = 4
 
 
-def scene(case: str, order: int = 2) -> Scene:
-    """The modalfe scene of a case, whole (no symmetry), hexahedra of ``order``."""
+def scene(case: str, order: int = 2, family: str = "auto") -> Scene:
+    """The modalfe scene of a case, whole (no symmetry), hexahedra of ``order`` and ``family``."""
     from modalfe.scene import load_scene, scene_from_dict
 
     if case == "beam":
@@ -133,7 +135,7 @@ def scene(case: str, order: int = 2) -> Scene:
             "analysis": {"near": CASES[case].near, "count": MODES_ASKED},
             "kind": "plate",
         })
-    return dataclasses.replace(sc, mesh=dataclasses.replace(sc.mesh, order=order))
+    return dataclasses.replace(sc, mesh=dataclasses.replace(sc.mesh, order=order, family=family))
 
 
 def describe(code: str, level) -> str:
@@ -146,12 +148,17 @@ def describe(code: str, level) -> str:
 
 # ---- modalfe side ------------------------------------------------------------------------------
 
-def modalfe_solve(case: str, order: int, level: tuple[float, int]) -> dict:
+def sweep_element(key: int | str) -> tuple[int, str]:
+    """(order, ``mesh.family``) of a sweep key: an order, or an order and S (serendipity)."""
+    return int(str(key).rstrip("S")), "serendipity" if str(key).endswith("S") else "auto"
+
+
+def modalfe_solve(case: str, order: int | str, level: tuple[float, int]) -> dict:
     """One modalfe solve at (size factor, min_layers): DOFs, stage times [s] and the mode frequency [Hz]."""
     from modalfe.results.modes import select
     from modalfe.solve.levels import solve_level
 
-    sc = scene(case, order)
+    sc = scene(case, *sweep_element(order))
     size_factor, layers = level
     start = time.perf_counter()
     modes = solve_level(sc, sc.analysis, size_factor=size_factor, solver="auto", min_layers=int(layers))
@@ -327,7 +334,7 @@ def peer_solve(case: str, order: int, maxh: float) -> dict:
 
 # ---- one sweep point in its own process --------------------------------------------------------
 
-def point(code: str, case: str, order: int, level, warm, repeats: int) -> dict:
+def point(code: str, case: str, order: int | str, level, warm, repeats: int) -> dict:
     """Median of ``repeats`` timed solves after one untimed warm-up solve at level ``warm`` (None: none);
     peak RSS [MB]."""
     solve = modalfe_solve if code == "modalfe" else peer_solve
@@ -345,7 +352,7 @@ def point(code: str, case: str, order: int, level, warm, repeats: int) -> dict:
     return out
 
 
-def run_point(code: str, case: str, order: int, level, warm, repeats: int, threads: int) -> dict:
+def run_point(code: str, case: str, order: int | str, level, warm, repeats: int, threads: int) -> dict:
     """``point`` in a fresh interpreter with ``threads`` threads (MKL, OpenMP, NGSolve); its JSON result."""
     spec = json.dumps({"code": code, "case": case, "order": order, "level": level, "warm": warm,
                        "repeats": repeats})
@@ -454,7 +461,7 @@ def reference(sweeps: list[dict]) -> dict:
     uncertainty: the extrapolation step, or outside the asymptotic range the finest point's last change."""
     out = {}
     for role, code in (("reference", "modalfe"), ("cross_check", "NGSolve")):
-        top = max((s for s in sweeps if s["code"] == code), key=lambda s: s["order"])
+        top = max((s for s in sweeps if s["code"] == code), key=lambda s: sweep_element(s["order"]))
         pts = top["points"]
         f, order = richardson(pts)
         last = pts[-2]["frequency"] if order != order and len(pts) > 1 else pts[-1]["frequency"]

@@ -99,16 +99,20 @@ def _per_part(assembly, sizes, min_layers: int, axes=(0, 1, 2)) -> dict[str, tup
                              for axis in axes) for part in assembly.parts}
 
 
-def _nodes(n: tuple[float, float, float], element: str, order: int) -> float:
-    """Nodes of a structured nx x ny x nz block: vertices, plus edge midpoints (serendipity hex, P2 tet),
-    plus the face and body diagonals of the tetrahedra (six per cube)."""
+def _nodes(n: tuple[float, float, float], mesh) -> float:
+    """Nodes of a structured nx x ny x nz block for ``mesh`` (``MeshSettings``): vertices, plus order - 1 per
+    edge (serendipity hexahedra, P2 tetrahedra) and the face and body diagonals of the tetrahedra (six per
+    cube), or the whole tensor grid of a Lagrange hexahedron of order p."""
     nx, ny, nz = n
+    p = mesh.order
+    if mesh.element == "hex" and not mesh.serendipity:
+        return (p * nx + 1) * (p * ny + 1) * (p * nz + 1)
     vertices = (nx + 1) * (ny + 1) * (nz + 1)
-    if order == 1:
-        return vertices
     edges = nx * (ny + 1) * (nz + 1) + (nx + 1) * ny * (nz + 1) + (nx + 1) * (ny + 1) * nz
-    if element == "hex":
-        return vertices + edges
+    if mesh.element == "hex":
+        return vertices + (p - 1) * edges
+    if p == 1:
+        return vertices
     return vertices + edges + nx * ny * (nz + 1) + nx * (ny + 1) * nz + (nx + 1) * ny * nz + nx * ny * nz
 
 
@@ -122,9 +126,8 @@ def estimate_size(scene, fidelity: str = "solid", *, size_factor: float = 1.0, m
     layers = scene.mesh.min_layers if min_layers is None else min_layers
     if fidelity == "solid":
         per_part = _per_part(assembly, sizes, layers)
-        element, order = scene.mesh.element, scene.mesh.order
         elements = sum(math.prod(n) for n in per_part.values())
-        nodes = {p.name: _nodes(per_part[p.name], element, order) for p in assembly.parts}
+        nodes = {p.name: _nodes(per_part[p.name], scene.mesh) for p in assembly.parts}
         dofs = 3 * sum(nodes.values()) + sum(nodes[p.name] for p in assembly.parts if p.poling)
     elif fidelity == "plate":  # the in-plane tensor grid over the whole footprint (an upper bound)
         elements = math.prod(sum(k for _, _, k in _divisions(assembly, axis, sizes, 1)) for axis in (0, 1))

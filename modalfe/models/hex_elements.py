@@ -206,3 +206,60 @@ def dof_locations(basis) -> np.ndarray:
     dofs = basis.dofs.element_dofs  # (nloc, nel) over all elements
     out[:, dofs.T.ravel()] = x.reshape(3, -1)
     return out
+
+
+def _serendipity_exponents() -> np.ndarray:
+    """(32, 3) exponents of the cubic serendipity space S_3 on the cube: the monomials of superlinear degree
+    <= 3 (total degree not counting variables that enter linearly; Arnold & Awanou, Found. Comput. Math. 11,
+    2011, def. 2.1): the complete cubic (20), x^3 y and x^2 y z types (9) and x^3 y z types (3)."""
+    grid = np.array(np.meshgrid(*[np.arange(4)] * 3, indexing="ij")).reshape(3, -1).T
+    superlinear = np.where(grid >= 2, grid, 0).sum(axis=1)
+    return grid[superlinear <= 3]
+
+
+class ElementHexS3(ElementHexGLL):
+    """32-node cubic serendipity hexahedron (Ergatoudis, Irons & Zienkiewicz 1968; Zienkiewicz, Taylor & Zhu,
+    The Finite Element Method, 7th ed., sec. 6.5): a node at each vertex and two on each edge, none on faces
+    or inside. Its space S_3 holds every cubic and the edge traces of Q_3, so it converges at the order of the
+    Lagrange Q_3 on undistorted boxes with 12 nodes per element of a layer instead of 27-36. The edge nodes
+    sit at the interior Gauss-Lobatto points of order 3 (oriented like ``ElementHexGLL``'s), the shape
+    functions are the S_3 Lagrange basis on those 32 nodes (inverse Vandermonde of the monomials)."""
+
+    def __init__(self):
+        super().__init__(3)
+        self.facet_dofs = 0
+        self.interior_dofs = 0
+        self.maxdeg = 5  # x^3 y z
+        nloc = 8 + 12 * 2
+        self.dofnames = ["u"] * nloc
+        self.reference_slots = self.reference_slots[:nloc]  # vertices then edges: face and interior slots follow
+        self.doflocs = self.nodes[self.reference_slots]
+        self.exponents = _serendipity_exponents()
+        vandermonde = np.prod(self.doflocs[:, None, :] ** self.exponents[None, :, :], axis=2)  # (node, monomial)
+        self.coefficients = np.linalg.inv(vandermonde)  # (monomial, node): column a is node a's shape function
+        self.node_of = np.full(4 ** 3, -1)
+        self.node_of[(self.reference_slots[:, 0] * 4 + self.reference_slots[:, 1]) * 4 + self.reference_slots[:, 2]] \
+            = np.arange(nloc)
+
+    def __repr__(self) -> str:
+        return "ElementHexS3()"
+
+    def slots(self, mesh) -> np.ndarray:
+        """(3, 32, nel) grid index (on the 4^3 grid of order-3 Gauss-Lobatto points) of each slot's node."""
+        cache = mesh.__dict__.setdefault(_CACHE_ATTR, {})
+        if "S3" not in cache:
+            cache["S3"] = _slots(np.asarray(mesh.t), 3)[:, :32].astype(np.int16)
+        return cache["S3"]
+
+    def _tensor(self, X: np.ndarray, idx: np.ndarray):
+        """Value (nel, nq) and reference gradient (3, nel, nq) of the shape function of the node at grid index
+        ``idx`` (3, nel), at X (3, nq) shared or (3, nel, nq) per element."""
+        e = self.exponents.T[:, :, *([None] * (X.ndim - 1))]  # (3, 32, 1...)
+        powers = X[:, None] ** e  # (3, 32, ...)
+        lower = np.where(e > 0, e * X[:, None] ** np.maximum(e - 1, 0), 0.0)
+        P = np.prod(powers, axis=0)
+        dP = np.array([lower[d] * np.prod(np.delete(powers, d, axis=0), axis=0) for d in range(3)])
+        C = self.coefficients[:, self.node_of[(idx[0] * 4 + idx[1]) * 4 + idx[2]]]  # (32, nel)
+        if X.ndim == 2:
+            return np.einsum("mn,mq->nq", C, P), np.einsum("mn,dmq->dnq", C, dP)
+        return np.einsum("mn,mnq->nq", C, P), np.einsum("mn,dmnq->dnq", C, dP)

@@ -156,7 +156,7 @@ class Model(PiezoUnknowns):
 
         p, _ = fold(self.scene, np.asarray(points, dtype=float).reshape(-1, 3).T)
         # probes need the element and its DOF numbering only: one quadrature point keeps the basis cheap
-        scalar = Basis(self.u_basis.mesh, element_for(self.mesh.element, self.scene.mesh.order), intorder=1)
+        scalar = Basis(self.u_basis.mesh, element_for(self.scene.mesh), intorder=1)
         P = scalar.probes(self._inside(p)).tocsc()[:, self.phi_dofs]
         return sp.hstack([sp.csr_matrix((P.shape[0], self.n_u)), P], format="csr")
 
@@ -209,17 +209,22 @@ class Constraints:
     floating: tuple[str, ...]
 
 
-def element_for(kind: str, order: int):
-    """The scikit-fem scalar element for a mesh kind and field order: hexahedra of order 3 and up are
-    Lagrange on Gauss-Lobatto nodes (``modalfe.models.hex_elements``), order 2 the 20-node serendipity."""
+def element_for(settings):
+    """The scikit-fem scalar element of ``settings`` (a ``MeshSettings``: kind, order, family): hexahedra are
+    serendipity (Hex1, the 20-node S2, the 32-node S3 of ``modalfe.models.hex_elements``) or Lagrange on
+    Gauss-Lobatto nodes (``ElementHexGLL``), tetrahedra P1 or P2."""
     from skfem import ElementHex1, ElementHexS2, ElementTetP1, ElementTetP2
 
-    if kind == "hex" and order >= 3:
-        from modalfe.models.hex_elements import ElementHexGLL
+    from modalfe.models.hex_elements import ElementHexGLL, ElementHexS3
 
-        return ElementHexGLL(order)
-    table = {("hex", 1): ElementHex1, ("hex", 2): ElementHexS2, ("tet", 1): ElementTetP1, ("tet", 2): ElementTetP2}
-    return table[(kind, order)]()
+    kind, order = settings.element, settings.order
+    if kind == "tet":
+        return {1: ElementTetP1, 2: ElementTetP2}[order]()
+    if order == 1:
+        return ElementHex1()
+    if settings.serendipity:
+        return ElementHexS2() if order == 2 else ElementHexS3()
+    return ElementHexGLL(order)
 
 
 def assemble(scene, device_mesh, *, frame: np.ndarray | None = None) -> Model:
@@ -243,7 +248,7 @@ def assemble(scene, device_mesh, *, frame: np.ndarray | None = None) -> Model:
         frame = np.asarray(frame, dtype=float)
         mesh = type(mesh)(frame @ mesh.p, mesh.t)
         device_mesh = replace(device_mesh, mesh=mesh)
-    scalar = element_for(device_mesh.element, scene.mesh.order)
+    scalar = element_for(scene.mesh)
     intorder = 2 * scene.mesh.order
     u_basis = Basis(mesh, ElementVector(scalar), intorder=1)  # DOF numbering and probes only: one point
     # batches hold (3 nloc) x nq basis values per element: keep the serendipity's 60 x 27 memory per batch

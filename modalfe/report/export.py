@@ -79,7 +79,7 @@ def quadratic_device(model, shapes: list[np.ndarray]):
     n_v = mesh.p.shape[1]
     corners = _corners(model)
     ub = model.u_basis
-    scalar = Basis(mesh, element_for(kind, order), intorder=1) if model.n_phi else None
+    scalar = Basis(mesh, element_for(scene.mesh), intorder=1) if model.n_phi else None
     pieces = [mesh.p.T] + ([mesh.p[:, mesh.edges].mean(axis=1).T] if quadratic else [])
     u_dofs = [ub.nodal_dofs] + ([ub.edge_dofs] if quadratic else [])
     disp = [[x[: model.n_u][d].T for d in u_dofs] for x in shapes]

@@ -269,7 +269,7 @@ def material_stiffness(model, names) -> dict[str, sp.csr_matrix]:
     scene = model.scene
     if not hasattr(model, "u_basis"):
         raise SolverError("material losses: need the 3-D solid model")
-    scalar = element_for(model.mesh.element, scene.mesh.order)
+    scalar = element_for(scene.mesh)
     intorder = 2 * scene.mesh.order
     mesh = model.u_basis.mesh
     out = {}

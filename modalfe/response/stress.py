@@ -64,7 +64,7 @@ def part_fields(model, x: np.ndarray, part: str) -> tuple[np.ndarray, np.ndarray
         mat = mat.poled(box.poling)
     if model.frame is not None:
         mat = mat.rotated(model.frame)
-    scalar = element_for(dm.element, scene.mesh.order)
+    scalar = element_for(scene.mesh)
     elements = dm.parts[part]
     ub = Basis(dm.mesh, ElementVector(scalar), intorder=2 * scene.mesh.order, elements=elements)
     x = np.asarray(x)

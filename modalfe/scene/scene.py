@@ -96,12 +96,15 @@ class Drive:
 @dataclass(frozen=True)
 class MeshSettings:
     """Element size from elements per wavelength at ``max_frequency`` [Hz]; ``element`` hex or tet;
+    ``family`` of the hexahedra: serendipity (nodes on vertices and edges only, orders 1-3) or Lagrange
+    (tensor-product, orders 1-4), ``auto`` serendipity at order 2 and Lagrange above;
     ``clamp_grading`` geometric element layers toward faces clamped in x, y and z (hex only, 0: none)."""
 
     elements_per_wavelength: float = 6.0
     max_frequency: float = 0.0
     element: str = "hex"
     order: int = 2
+    family: str = "auto"
     min_size: float = 0.0
     max_size: float = math.inf
     min_layers: int = 3
@@ -114,12 +117,21 @@ class MeshSettings:
         top = 4 if self.element == "hex" else 2  # Gauss-Lobatto Lagrange hexahedra to 4; tetrahedra P1, P2
         if v.integer("mesh.order", self.order) not in range(1, top + 1):
             raise SceneError(f"mesh.order: must be 1 to {top} for {self.element} elements, got {self.order}")
+        v.string("mesh.family", self.family, choices=("auto", "lagrange", "serendipity"))
+        if self.family == "serendipity" and (self.element != "hex" or self.order > 3):
+            raise SceneError(f"mesh.family: serendipity elements are hexahedra of order 1 to 3, got {self.element} "
+                             f"of order {self.order}")
         v.number("mesh.min_size", self.min_size, unit="m", minimum=0.0)
         v.number("mesh.max_size", self.max_size, unit="m", positive=True, allow_inf=True)
         if self.min_size > self.max_size:
             raise SceneError(f"mesh.min_size: {self.min_size:g} m exceeds mesh.max_size {self.max_size:g} m")
         v.integer("mesh.min_layers", self.min_layers, minimum=1, maximum=1000)
         v.integer("mesh.clamp_grading", self.clamp_grading, minimum=0, maximum=12)
+
+    @property
+    def serendipity(self) -> bool:
+        """Whether the hexahedra carry nodes on their vertices and edges only (``auto``: at order 2)."""
+        return self.element == "hex" and (self.family == "serendipity" or (self.family == "auto" and self.order == 2))
 
 
 @dataclass(frozen=True)

@@ -62,12 +62,13 @@ def _relative(A, B) -> float:
 CASES = [("cube_plate", 4.0, {}), ("ciliary_beam", 3.0, {"mesh.clamp_grading": 3})]
 
 
-@pytest.mark.parametrize("order", [1, 2, 3, 4])
+@pytest.mark.parametrize(("order", "family"), [(1, "auto"), (2, "auto"), (2, "lagrange"), (3, "auto"),
+                                               (3, "serendipity"), (4, "auto")])
 @pytest.mark.parametrize(("name", "size_factor", "extra"), CASES)
-def test_fast_path_matches_the_general_path(monkeypatch, name, size_factor, extra, order):
+def test_fast_path_matches_the_general_path(monkeypatch, name, size_factor, extra, order, family):
     from modalfe.models.build import clear_cache
 
-    scene = load_scene(name, **{"mesh.order": order, **extra})
+    scene = load_scene(name, **{"mesh.order": order, "mesh.family": family, **extra})
     clear_cache()
     with monkeypatch.context() as m:
         seen = _counting(m)
@@ -86,9 +87,10 @@ def test_fast_path_matches_the_general_path(monkeypatch, name, size_factor, extr
     assert _relative(fast.K[n_u:, n_u:], general.K[n_u:, n_u:]) < 1e-12
 
 
-def test_a_rotated_frame_takes_the_general_path_with_the_same_frequencies(monkeypatch):
+@pytest.mark.parametrize("family", ["lagrange", "serendipity"])  # Gauss-Lobatto Q_3, the 32-node S_3
+def test_a_rotated_frame_takes_the_general_path_with_the_same_frequencies(monkeypatch, family):
     scene = k31_bar_scene(2.0e-3)
-    scene = dataclasses.replace(scene, mesh=dataclasses.replace(scene.mesh, order=3))  # Gauss-Lobatto Q_3
+    scene = dataclasses.replace(scene, mesh=dataclasses.replace(scene.mesh, order=3, family=family))
     seen = _counting(monkeypatch)
     rotated = solve_modes(scene, frame=ROTATION, error_estimate=False)
     assert seen and all(boxes == 0 for boxes, _ in seen)

@@ -9,7 +9,8 @@ Two cases, the whole device in both codes (no symmetry planes, so both solve the
 Sweeps, coarse to fine, each chosen to bracket both accuracies where affordable:
 
 - modalfe, structured hexahedra of ``mesh.order`` 2 (20-node serendipity), 3 and 4 (Gauss-Lobatto
-  Lagrange) and, on the plate, 3S (the 32-node cubic serendipity, ``mesh.family = "serendipity"``), each a list of (size factor, ``min_layers``): in-plane size and element layers across
+  Lagrange) and, on the plate, 3S (the 32-node cubic serendipity, ``mesh.family = "serendipity"``),
+  each a list of (size factor, ``min_layers``): in-plane size and element layers across
   the main part's thin directions are set separately (at orders 3-4 one or two layers resolve
   bending); the beam with ``mesh.clamp_grading`` = 4 (geometric element layers toward the clamp);
 - NGSolve, straight tetrahedra, ``VectorH1(order=p)`` (x ``H1(order=p)`` for the potential), p = 2,

@@ -60,7 +60,8 @@ def _solid(scene, *, size_factor: float, frame, min_layers: int | None) -> tuple
                     graded_faces=fully_clamped, grading_layers=scene.mesh.clamp_grading)
     t_mesh = (time.perf_counter() - t0) if dm.seconds else 0.0
     key = repr((dm.key, scene.params, scene.materials, scene.springs, scene.masses, scene.electrodes,
-                scene.clamps, scene.mesh.order, scene.mesh.family, None if frame is None else np.asarray(frame).tobytes()))
+                scene.clamps, scene.mesh.order, scene.mesh.family,
+                None if frame is None else np.asarray(frame).tobytes()))
     if key in _MODELS:
         _MODELS.move_to_end(key)
         return _MODELS[key], {"mesh": t_mesh, "assembly": 0.0}

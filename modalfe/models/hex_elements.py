@@ -254,7 +254,7 @@ class ElementHexS3(ElementHexGLL):
     def _tensor(self, X: np.ndarray, idx: np.ndarray):
         """Value (nel, nq) and reference gradient (3, nel, nq) of the shape function of the node at grid index
         ``idx`` (3, nel), at X (3, nq) shared or (3, nel, nq) per element."""
-        e = self.exponents.T[:, :, *([None] * (X.ndim - 1))]  # (3, 32, 1...)
+        e = self.exponents.T.reshape(3, 32, *([1] * (X.ndim - 1)))  # (3, 32, 1...)
         powers = X[:, None] ** e  # (3, 32, ...)
         lower = np.where(e > 0, e * X[:, None] ** np.maximum(e - 1, 0), 0.0)
         P = np.prod(powers, axis=0)

@@ -73,7 +73,7 @@ def near_eigenpairs(A, B, near: float, count: int, solver: str = "auto", factor:
     sigma = (2 * np.pi * near) ** 2
     floor = _shift_scale(A, B)
     if sigma < 1e2 * floor:
-        return _lowest(A, B, count, floor, solver)
+        return _lowest(A, B, sigma, count, floor, solver)
     t = time.perf_counter()
     if factor is not None and factor[1] == sigma:
         (solve, moved), used = factor, "reused"
@@ -90,24 +90,27 @@ def near_eigenpairs(A, B, near: float, count: int, solver: str = "auto", factor:
     return EigenSolution(lam, X, t_fact, time.perf_counter() - t, used, factor=(solve, moved))
 
 
-def _lowest(A, B, count: int, floor: float, solver: str) -> EigenSolution:
-    """The ``count`` lowest eigenpairs (``near`` at or next to 0 Hz), complete by Sturm count. A shift at 0 on a
-    free body is singular, and one next to it leaves the elastic modes 1e5 times below the rigid-body ones in the
-    inverted operator, where they lose their accuracy (measured: residuals 7e-2 on a free plate), and ARPACK
-    may return only some of the six rigid modes. So: grow an interval from just below 0 until its Sturm count
-    holds ``count`` modes, and solve it as a band."""
+def _lowest(A, B, sigma: float, count: int, floor: float, solver: str) -> EigenSolution:
+    """The ``count`` eigenpairs nearest a shift ``sigma`` at or next to 0 (below ``1e2 floor``), complete by Sturm
+    count. A shift at 0 on a free body is singular, and one next to it leaves the elastic modes 1e5 times below the
+    rigid-body ones in the inverted operator, where they lose their accuracy (measured: residuals 7e-2 on a free
+    plate), and ARPACK may return only some of the six rigid modes. So: grow an interval from just below 0 until
+    its Sturm count holds ``count`` modes and its top lies at least as far above ``sigma`` as the ``count``-th
+    nearest mode in it (so that no mode outside is nearer), solve it as a band and keep the ``count`` nearest."""
     offset = _massless_negatives(A, B, solver)
     counter = _SturmCounter(A, B, solver, offset)
     low, below_low = counter.count_near(-1e-2 * floor, outward=-1)
-    top = 1e2 * floor
+    top = max(1e2 * floor, 2 * sigma)
     while True:
         top, below_top = counter.count_near(top, outward=+1)
-        if below_top - below_low >= count or below_top - below_low >= A.shape[0] - offset - 2:
-            break
+        everything = below_top - below_low >= A.shape[0] - offset - 2
+        if below_top - below_low >= count or everything:
+            solution = _interval(A, B, low, below_low, top, below_top, solver, counter)
+            nearest = np.sort(np.argsort(np.abs(solution.values - sigma), kind="stable")[:count])
+            if everything or np.abs(solution.values[nearest] - sigma).max() <= top - sigma:
+                break
         top *= 4.0
-    solution = _interval(A, B, low, below_low, top, below_top, solver, counter)
-    keep = slice(0, count)
-    return EigenSolution(solution.values[keep], solution.vectors[:, keep], solution.factorization_seconds,
+    return EigenSolution(solution.values[nearest], solution.vectors[:, nearest], solution.factorization_seconds,
                          solution.eigensolve_seconds, solution.solver)
 
 

@@ -425,15 +425,15 @@ def _scene_of_order(scene, order: int):
 
 @pytest.mark.parametrize("order", [3, 4])
 def test_solid_model_hook(order):
-    """``element_for("hex", order)`` selects the Gauss-Lobatto element; the assembled model on a coarse
+    """``element_for`` of hexahedra of ``order`` selects the Gauss-Lobatto element; the assembled model on a coarse
     diaphragm plate meets the exact 3-D frequency of the (1,1) mode, and nodal_displacement still reads
     the vertex DOFs."""
     from modalfe.models.solid import assemble, element_for
     from tests.oracles.cases import diaphragm_plate_scene
 
-    assert isinstance(element_for("hex", order), ElementHexGLL)
     a, b, h = 0.020, 0.016, 2.0e-3
     scene = _scene_of_order(diaphragm_plate_scene(a, b, h, max_size=4e-3), order)
+    assert isinstance(element_for(scene.mesh), ElementHexGLL)
     dm = _device_mesh(scene)
     model = assemble(scene, dm)
     T = model.constraints("short").T

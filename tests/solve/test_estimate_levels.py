@@ -1,0 +1,24 @@
+"""The solid's error-estimate levels fail with a one-line reason naming the level, not the eigen solver's."""
+
+import pytest
+
+from modalfe.errors import SolverError
+from modalfe.scene import scene_from_dict
+from modalfe.solve.api import solve_modes
+
+
+def test_an_estimate_level_without_unknowns_names_itself():
+    """A plate clamped on its four edges, 20 mm quadratic serendipity elements over 40 x 30 mm: solvable, but its
+    level with elements 1.5x larger keeps one element across the width and 6 free unknowns, fewer than the modes
+    that level is asked for."""
+    scene = scene_from_dict({
+        "name": "clamped-plate", "units": "mm", "kind": "plate",
+        "parts": [{"name": "plate", "material": "CuBe", "origin": [0, 0, 0], "size": [40, 30, 0.5]}],
+        "faces": {"edges": ["plate.xmin", "plate.xmax", "plate.ymin", "plate.ymax"]},
+        "clamps": {"edges": "xyz"}, "analysis": {"near": 5e3, "count": 6},
+        "mesh": {"max_size": 0.02, "elements_per_wavelength": 1, "min_layers": 1},
+    })
+    assert len(solve_modes(scene, fidelity="solid", error_estimate=False)) == 6  # the level asked is fine
+    with pytest.raises(SolverError, match=r"^error estimate: its level with elements x1\.5 cannot be solved") as info:
+        solve_modes(scene, fidelity="solid")
+    assert "\n" not in str(info.value)

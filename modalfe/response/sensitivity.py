@@ -31,6 +31,7 @@ from modalfe.geometry.gmsh_model import grid_breaks
 from modalfe.models.solid import Model, assemble
 from modalfe.results.coupling import k_eff
 from modalfe.results.modes import Modes
+from modalfe.solve.eigen import RIGID_FRACTION
 from modalfe.solve.estimates import shape_partners
 
 # relative step h / |p| of the central differences of the matrices. Central, not forward: a shape x held fixed while
@@ -56,7 +57,7 @@ class Sensitivities:
 
     parameters : names in the scene's override syntax; values : their values at the solve [their units];
     steps : the central-difference steps h of the matrices [their units]; labels, frequencies : the modes [Hz];
-    dfrequency : (modes, parameters) df/dp [Hz per unit of p] (NaN for a mode at 0 Hz);
+    dfrequency : (modes, parameters) df/dp [Hz per unit of p] (NaN for a rigid-body mode);
     k_eff : effective coupling of each mode from its open-circuit partner (NaN when no open-circuit modes were
     given or none is alike in shape); dk_eff : (modes, parameters) dk_eff/dp [per unit of p]
     """
@@ -147,7 +148,8 @@ def frequency_derivatives(modes: Modes, dK, dM) -> np.ndarray:
     d lambda = x^T (dK - lambda dM) x (Fox & Kapoor 1968) for M-normalised shapes x; for a cluster of one
     eigenvalue (within ``DEGENERATE``), the ascending eigenvalues of X^T (dK - lambda dM) X (Seyranian, Lund &
     Olhoff 1994; ``modes`` sorted by frequency, as a solve returns them); then df = d lambda / (8 pi^2 f), NaN for
-    a mode at 0 Hz."""
+    a rigid-body mode (eigenvalue below ``RIGID_FRACTION`` of the highest, frequency below 1e-3 of it: a free body's
+    rigid modes come out at round-off frequencies ~ sqrt(eps lambda_max) / 2 pi, 0.01-0.05 Hz on a steel strip)."""
     X = np.column_stack([mode.shape for mode in modes])
     X = X / np.sqrt(np.einsum("ij,ij->j", X, modes.model.M @ X))
     f = modes.frequencies
@@ -163,7 +165,7 @@ def frequency_derivatives(modes: Modes, dK, dM) -> np.ndarray:
         dlam[start:stop] = np.linalg.eigvalsh(0.5 * (D + D.T))
         start = stop
     with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(f > 0, dlam / (8 * np.pi**2 * f), np.nan)
+        return np.where(lam > RIGID_FRACTION * lam.max(), dlam / (8 * np.pi**2 * f), np.nan)
 
 
 def perturbed_model(model: Model, parameter: str, value: float) -> Model:

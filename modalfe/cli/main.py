@@ -27,6 +27,9 @@ class OneLineParser(argparse.ArgumentParser):
 
     def error(self, message: str) -> None:
         message = message.replace("argument ", "", 1)
+        required = "the following arguments are required: "
+        if message.startswith(required):  # name the missing field first, like every other error
+            message = f"{message[len(required):]}: required"
         self.exit(EXIT_INPUT, f"modalfe: error: {' '.join(message.split())}\n")
 
 

@@ -152,7 +152,25 @@ def _rigid(points: np.ndarray, u: np.ndarray) -> tuple[str, float, float]:
 
 def _grid_w(points: np.ndarray, u: np.ndarray, samples: int = 48):
     """w on a regular (x, y) grid over the top of the main parts (max z at each sample): ``samples`` along
-    the longer side, at least 24 (and the same spacing) along the other."""
+    the longer side, at least 24 (and the same spacing) along the other; linear on the Delaunay triangles of the
+    top points (as ``scipy.interpolate.griddata``), NaN outside them."""
+    top, xs, ys, vertices, weights = _grid_interpolation(points, samples)
+    W = np.einsum("gk,gk->g", u[2, top][vertices], weights).reshape(len(ys), len(xs))
+    return xs, ys, W
+
+
+_INTERPOLATIONS: dict = {}
+
+
+def _grid_interpolation(points: np.ndarray, samples: int):
+    """(top points mask, grid xs, ys, (n_grid, 3) triangle vertices and barycentric weights of every grid point,
+    NaN weights outside the triangulation), computed once per point set: every mode of a solve shares its model's
+    sample points, so the point location (the costly part) is done once, not per mode."""
+    from scipy.spatial import Delaunay
+
+    key = (points.shape, hash(points.tobytes()), samples)
+    if key in _INTERPOLATIONS:
+        return _INTERPOLATIONS[key]
     z_top = points[2].max()
     thickness = points[2].max() - points[2].min()
     top = points[2] > z_top - 0.05 * thickness
@@ -163,26 +181,19 @@ def _grid_w(points: np.ndarray, u: np.ndarray, samples: int = 48):
     xs = np.linspace(points[0, top].min(), points[0, top].max(), nx)
     ys = np.linspace(points[1, top].min(), points[1, top].max(), ny)
     X, Y = np.meshgrid(xs, ys)
-    W = _triangulation(points[:2, top].T)(u[2, top])(X, Y)
-    return xs, ys, W
-
-
-_TRIANGULATIONS: dict = {}
-
-
-def _triangulation(xy: np.ndarray):
-    """``values -> LinearNDInterpolator`` over the points ``xy`` (n, 2), the Delaunay triangulation built once per
-    point set: every mode of a solve shares its model's sample points (the same result as griddata, linear)."""
-    from scipy.interpolate import LinearNDInterpolator
-    from scipy.spatial import Delaunay
-
-    key = (xy.shape, hash(xy.tobytes()))
-    if key not in _TRIANGULATIONS:
-        if len(_TRIANGULATIONS) > 8:
-            _TRIANGULATIONS.clear()
-        _TRIANGULATIONS[key] = Delaunay(xy)
-    triangulation = _TRIANGULATIONS[key]
-    return lambda values: LinearNDInterpolator(triangulation, values)
+    grid = np.column_stack([X.ravel(), Y.ravel()])
+    triangulation = Delaunay(points[:2, top].T)
+    simplex = triangulation.find_simplex(grid)
+    inside = simplex >= 0
+    transform = triangulation.transform[simplex]  # (n_grid, 3, 2): barycentric map of each grid point's triangle
+    b = np.einsum("gij,gj->gi", transform[:, :2], grid - transform[:, 2])
+    weights = np.column_stack([b, 1.0 - b.sum(axis=1)])
+    weights[~inside] = np.nan
+    vertices = np.where(inside[:, None], triangulation.simplices[simplex], 0)
+    if len(_INTERPOLATIONS) > 8:
+        _INTERPOLATIONS.clear()
+    _INTERPOLATIONS[key] = (top, xs, ys, vertices, weights)
+    return _INTERPOLATIONS[key]
 
 
 def _sign_changes(values: np.ndarray, threshold: float) -> list[int]:

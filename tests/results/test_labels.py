@@ -143,3 +143,22 @@ def test_the_tile_working_mode_keeps_its_label_under_refinement():
         names = [name for name, _ in unique_labels(modes.model, shapes, modes.frequencies)]
         assert len(set(names)) == len(names)
         assert modes.frequencies[names.index("(1,1)")] == pytest.approx(1115.0, rel=0.01)
+
+
+def test_grid_sampling_equals_linear_griddata():
+    """The labeller's w grid (point location cached per point set) equals scipy's linear griddata on the same
+    top points, NaN outside their hull alike; the values agree to round-off of a 3-term barycentric sum."""
+    from scipy.interpolate import griddata
+
+    from modalfe.results.labels import _grid_w
+
+    rng = np.random.default_rng(4)
+    points = np.vstack([rng.uniform(0, 0.06, 400), rng.uniform(0, 0.02, 400), np.r_[np.zeros(200), np.ones(200)]])
+    for _ in range(2):  # the second field reuses the cached point location
+        u = rng.standard_normal((3, 400))
+        xs, ys, W = _grid_w(points, u)
+        X, Y = np.meshgrid(xs, ys)
+        top = points[2] > 0.5
+        reference = griddata(points[:2, top].T, u[2, top], (X, Y), method="linear")
+        assert np.array_equal(np.isnan(W), np.isnan(reference)) and np.isnan(W).any()
+        assert np.nanmax(np.abs(W - reference)) < 1e-12 * np.abs(u).max()

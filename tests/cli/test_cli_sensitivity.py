@@ -10,22 +10,10 @@ STRIP = """
 name = "strip"
 units = "mm"
 kind = "plate"
-[analysis]
-near = 3000.0
-count = 4
-[mesh]
-max_size = 2e-3
-elements_per_wavelength = 1
-min_layers = 1
-[materials.steel]
-E = 200e9
-nu = 0.3
-rho = 7850.0
-[[parts]]
-name = "strip"
-material = "steel"
-origin = [0, 0, 0]
-size = [60, 10, 1]
+materials = { steel = { E = 200e9, nu = 0.3, rho = 7850.0 } }
+analysis = { near = 3000.0, count = 4 }
+mesh = { max_size = 2e-3, elements_per_wavelength = 1, min_layers = 1 }
+parts = [{ name = "strip", material = "steel", origin = [0, 0, 0], size = [60, 10, 1] }]
 """
 
 

@@ -24,7 +24,7 @@ def register(sub) -> None:
 
 
 def _sensitivity(args) -> int:
-    from modalfe.response.sensitivity import frequency_sensitivities
+    from modalfe.response.sensitivity import check_parameters, frequency_sensitivities
     from modalfe.scene import load_scene
     from modalfe.solve.api import solve_modes
 
@@ -32,6 +32,7 @@ def _sensitivity(args) -> int:
     if not names or len(set(names)) != len(names):
         raise SceneError(f"--vary: give distinct parameter names separated by commas, got '{args.vary}'")
     scene = load_scene(args.scene, **parse_overrides(args.set))
+    check_parameters(scene, names)  # before any solve
     options = {"near": args.near, "count": args.count, "fidelity": "solid", "error_estimate": False}
     modes = solve_modes(scene, **options)
     open_modes = solve_modes(scene, circuit="open", **options) if args.k_eff else None

@@ -143,6 +143,13 @@ def frequency_sensitivities(modes: Modes, parameters: Sequence[str], *, open_mod
                          tuple(mode.label for mode in modes), fr, dfr, coupling, dk)
 
 
+def check_parameters(scene, parameters: Sequence[str]) -> None:
+    """SceneError naming the first of ``parameters`` that ``frequency_sensitivities`` cannot take for ``scene``
+    (before any solve)."""
+    for name in parameters:
+        _parameter(scene, name)
+
+
 def frequency_derivatives(modes: Modes, dK, dM) -> np.ndarray:
     """df/dp [Hz per unit] of each of ``modes`` from the derivatives ``dK``, ``dM`` of its model's full matrices:
     d lambda = x^T (dK - lambda dM) x (Fox & Kapoor 1968) for M-normalised shapes x; for a cluster of one

@@ -697,7 +697,9 @@ INTERRUPTS_AND_CACHES = [
     Case("interrupt-during-load", "interrupts", "ok", call=_patched("modalfe.scene.load_scene", ["modes", "{file}"]),
          check=bool),
     Case("sigint-subprocess-modes", "interrupts", "interrupt",
-         shell=_sigint(["modes", "cube_plate", "--fidelity", "solid"], 3.0), timeout=60),
+         # a finer mesh than the default (~10 s), so that the solve cannot finish before the signal at 3 s
+         shell=_sigint(["modes", "cube_plate", "--fidelity", "solid", "--set", "mesh.elements_per_wavelength=16"], 3.0),
+         timeout=60),
     Case("sigint-subprocess-report", "interrupts", "interrupt", shell=_sigint(["report", "--jobs", "2"], 6.0),
          timeout=90, slow=True),
     Case("cache-is-a-file", "caches", "ok", argv=("modes", "{file}", *SOLVE), files={"scene.toml": TINY},

@@ -20,7 +20,7 @@ f = sqrt(lambda) / (2 pi), df/dp = (d lambda/dp) / (8 pi^2 f).
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -148,6 +148,13 @@ def check_parameters(scene, parameters: Sequence[str]) -> None:
     (before any solve)."""
     for name in parameters:
         _parameter(scene, name)
+
+
+def with_values(scene, values: Mapping[str, float]):
+    """``scene`` with each parameter of ``values`` (names as for ``frequency_sensitivities``) set [its unit]."""
+    for name, value in values.items():
+        scene = _parameter(scene, name).at(value)
+    return scene
 
 
 def frequency_derivatives(modes: Modes, dK, dM) -> np.ndarray:

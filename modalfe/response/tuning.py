@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from modalfe.errors import SceneError, SolverError
-from modalfe.response.sensitivity import check_parameters, frequency_sensitivities
+from modalfe.response.sensitivity import check_parameters, frequency_sensitivities, with_values
 from modalfe.results.modes import select
 from modalfe.solve.api import solve_modes
 
@@ -107,21 +107,7 @@ def tune_frequency(scene, label: str, target: float, parameters: Sequence[str], 
         if all(math.isclose(proposed[n], values[n], rel_tol=1e-12) for n in names):
             return TuningResult(label, target, tol, tuple(iterates), False,
                                 "the parameters sit on their bounds", scene)
-        scene = scene.with_overrides(**_overrides(scene, proposed))
+        scene = with_values(scene, proposed)
         near = mode.frequency * math.exp(float(slope @ step))  # where the mode should be now
     return TuningResult(label, target, tol, tuple(iterates), False, f"not within tol after {max_iterations} solves",
                         scene)
-
-
-def _overrides(scene, values: Mapping[str, float]) -> dict:
-    """``with_overrides`` keywords for ``values``; box scenes' ``parts.NAME.origin|size.x|y|z`` rewrite the parts."""
-    plain = {name: value for name, value in values.items() if not name.startswith("parts.")}
-    boxed = {name: value for name, value in values.items() if name.startswith("parts.")}
-    if not boxed:
-        return plain
-    parts = [dict(spec) for spec in scene.params["parts"]]
-    for name, value in boxed.items():
-        part, key, component = name.split(".")[1:4]
-        spec = next(spec for spec in parts if spec["name"] == part)
-        spec[key] = [value if axis == "xyz".index(component) else c for axis, c in enumerate(spec[key])]
-    return {**plain, "parts": parts}

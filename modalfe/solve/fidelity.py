@@ -100,10 +100,10 @@ def checks_order_step(scene) -> bool:
 
 def solid_levels(scene, analysis, size_factor: float, solver: str, frame=None) -> list[Modes]:
     """The solid's two estimate levels, each asked a little wider: orders p-1 and p-2 on the same grid
-    (``uses_orders``), else elements x1.5 and x2.25 of the default; then, where ``checks_order_step``, order 2
-    on the same grid. The first two estimate the solid's own error and are the reduced models' 3-D cross-check."""
+    (``uses_orders``), else elements x1.5 and x2.25 of the default. They estimate the solid's own error and are
+    the reduced models' 3-D cross-check."""
     levels, a = [], analysis
-    for level in range(2 + checks_order_step(scene)):
+    for level in range(2):
         a = coarser(a)
         sc, grid = level_options(scene, level, size_factor)
         try:
@@ -115,10 +115,17 @@ def solid_levels(scene, analysis, size_factor: float, solver: str, frame=None) -
     return levels
 
 
+def order_step_level(scene, analysis, size_factor: float, solver: str, frame=None) -> Modes | None:
+    """Order 2 on the solid's own grid, asked a little wider, where ``checks_order_step`` (else None): solved only
+    when the solid answers, since the reduced models' cross-check does not use it."""
+    if not checks_order_step(scene):
+        return None
+    lower = replace(scene, mesh=replace(scene.mesh, order=LOWEST_P_LEVEL))
+    return solve_level(lower, coarser(analysis), solver=solver, frame=frame, size_factor=size_factor)
+
+
 def level_options(scene, level: int, size_factor: float) -> tuple[object, dict]:
-    """(scene, mesh options) of estimate level 0, 1 or (``checks_order_step``) 2 (``solid_levels``)."""
-    if level == 2:
-        return replace(scene, mesh=replace(scene.mesh, order=LOWEST_P_LEVEL)), {"size_factor": size_factor}
+    """(scene, mesh options) of estimate level 0 or 1 (``solid_levels``)."""
     if uses_orders(scene):
         lower = replace(scene, mesh=replace(scene.mesh, order=scene.mesh.order - 1 - level))
         return lower, {"size_factor": size_factor}
@@ -139,9 +146,10 @@ def states_error(scene) -> bool:
     return not (scene.mesh.serendipity and scene.mesh.order == 3)
 
 
-def solid_estimates(fine: Modes, levels: list[Modes], scene) -> Modes:
-    """``fine`` (the solid) with its error estimates from ``solid_levels`` and ``estimate_method`` saying how
-    (infinite where ``states_error`` is false)."""
+def solid_estimates(fine: Modes, levels: list[Modes], scene, step_level: Modes | None = None) -> Modes:
+    """``fine`` (the solid) with its error estimates from ``solid_levels`` (and, where ``checks_order_step``, at
+    least the step to ``step_level``, ``order_step_level``) and ``estimate_method`` saying how (infinite where
+    ``states_error`` is false)."""
     if not states_error(scene):
         return replace(fine.with_error_estimates({m.index: math.inf for m in fine}), estimate_method=UNVERIFIED)
     if uses_orders(scene):
@@ -150,12 +158,12 @@ def solid_estimates(fine: Modes, levels: list[Modes], scene) -> Modes:
         seen = f"; observed {min(rates):.1f}-{max(rates):.1f}" if rates else ""
         method = f"p-refinement: orders {orders} on one grid (error ~ p^-q, q = {MIN_P_RATE:g} or slower{seen})"
     else:
-        coarse, coarsest = levels[:2]
+        coarse, coarsest = levels
         estimates = richardson(fine, coarse, axis_ratio(fine.model.mesh, coarse.model.mesh, scene), coarsest,
                                axis_ratio(fine.model.mesh, coarsest.model.mesh, scene))
         method = "h-refinement: Richardson through three grids (elements x1, x1.5, x2.25)"
         if checks_order_step(scene):
-            step, _ = p_extrapolation(fine, levels[2])
+            step, _ = p_extrapolation(fine, step_level)
             estimates = {i: max(e, step.get(i, e)) for i, e in estimates.items()}
             method += ", at least the order 2-3 step on the grid at the rate p^-2"
     return replace(fine.with_error_estimates(estimates), estimate_method=method)
@@ -176,8 +184,10 @@ def solve_estimated(scene, analysis, fidelity: str, *, size_factor: float = 1.0,
         if not error_estimate:
             return fine
         start = time.perf_counter()
-        levels = solid_levels(scene, analysis, size_factor, solver, frame) if states_error(scene) else []
-        result = solid_estimates(fine, levels, scene)
+        if not states_error(scene):
+            return solid_estimates(fine, [], scene)
+        result = solid_estimates(fine, solid_levels(scene, analysis, size_factor, solver, frame), scene,
+                                 order_step_level(scene, analysis, size_factor, solver, frame))
         return replace(result, timings=dict(fine.timings, error_estimate=time.perf_counter() - start))
 
     def solve(a, **level):
@@ -226,7 +236,11 @@ def solve_auto(scene, analysis, *, tol: float, check=None, size_factor: float = 
         reasons.append(f"{fidelity} model: {why} > tol {tol:.2%}")
     fine = solve_level(scene, analysis, size_factor=size_factor, solver=solver)
     start = time.perf_counter()
-    solid = solid_estimates(fine, solid_check(), scene)
+    if states_error(scene):  # the levels are reused if the cross-check solved them
+        solid = solid_estimates(fine, solid_check(), scene,
+                                order_step_level(scene, analysis, size_factor, solver))
+    else:
+        solid = solid_estimates(fine, [], scene)
     solid = replace(solid, timings=dict(fine.timings, error_estimate=time.perf_counter() - start))
     worst, why = _worst(solid, check)
     note = "auto: solid answered" + (f" ({'; '.join(reasons)})" if reasons else " (no reduced model for a "
@@ -239,7 +253,7 @@ def solve_auto(scene, analysis, *, tol: float, check=None, size_factor: float = 
 def with_model_errors(reduced: Modes, levels: list[Modes], scene) -> Modes:
     """``reduced`` with each mode's model error against the solid extrapolated from its two estimate levels
     (``solid_levels``), and its error estimate raised by it (inf where the solid has no partner mode)."""
-    solid_1, solid_2 = levels[:2]
+    solid_1, solid_2 = levels
     extrapolate = _order_extrapolation(scene) if uses_orders(scene) else _grid_extrapolation(solid_1, solid_2, scene)
     top = max(m.frequency for m in reduced)
     # paired by shape at the reduced model's own sample points (inside the solid too)

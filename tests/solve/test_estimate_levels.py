@@ -22,3 +22,24 @@ def test_an_estimate_level_without_unknowns_names_itself():
     with pytest.raises(SolverError, match=r"^error estimate: its level with elements x1\.5 cannot be solved") as info:
         solve_modes(scene, fidelity="solid")
     assert "\n" not in str(info.value)
+
+
+def test_the_order_step_level_is_solved_only_for_the_solids_own_estimate(monkeypatch):
+    """At order 3 (Lagrange) the solid's stated error is at least the order 2-3 step on its grid; a reduced model
+    asked directly uses only the two cross-check levels, so that extra solve must not happen for it."""
+    from modalfe.solve import fidelity
+    from tests.oracles.cases import free_plate_scene
+
+    calls = []
+    real = fidelity.order_step_level
+
+    def counted(*args, **kwargs):
+        calls.append(args[0].mesh.order)
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(fidelity, "order_step_level", counted)
+    scene = free_plate_scene().with_overrides(**{"mesh.order": 3, "mesh.min_layers": 1})
+    plate = solve_modes(scene, fidelity="plate", count=4)
+    assert plate.cross_check and not calls
+    solid = solve_modes(scene, fidelity="solid", count=4)
+    assert calls == [3] and "at least the order 2-3 step" in solid.estimate_method

@@ -57,13 +57,14 @@ def open_circuit_solve(A_open, n_short: int, factor: tuple) -> tuple:
     """(solve, shift) with A_open - shift B_open from the short-circuit factorization ``factor`` of the same model:
     the open circuit's unknowns are the short circuit's plus one potential per floating electrode (the last
     columns of ``PiezoUnknowns.constraints``), which carry no mass, so the shifted matrix is the short one
-    bordered by [b; c] and solves by its Schur complement c - b^T S^-1 b (one solve per floating electrode)."""
+    bordered by [b; c] and solves by its Schur complement c - b^T S^-1 b (one block solve, a column per floating
+    electrode)."""
     short_solve, shift = factor
     if A_open.shape[0] == n_short:  # no floating electrode in this model: the same matrix
         return factor
     b = A_open[:n_short, n_short:].toarray()
     c = A_open[n_short:, n_short:].toarray()
-    W = np.column_stack([short_solve(b[:, j]) for j in range(b.shape[1])])
+    W = short_solve(b).reshape(b.shape)
     schur = c - b.T @ W
 
     def solve(r):

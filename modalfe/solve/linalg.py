@@ -132,9 +132,14 @@ class _PardisoFactor:
         self._ps, self._upper = ps, upper
 
     def __call__(self, b):
+        """x = A^-1 b for b of shape (n,) or (n, m) (m right-hand sides in one call: 3-4x cheaper per column).
+        PARDISO reads b as contiguous column-major memory: a strided view (a column of a C-ordered array) is copied
+        first, never passed as is (it was read as the wrong numbers)."""
+        b = np.asarray(b, dtype=float)
         # phase 33 (solve only) directly: pypardiso's solve() re-hashes the whole matrix each call
         self._ps.set_phase(33)
-        return self._ps._call_pardiso(self._upper, np.asarray(b, dtype=float).reshape(-1, 1)).ravel()
+        x = self._ps._call_pardiso(self._upper, np.asfortranarray(b.reshape(len(b), -1)))
+        return x.reshape(b.shape)
 
     def __del__(self):
         with contextlib.suppress(Exception):  # at interpreter shutdown MKL may already be gone

@@ -60,3 +60,49 @@ def test_a_kept_factorization_does_not_keep_its_model_alive():
     assert [kept() for kept, _, _ in levels._SHORT_FACTORS] == [None]  # a dead entry, dropped at the next solve
     solve_modes(load_scene("ciliary_beam"), near=15e3, count=4, fidelity="beam", error_estimate=False)
     assert all(kept() is not None for kept, _, _ in levels._SHORT_FACTORS)
+
+
+def test_two_floating_electrodes_reuse_gives_the_fresh_modes():
+    # two driven electrode groups float as two unknowns: the border has two columns, each solved through the
+    # short-circuit factorization (a strided column of a C-ordered array was read as contiguous memory by
+    # PARDISO: open-circuit frequencies off by up to the coupling itself, silently)
+    from modalfe.scene import scene_from_dict
+
+    scene = scene_from_dict({
+        "name": "two-patch-bar", "units": "mm", "kind": "beam",
+        "parts": [{"name": "left", "region": "piezo", "material": "PZT-5A", "origin": [0, 0, 0],
+                   "size": [15, 2, 1], "poling": 1},
+                  {"name": "right", "region": "piezo", "material": "PZT-5A", "origin": [15, 0, 0],
+                   "size": [15, 2, 1], "poling": -1}],
+        "faces": {"top_left": ["left.zmax"], "top_right": ["right.zmax"], "bottom": ["left.zmin", "right.zmin"]},
+        "electrodes": {"top_left": "drive", "top_right": "drive", "bottom": "ground"},
+        "analysis": {"near": 47e3, "count": 6}, "mesh": {"max_size": 1.0, "elements_per_wavelength": 1.0},
+    })
+    options = {"near": 47e3, "count": 6, "fidelity": "solid", "error_estimate": False}
+    solve_modes(scene, **options)
+    reused = solve_modes(scene, circuit="open", **options)
+    levels._SHORT_FACTORS.clear()
+    fresh = solve_modes(scene, circuit="open", **options)
+    assert reused.timings["solver"] == "reused" and fresh.timings["solver"] != "reused"
+    assert reused.model.constraints("open").floating == ("top_left", "top_right")
+    assert np.allclose(reused.frequencies, fresh.frequencies, rtol=1e-8, atol=0), (reused.frequencies,
+                                                                                   fresh.frequencies)
+
+
+def test_a_factorization_solves_strided_and_block_right_hand_sides():
+    import scipy.sparse as sp
+
+    from modalfe.solve.linalg import available_solvers, factorize
+
+    rng = np.random.default_rng(3)
+    n = 200
+    R = sp.random(n, n, density=0.05, random_state=4)
+    A = (R + R.T + sp.diags(np.linspace(-3, 5, n))).tocsr()  # symmetric indefinite, regular
+    B = rng.standard_normal((n, 3))
+    for name in available_solvers():
+        solve, _ = factorize(A, solver=name)
+        X = solve(B)
+        assert X.shape == B.shape
+        assert np.linalg.norm(A @ X - B) <= 1e-10 * np.linalg.norm(B), name
+        for j in range(3):  # a column of a C-ordered array is strided
+            assert np.allclose(solve(B[:, j]), X[:, j], rtol=1e-10, atol=1e-12), name

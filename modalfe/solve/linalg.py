@@ -132,7 +132,7 @@ class _PardisoFactor:
         self._ps, self._upper = ps, upper
 
     def __call__(self, b):
-        """x = A^-1 b for b of shape (n,) or (n, m) (m right-hand sides in one call: 3-4x cheaper per column).
+        """x = A^-1 b for b of shape (n,) or (n, m) (m right-hand sides in one call).
         PARDISO reads b as contiguous column-major memory: a strided view (a column of a C-ordered array) is copied
         first, never passed as is (it was read as the wrong numbers)."""
         b = np.asarray(b, dtype=float)

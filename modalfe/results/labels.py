@@ -18,6 +18,15 @@ the one with the clearest pattern (fewest closed nodal curves, then lowest frequ
 plain label and the others, by frequency, get ``#2``, ``#3``... (``(1,1)#2``). The suffix only
 tells modes of one solve apart: ``Modes.labelled`` and ``select`` with a frequency pick the nearest
 mode of the pattern whatever its suffix.
+
+Discs and rings (a device whose main part has an ``axis``) are labelled in polar coordinates about that axis
+instead (``disc_label``): flexural modes ``(d,c)`` with ``d`` nodal diameters and ``c`` nodal circles, the
+boundary not counted (Leissa, "Vibration of Plates", NASA SP-160, 1969, ch. 2: the free disc's fundamental is
+``(2,0)``, the clamped disc's ``(0,0)``); in-plane modes ``R1``, ``R2``... (radial, axisymmetric; the order is the
+radial sign changes of u_r plus one), ``T1``... (circumferential, axisymmetric), ``n=2``, ``n=3``... (n waves
+round the circumference: a ring's in-plane flexural modes; ``n=2 k=2`` for the second radial order), and
+``thickness`` (u along the axis odd through the thickness). A field whose energy is not mostly one harmonic of
+the angle is ``?``.
 """
 
 from __future__ import annotations
@@ -45,9 +54,10 @@ def base_label(name: str) -> str:
 def label(model, x: np.ndarray) -> tuple[str, float]:
     """(label, wavelength along x [m] or NaN) of the full DOF vector ``x`` of any assembled model (solid, plate
     or beam), read from its ``label_field`` (the whole device's main surfaces or vertices): a rigid-body name
-    for an unsupported body moving rigidly, else the beam or plate label of the scene's kind."""
+    for an unsupported body moving rigidly, else the disc label of a device whose main part has an axis, or the
+    beam or plate label of the scene's kind."""
     points, u = model.label_field(x)
-    name, wavelength, _ = _describe(model.scene, points, u)
+    name, wavelength, _ = _describe(model.scene, points, u, axial=axial_frame(model.scene))
     return name, wavelength
 
 
@@ -58,6 +68,7 @@ def unique_labels(model, shapes: np.ndarray, frequencies) -> list[tuple[str, flo
     f = np.asarray(frequencies, dtype=float)
     n = len(f)
     fields = [model.label_field(shapes[:, i]) for i in range(n)]
+    axial = axial_frame(model.scene)
     described: list[tuple[str, float, float]] = [None] * n  # type: ignore[list-item]
     i = 0
     while i < n:
@@ -65,10 +76,10 @@ def unique_labels(model, shapes: np.ndarray, frequencies) -> list[tuple[str, flo
         while j < n and abs(f[j] - f[j - 1]) <= DEGENERATE * max(abs(f[j]), 1e-300):
             j += 1
         if j - i == 2 and f[i] > 0:
-            described[i], described[i + 1] = _pair(model.scene, fields[i], fields[i + 1])
+            described[i], described[i + 1] = _pair(model.scene, fields[i], fields[i + 1], axial)
         else:
             for k in range(i, j):
-                described[k] = _describe(model.scene, *fields[k])
+                described[k] = _describe(model.scene, *fields[k], axial=axial)
         i = j
     groups: dict[str, list[int]] = {}
     for k, (name, _, _) in enumerate(described):
@@ -84,26 +95,30 @@ def unique_labels(model, shapes: np.ndarray, frequencies) -> list[tuple[str, flo
     return out
 
 
-def _describe(scene, points: np.ndarray, u: np.ndarray, grid=None) -> tuple[str, float, float]:
-    """(label, wavelength, clarity in [0, 1]) of one displacement field of the main parts."""
+def _describe(scene, points: np.ndarray, u: np.ndarray, grid=None, axial=None) -> tuple[str, float, float]:
+    """(label, wavelength, clarity in [0, 1]) of one displacement field of the main parts; ``axial`` the
+    (axis, centre) of a disc or ring device (``axial_frame``), else None."""
     if not scene.clamps:  # only a free or spring-supported body has rigid-body modes
         name, fraction, purity = _rigid(points, u)
         if fraction > _RIGID:
             return name, float("nan"), purity
+    if axial is not None:
+        name, clarity = _disc(points, u, *axial)
+        return name, float("nan"), clarity
     if scene.kind == "beam":
         name, purity = _beam(points, u)
         return name, float("nan"), purity
     return _plate(points, u, grid)
 
 
-def _pair(scene, first, second) -> tuple[tuple[str, float, float], tuple[str, float, float]]:
+def _pair(scene, first, second, axial=None) -> tuple[tuple[str, float, float], tuple[str, float, float]]:
     """Labels of a degenerate pair: the basis of the pair's span (rotations over a quarter turn) whose two
     shapes have the clearest patterns; the two labels are returned in sorted order (their frequencies are
     equal to the pair's precision, so which eigenvector carries which is arbitrary)."""
     (p, u1), (_, u2) = first, second
     n1, n2 = np.sqrt(np.sum(u1**2)), np.sqrt(np.sum(u2**2))
     u1, u2 = u1 / max(n1, 1e-300), u2 / max(n2, 1e-300)
-    plate = scene.kind != "beam"
+    plate = scene.kind != "beam" and axial is None
     g1 = _grid_w(p, u1) if plate else None
     g2 = _grid_w(p, u2) if plate else None
     best, best_score = None, -1.0
@@ -112,8 +127,8 @@ def _pair(scene, first, second) -> tuple[tuple[str, float, float], tuple[str, fl
         grids = (None, None)
         if plate:
             grids = ((g1[0], g1[1], c * g1[2] + s * g2[2]), (g1[0], g1[1], -s * g1[2] + c * g2[2]))
-        a = _describe(scene, p, c * u1 + s * u2, grids[0])
-        b = _describe(scene, p, -s * u1 + c * u2, grids[1])
+        a = _describe(scene, p, c * u1 + s * u2, grids[0], axial)
+        b = _describe(scene, p, -s * u1 + c * u2, grids[1], axial)
         score = a[2] + b[2] + 0.5 * (a[0] != b[0])  # prefer two clear and different patterns
         if score > best_score + 1e-9:
             best, best_score = (a, b), score
@@ -129,25 +144,40 @@ def rigid_motion(points: np.ndarray, u: np.ndarray) -> tuple[str, float]:
 
 def _rigid(points: np.ndarray, u: np.ndarray) -> tuple[str, float, float]:
     """(name, fitted energy fraction, purity: the largest component's share of the fitted motion)."""
-    r = points - points.mean(axis=1, keepdims=True)
-    n = r.shape[1]
-    G = np.zeros((3 * n, 6))
-    for k in range(3):
-        G[k::3, k] = 1.0
-    # theta x r = (ty rz - tz ry, tz rx - tx rz, tx ry - ty rx)
-    G[0::3, 4], G[0::3, 5] = r[2], -r[1]
-    G[1::3, 3], G[1::3, 5] = -r[2], r[0]
-    G[2::3, 3], G[2::3, 4] = r[1], -r[0]
+    G, pseudo_inverse, radius = _rigid_basis(points)
     b = u.T.ravel()
-    coef, *_ = np.linalg.lstsq(G, b, rcond=None)
+    coef = pseudo_inverse @ b  # least squares, as np.linalg.lstsq with its default cutoff
     fitted = G @ coef
     total = float(b @ b)
     if total == 0:
         return "zero", 0.0, 0.0
-    radius = np.sqrt((r**2).sum(axis=0).mean())
     weights = np.abs(coef) * np.array([1, 1, 1, radius, radius, radius])
     purity = float(weights.max() ** 2 / max(np.sum(weights**2), 1e-300))
     return RIGID_NAMES[int(np.argmax(weights))], float(fitted @ fitted / total), purity
+
+
+_RIGID_BASES: dict = {}
+
+
+def _rigid_basis(points: np.ndarray):
+    """(G (3n, 6): the six rigid motions at ``points``, its pseudo-inverse, rms radius about the centroid), once per
+    point set: every mode of a solve (and every rotation of a degenerate pair) shares its model's sample points."""
+    key = (points.shape, hash(points.tobytes()))
+    if key not in _RIGID_BASES:
+        r = points - points.mean(axis=1, keepdims=True)
+        n = r.shape[1]
+        G = np.zeros((3 * n, 6))
+        for k in range(3):
+            G[k::3, k] = 1.0
+        # theta x r = (ty rz - tz ry, tz rx - tx rz, tx ry - ty rx)
+        G[0::3, 4], G[0::3, 5] = r[2], -r[1]
+        G[1::3, 3], G[1::3, 5] = -r[2], r[0]
+        G[2::3, 3], G[2::3, 4] = r[1], -r[0]
+        radius = float(np.sqrt((r**2).sum(axis=0).mean()))
+        if len(_RIGID_BASES) > 8:
+            _RIGID_BASES.clear()
+        _RIGID_BASES[key] = (G, np.linalg.pinv(G, rcond=np.finfo(float).eps * max(G.shape)), radius)
+    return _RIGID_BASES[key]
 
 
 def _grid_w(points: np.ndarray, u: np.ndarray, samples: int = 48):
@@ -317,3 +347,168 @@ def _beam(points: np.ndarray, u: np.ndarray, stations: int = 60) -> tuple[str, f
     curve = curves[kind]
     order = len(_sign_changes(curve, _SMALL * np.abs(curve).max())) + 1
     return f"{kind} {order}", energy[kind] / max(sum(energy.values()), 1e-300)
+
+
+# -- discs and rings ----------------------------------------------------------------------------------------
+
+_PURE = 0.7  # a disc mode holds >= 70 % of its energy in one harmonic of the angle; below that the label is "?"
+_HARMONICS = 16  # highest harmonic of the angle resolved (nodal diameters, in-plane waves)
+_POLAR: dict = {}
+
+
+def axial_frame(scene) -> tuple[np.ndarray, np.ndarray] | None:
+    """(unit axis (3,), a point on the axis (3,)) [m] of the device's main part when it has an axis (a disc,
+    ring or cylinder: any part with ``axis``, one of "x", "y", "z" or a 3-vector, and ``centre``), else None
+    (boxes keep the plate and beam labels). The whole device's part (``full_assembly``) where the scene has one:
+    the label field is unfolded to the whole device."""
+    assembly = getattr(scene, "full_assembly", None) or getattr(scene, "assembly", None)
+    if assembly is None:
+        return None
+    part = assembly().main_part
+    axis, centre = getattr(part, "axis", None), getattr(part, "centre", None)
+    if axis is None or centre is None:
+        return None
+    if isinstance(axis, str):
+        axis = np.eye(3)["xyz".index(axis.lstrip("+-"))]
+    axis = np.asarray(axis, dtype=float)
+    return axis / np.linalg.norm(axis), np.asarray(centre, dtype=float)
+
+
+def disc_label(points: np.ndarray, u: np.ndarray, *, axis, centre) -> str:
+    """Label of a disc or ring mode from the displacement ``u`` (3, n) [m] at ``points`` (3, n) [m] (a mid-surface
+    or the whole volume) of a part whose axis runs along ``axis`` (3,) through ``centre`` (3,) [m]: ``(d,c)``
+    nodal diameters and circles of a flexural mode, ``R1``, ``T1``, ``n=2`` or ``thickness`` for the others, ``?``
+    for a field that is no single harmonic of the angle (module docstring)."""
+    axis = np.asarray(axis, dtype=float)
+    return _disc(points, u, axis / np.linalg.norm(axis), np.asarray(centre, dtype=float))[0]
+
+
+def _disc(points: np.ndarray, u: np.ndarray, axis: np.ndarray, centre: np.ndarray) -> tuple[str, float]:
+    """(label, clarity: the dominant harmonic's share of the energy) of a disc or ring mode.
+
+    The field is split about the mid-plane normal to the axis (each point paired with the sample nearest its
+    mirror image): the flexural part (u_z even, in-plane odd through the thickness) and the membrane part. The
+    larger one is expanded in harmonics cos(k theta), sin(k theta) on rings of r; the strongest harmonic gives the
+    diameters (waves), and the sign changes along r of its radial profile the circles (radial order)."""
+    polar = _polar(points, axis, centre)
+    local = polar.frame @ u
+    image = local[:, polar.mirror] * np.array([[1.0], [1.0], [-1.0]])
+    membrane, flexural = (local + image) / 2, (local - image) / 2
+    if np.sum(flexural**2) >= np.sum(membrane**2):
+        spectrum = _Spectrum(polar, flexural[2])
+        n, purity = spectrum.dominant()
+        if purity < _PURE:
+            return "?", purity
+        return f"({n},{spectrum.sign_changes(n)})", purity
+    c, s = np.cos(polar.theta), np.sin(polar.theta)
+    if np.sum(membrane[2] ** 2) > np.sum(membrane[:2] ** 2):
+        n, purity = _Spectrum(polar, polar.side * membrane[2]).dominant()  # odd in z: read one side's sign
+        return ("thickness", purity) if n == 0 and purity >= _PURE else ("?", purity)
+    radial = _Spectrum(polar, c * membrane[0] + s * membrane[1])
+    circumferential = _Spectrum(polar, -s * membrane[0] + c * membrane[1])
+    in_plane = radial.total + circumferential.total
+    energy = radial.energy + circumferential.energy
+    n = int(np.argmax(energy))
+    purity = float(energy[n] / max(in_plane, 1e-300))
+    if purity < _PURE:
+        return "?", purity
+    major = radial if radial.energy[n] >= circumferential.energy[n] else circumferential
+    order = major.sign_changes(n) + 1
+    if n == 0:
+        return f"{'R' if major is radial else 'T'}{order}", purity
+    return (f"n={n}" if order == 1 else f"n={n} k={order}"), purity
+
+
+class _Polar:
+    """Polar sampling of one point set about an axis: local frame (rows e1, e2, axis), angle, side of the
+    mid-plane and mirror partner about it of each point, and per ring of r the points, the least-squares map
+    from their values to the harmonic coefficients [a0, a1, b1, ...] and k (``_harmonic_fit``)."""
+
+    def __init__(self, points: np.ndarray, axis: np.ndarray, centre: np.ndarray) -> None:
+        from scipy.spatial import cKDTree
+
+        helper = np.eye(3)[int(np.argmin(np.abs(axis)))]
+        e1 = np.cross(axis, helper)
+        e1 /= np.linalg.norm(e1)
+        self.frame = np.array([e1, np.cross(axis, e1), axis])
+        local = self.frame @ (points - centre[:, None])
+        r = np.hypot(local[0], local[1])
+        self.theta = np.arctan2(local[1], local[0])
+        mid = 0.5 * (local[2].max() + local[2].min())
+        self.side = np.sign(local[2] - mid)  # +1 above the mid-plane, -1 below, 0 on it
+        mirrored = local.copy()
+        mirrored[2] = 2 * mid - local[2]
+        self.mirror = cKDTree(local.T).query(mirrored.T)[1]
+        count = int(np.clip(round(np.sqrt(points.shape[1]) / 3), 6, 24))
+        edges = np.linspace(r.min(), r.max(), count + 1)
+        which = np.clip(np.digitize(r, edges) - 1, 0, count - 1)
+        self.rings, self.area = [], []
+        for j in range(count):
+            members = np.flatnonzero(which == j)
+            if len(members) == 0:
+                continue
+            fit, k = _harmonic_fit(self.theta[members])
+            self.rings.append((members, fit, k))
+            self.area.append(0.5 * (edges[j] + edges[j + 1]) * (edges[j + 1] - edges[j]))  # r dr of the ring
+        self.area = np.array(self.area)
+
+
+def _harmonic_fit(theta: np.ndarray) -> tuple[np.ndarray, int]:
+    """(least-squares map from values at the angles ``theta`` to [a0, a1, b1, ..., ak, bk], k): k as high as
+    ``_HARMONICS`` allows while the samples determine the harmonics well (at least 3 distinct angles per
+    coefficient and a basis condition number below 100, so noise is not amplified into high harmonics)."""
+    distinct = len(np.unique(np.round(theta, 9)))
+    k = min(_HARMONICS, (distinct - 1) // 6)
+    angles = np.outer(theta, np.arange(1, k + 1))
+    basis = np.ones((len(theta), 2 * k + 1))
+    basis[:, 1::2], basis[:, 2::2] = np.cos(angles), np.sin(angles)
+    gram = basis.T @ basis
+    while k > 0:
+        eigenvalues = np.linalg.eigvalsh(gram[: 2 * k + 1, : 2 * k + 1])  # cond(basis)^2 = cond(gram)
+        if eigenvalues[-1] < 100**2 * eigenvalues[0]:
+            break
+        k -= 1
+    used = basis[:, : 2 * k + 1]
+    return np.linalg.solve(gram[: 2 * k + 1, : 2 * k + 1], used.T), k
+
+
+def _polar(points: np.ndarray, axis: np.ndarray, centre: np.ndarray) -> _Polar:
+    """``_Polar`` of a point set, computed once: every mode of a solve (and every rotation of a degenerate
+    pair) shares its model's sample points."""
+    key = (points.shape, hash(points.tobytes()), axis.tobytes(), centre.tobytes())
+    if key not in _POLAR:
+        if len(_POLAR) > 8:
+            _POLAR.clear()
+        _POLAR[key] = _Polar(points, axis, centre)
+    return _POLAR[key]
+
+
+class _Spectrum:
+    """Harmonic coefficients a_k(r), b_k(r) of one scalar field on the rings of a ``_Polar`` (rows: rings),
+    the energy of each harmonic (sum over rings of r dr times the mean square over the angle) and the total."""
+
+    def __init__(self, polar: _Polar, values: np.ndarray) -> None:
+        rings = len(polar.rings)
+        self.a, self.b = np.zeros((rings, _HARMONICS + 1)), np.zeros((rings, _HARMONICS + 1))
+        total = 0.0
+        for j, (members, fit, k) in enumerate(polar.rings):
+            c = fit @ values[members]
+            self.a[j, : k + 1], self.b[j, 1 : k + 1] = c[np.r_[0, 1 : 2 * k : 2]], c[2::2]
+            total += polar.area[j] * float(np.mean(values[members] ** 2))
+        self.area = polar.area
+        self.energy = self.area @ (self.a**2 + self.b**2) * np.r_[1.0, np.full(_HARMONICS, 0.5)]
+        self.total = total
+
+    def dominant(self) -> tuple[int, float]:
+        """(harmonic with the most energy, its share of the field's energy)."""
+        n = int(np.argmax(self.energy))
+        return n, float(self.energy[n] / max(self.total, 1e-300))
+
+    def sign_changes(self, n: int) -> int:
+        """Sign changes along r of harmonic ``n``'s radial profile, taken along the orientation in the angle that
+        carries most of it (a standing pattern cos(n (theta - theta0)) from any basis)."""
+        a, b = self.a[:, n], self.b[:, n]
+        moments = np.array([[self.area @ (a * a), self.area @ (a * b)], [self.area @ (a * b), self.area @ (b * b)]])
+        direction = np.linalg.eigh(moments)[1][:, -1]
+        profile = a * direction[0] + b * direction[1]
+        return len(_sign_changes(profile, _SMALL * float(np.max(np.abs(profile)))))

@@ -1,0 +1,112 @@
+"""Closed-form references for discs and rings: Kirchhoff bending modes of clamped and free circular plates, the
+radial (planar) modes of a free disc, and the in-plane modes of a thin circular ring.
+
+Sources: A. W. Leissa, "Vibration of Plates", NASA SP-160 (1969), ch. 2 (circular plates: eqs. 2.4-2.16, the
+clamped and free frequency parameters lambda^2 = omega a^2 sqrt(rho h / D) of Tables 2.1 and 2.5); R. Holland and
+E. P. EerNisse, "Variational evaluation of admittances of multielectroded three-dimensional piezoelectric
+structures" / M. Onoe, "Contour vibrations of isotropic circular plates", J. Acoust. Soc. Am. 28 (1956) 1158
+(the free disc's radial modes: x J0(x) = (1 - nu) J1(x), x = k a); R. Hoppe, "Vibrationen eines Ringes in seiner
+Ebene", J. reine angew. Math. 73 (1871) 158, as given by Blevins, "Formulas for Natural Frequency and Mode Shape"
+(1979), Table 9-1 (thin ring: in-plane inextensional modes and the breathing mode).
+
+Disc modes are ``(n, s)``: n nodal diameters, s nodal circles (the boundary not counted), as in Leissa. Radii are
+dimensionless (rho = r / a) in the shape functions; frequencies in Hz.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+
+import numpy as np
+from scipy.special import ive, jv, jvp
+
+from tests.oracles.analytic import _bracketed_roots
+
+_GRID = np.arange(0.5, 40.0, 0.01)  # lambda = k a scanned for sign changes: roots are > 0.5 apart
+
+
+def _iv_scaled(n: int, x: float) -> tuple[float, float]:
+    """(I_n(x), I_n'(x)) times exp(-x): the modified Bessel function without its overflow."""
+    return float(ive(n, x)), float(0.5 * (ive(n - 1, x) + ive(n + 1, x)))
+
+
+def clamped_disc_roots(n: int, count: int) -> np.ndarray:
+    """The first ``count`` roots lambda = k a (s = 0, 1, ... nodal circles) of the clamped circular plate with
+    ``n`` nodal diameters: J_n(l) I_n'(l) - I_n(l) J_n'(l) = 0 (Leissa 1969, eq. 2.8; Table 2.1 gives l^2)."""
+
+    def f(x: float) -> float:
+        i, di = _iv_scaled(n, x)
+        return float(jv(n, x) * di - i * jvp(n, x))
+
+    return np.array(_bracketed_roots(f, _GRID)[:count])
+
+
+def _free_edge(n: int, x: float, nu: float) -> tuple[float, float, float, float]:
+    """(M_J, M_I, V_J, V_I): edge moment and Kirchhoff shear of w = J_n(k r) cos(n theta) and of I_n (scaled by
+    exp(-x)) at r = a, x = k a, up to a common factor (Leissa 1969, eqs. 2.12-2.13)."""
+    j, dj = float(jv(n, x)), float(jvp(n, x))
+    i, di = _iv_scaled(n, x)
+    m_j = -(x * x * j) - (1 - nu) * (x * dj - n * n * j)
+    m_i = x * x * i - (1 - nu) * (x * di - n * n * i)
+    v_j = -(x**3 * dj) - (1 - nu) * n * n * (x * dj - j)
+    v_i = x**3 * di - (1 - nu) * n * n * (x * di - i)
+    return m_j, m_i, v_j, v_i
+
+
+def free_disc_roots(n: int, count: int, nu: float) -> np.ndarray:
+    """The first ``count`` non-zero roots lambda = k a of the free circular plate with ``n`` nodal diameters and
+    Poisson ratio ``nu``: zero edge moment and Kirchhoff shear, M_J V_I - M_I V_J = 0 (Leissa 1969, eq. 2.14;
+    Table 2.5 for nu = 0.33). For n = 0 and 1 the first root has one nodal circle (s = 0 is a rigid motion)."""
+
+    def f(x: float) -> float:
+        m_j, m_i, v_j, v_i = _free_edge(n, x, nu)
+        return m_j * v_i - m_i * v_j
+
+    return np.array(_bracketed_roots(f, _GRID)[:count])
+
+
+def clamped_disc_shape(n: int, lam: float) -> Callable[[np.ndarray], np.ndarray]:
+    """Radial profile W(rho) of the clamped plate's mode: J_n(l rho) - J_n(l) / I_n(l) I_n(l rho)
+    (Leissa 1969, eq. 2.7), rho = r / a in [0, 1]; w = W(rho) cos(n theta)."""
+    ratio = float(jv(n, lam) / ive(n, lam))
+    return lambda rho: jv(n, lam * rho) - ratio * ive(n, lam * rho) * np.exp(lam * rho - lam)
+
+
+def free_disc_shape(n: int, lam: float, nu: float) -> Callable[[np.ndarray], np.ndarray]:
+    """Radial profile W(rho) of the free plate's mode: J_n(l rho) + C I_n(l rho) with C from zero edge moment
+    (Leissa 1969, eq. 2.12), rho = r / a in [0, 1]; w = W(rho) cos(n theta)."""
+    m_j, m_i, _, _ = _free_edge(n, lam, nu)
+    c = -m_j / m_i  # in units of the scaled I_n
+    return lambda rho: jv(n, lam * rho) + c * ive(n, lam * rho) * np.exp(lam * rho - lam)
+
+
+def kirchhoff_disc_frequency(lam: float, *, radius: float, h: float, E: float, nu: float, rho: float) -> float:
+    """f = l^2 / (2 pi a^2) sqrt(D / (rho h)) [Hz], D = E h^3 / (12 (1 - nu^2)) (Leissa 1969, eq. 2.6)."""
+    D = E * h**3 / (12 * (1 - nu**2))
+    return lam**2 / (2 * math.pi * radius**2) * math.sqrt(D / (rho * h))
+
+
+def disc_radial_roots(nu: float, count: int) -> np.ndarray:
+    """The first ``count`` roots x = k a of x J0(x) - (1 - nu) J1(x) = 0: the free thin disc's axisymmetric radial
+    (planar) modes u_r = J1(k r) (Onoe 1956; x = 2.049 for nu = 0.3)."""
+    return np.array(_bracketed_roots(lambda x: float(x * jv(0, x) - (1 - nu) * jv(1, x)), _GRID)[:count])
+
+
+def disc_radial_frequency(x: float, *, radius: float, E: float, nu: float, rho: float) -> float:
+    """f = x / (2 pi a) sqrt(E / (rho (1 - nu^2))) [Hz]: plane-stress radial mode of a thin free disc (Onoe 1956)."""
+    return x / (2 * math.pi * radius) * math.sqrt(E / (rho * (1 - nu**2)))
+
+
+def ring_inplane_frequency(n: int, *, radius: float, E: float, rho: float, area: float, inertia: float) -> float:
+    """f_n = 1 / (2 pi) sqrt(E I / (rho A R^4)) n (n^2 - 1) / sqrt(n^2 + 1) [Hz], n >= 2: in-plane inextensional
+    bending of a thin circular ring of mean radius R (Hoppe 1871; Blevins 1979, Table 9-1); I is the second
+    moment of the cross-section about the axis normal to the ring's plane."""
+    if n < 2:
+        raise ValueError(f"n must be >= 2 (n = 0, 1 are the breathing mode and a rigid motion), got {n}")
+    return n * (n * n - 1) / math.sqrt(n * n + 1) * math.sqrt(E * inertia / (rho * area * radius**4)) / (2 * math.pi)
+
+
+def ring_breathing_frequency(*, radius: float, E: float, rho: float) -> float:
+    """f = sqrt(E / rho) / (2 pi R) [Hz]: the thin ring's uniform radial (breathing) mode (Blevins 1979, Table 9-1)."""
+    return math.sqrt(E / rho) / (2 * math.pi * radius)

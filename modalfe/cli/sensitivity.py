@@ -1,4 +1,5 @@
-"""``modalfe sensitivity``: how each mode's frequency (and k_eff) moves with scene parameters (3-D solid)."""
+"""``modalfe sensitivity``: how each mode's frequency (and k_eff), and the working mode's amplitude per volt at
+resonance, move with scene parameters (3-D solid)."""
 
 from __future__ import annotations
 
@@ -14,17 +15,26 @@ def register(sub) -> None:
     p.add_argument("scene", help="built-in scene name or path to a .toml scene file")
     p.add_argument("--vary", required=True, metavar="P1,P2,...",
                    help="parameters: builder parameters (length, x0), materials.NAME.KEY of a material the scene "
-                        "defines, springs.GROUP[.x|y|z], masses.GROUP, parts.NAME.origin|size.x|y|z (box scenes)")
+                        "defines, materials.NAME.d31|d33|d15|e31|e33|e15 of a piezo material (e.g. "
+                        "materials.PZT-4.d31), springs.GROUP[.x|y|z], masses.GROUP, parts.NAME.origin|size.x|y|z "
+                        "(box scenes)")
     p.add_argument("--near", type=frequency_or_zero, help="target frequency [Hz]")
     p.add_argument("--count", type=positive_int, help="number of modes nearest --near")
     p.add_argument("--k-eff", action="store_true", help="also dk_eff/dp (solves the open circuit too)")
+    p.add_argument("--amplitude", action="store_true",
+                   help="also d ln A / d ln p of the working mode's amplitude per volt at resonance at its outputs")
+    p.add_argument("--mode", help="with --amplitude: working-mode label or family (default: the scene's)")
+    p.add_argument("--damping", help="with --amplitude: zeta=Z, Q=Q or rayleigh=ALPHA,BETA (default: the scene's)")
+    p.add_argument("--outputs", help="with --amplitude: comma-separated face groups or mean:GROUP (default: the "
+                   "scene's)")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene parameter")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=_sensitivity)
 
 
 def _sensitivity(args) -> int:
-    from modalfe.response.sensitivity import check_parameters, frequency_sensitivities
+    from modalfe.response.sensitivity import amplitude_sensitivities, check_parameters, frequency_sensitivities
+    from modalfe.results.modes import select
     from modalfe.scene import load_scene
     from modalfe.solve.api import solve_modes
 
@@ -33,10 +43,22 @@ def _sensitivity(args) -> int:
         raise SceneError(f"--vary: give distinct parameter names separated by commas, got '{args.vary}'")
     scene = load_scene(args.scene, **parse_overrides(args.set))
     check_parameters(scene, names)  # before any solve
-    options = {"near": args.near, "count": args.count, "fidelity": "solid", "error_estimate": False}
+    for flag in ("mode", "damping", "outputs"):
+        if getattr(args, flag) is not None and not args.amplitude:
+            raise SceneError(f"--{flag}: applies to --amplitude only")
+    working = _working(scene, args) if args.amplitude else None
+    options = {"near": args.near if working is None else working[1], "count": args.count, "fidelity": "solid",
+               "error_estimate": False}
     modes = solve_modes(scene, **options)
     open_modes = solve_modes(scene, circuit="open", **options) if args.k_eff else None
-    found = frequency_sensitivities(modes, names, open_modes=open_modes)
+    amplitude = None
+    if working is None:
+        found = frequency_sensitivities(modes, names, open_modes=open_modes)
+    else:
+        selector, near, damping, outputs = working
+        amplitude = amplitude_sensitivities(modes, names, mode=select(modes, selector, near), outputs=outputs,
+                                            damping=damping, open_modes=open_modes)
+        found = amplitude.modal
     rows = [{"index": mode.index, "frequency_hz": mode.frequency, "label": mode.label,
              "k_eff": _number(found.k_eff[i]),
              "parameters": {name: {"df_dp": _number(found.dfrequency[i, j]), "dlnf_dlnp": _number(found.relative[i, j]),
@@ -45,7 +67,8 @@ def _sensitivity(args) -> int:
     if args.json:
         print(json.dumps({"scene": scene.name, "dofs": modes.dofs, "circuit": modes.circuit,
                           "values": dict(zip(names, found.values.tolist())),
-                          "steps": dict(zip(names, found.steps.tolist())), "modes": rows}, indent=2))
+                          "steps": dict(zip(names, found.steps.tolist())), "modes": rows,
+                          **({} if amplitude is None else {"amplitude": _amplitude_json(amplitude)})}, indent=2))
         return 0
     print(f"{scene.name}: {modes.dofs} DOFs, 3-D solid, {modes.circuit} circuit; d ln f / d ln p and (df/dp [Hz per "
           f"unit of p]) from central differences of the assembled matrices")
@@ -63,7 +86,55 @@ def _sensitivity(args) -> int:
             k = "-" if row["k_eff"] is None else f"{row['k_eff']:.4f}"
             cells = "".join(f" {_signed(row['parameters'][name]['dk_eff_dp']):>26}" for name in names)
             print(f"{row['index']:>3} {row['frequency_hz']:>12.2f} {row['label']:<14} {k:>8}{cells}")
+    if amplitude is not None:
+        _print_amplitude(amplitude)
     return 0
+
+
+def _working(scene, args) -> tuple:
+    """(selector, near [Hz], Damping, outputs) of the mode whose amplitude is differentiated, checked before any
+    solve: the options given, else the scene's working mode and drive."""
+    from modalfe.response.forced import Damping
+    from modalfe.response.loads import MEAN_PREFIX, output_points
+
+    wm = scene.working_modes[0] if scene.working_modes else None
+    if wm is None and (args.mode is None or args.near is None):
+        raise SceneError("--amplitude: the scene names no working mode; give --mode and --near")
+    if args.mode is not None and not args.mode.strip():
+        raise SceneError("--mode: give a label such as '(0,6)' or 'bending-z 6'")
+    damping = Damping.parse(args.damping if args.damping is not None else scene.drive.damping)
+    if args.outputs is not None:
+        outputs = tuple(o.strip() for o in args.outputs.split(","))
+        if not all(outputs):
+            raise SceneError(f"--outputs: expected face groups separated by commas, got '{args.outputs}'")
+    else:
+        outputs = tuple(scene.drive.outputs)
+    if not outputs:
+        raise SceneError("--amplitude: no outputs; give --outputs (face groups) or set drive.outputs")
+    output_points(scene, [o[len(MEAN_PREFIX):] if isinstance(o, str) and o.startswith(MEAN_PREFIX) else o
+                          for o in outputs])  # every face group known
+    return (args.mode or wm.selector, args.near if args.near is not None else wm.near, damping, outputs)
+
+
+def _amplitude_json(found) -> dict:
+    return {"mode": found.label, "frequency_hz": found.frequency, "damping": found.damping,
+            "dfrequency_dp": dict(zip(found.modal.parameters, found.dfrequency.tolist())),
+            "outputs": {name: {"amplitude_m_per_v": float(found.amplitude[i]),
+                               "parameters": {p: {"dA_dp": _number(found.damplitude[i, j]),
+                                                  "dlnA_dlnp": _number(found.relative[i, j])}
+                                              for j, p in enumerate(found.modal.parameters)}}
+                        for i, name in enumerate(found.outputs)}}
+
+
+def _print_amplitude(found) -> None:
+    names = found.modal.parameters
+    print(f"\nmode {found.label} at {found.frequency:.2f} Hz, {found.damping}: amplitude per volt at resonance "
+          f"(0-peak, normal) and d ln A / d ln p (dA/dp [m/V per unit of p]), no new eigen solve")
+    print(f"{'output':<16} {'A [nm/V]':>10}" + "".join(f" {name[-24:]:>26}" for name in names))
+    for i, output in enumerate(found.outputs):
+        cells = "".join(f" {found.relative[i, j]:+.4f} ({found.damplitude[i, j]:+.3e})".rjust(27)
+                        for j in range(len(names)))
+        print(f"{output[-16:]:<16} {1e9 * found.amplitude[i]:>10.4g}{cells}")
 
 
 def _number(x: float) -> float | None:

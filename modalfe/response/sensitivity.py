@@ -1,5 +1,6 @@
-"""Sensitivities of the modal frequencies (and k_eff) of a solved 3-D solid model to scene parameters, from two
-extra assemblies per parameter (a central difference of the matrices, ``RELATIVE_STEP``) and no new eigen solve.
+"""Sensitivities of the modal frequencies (and k_eff), and of a mode's amplitude per volt at resonance, of a solved
+3-D solid model to scene parameters, from two extra assemblies per parameter (a central difference of the
+matrices, ``RELATIVE_STEP``) and no new eigen solve.
 
 For the symmetric pencil (A, B) = (T^T K T, T^T M T) that the solve used (``modalfe.solve.levels.modes_of``) and a
 mode x with x^T B x = 1, differentiating (A - lambda B) x = 0 and multiplying by x^T gives
@@ -16,6 +17,21 @@ dK/dp and dM/dp are central differences (K(p + h) - K(p - h)) / 2h of the matric
 scene on the same mesh, its nodes moved with the parts for a dimension (``moved_nodes``): the same topology, so
 the same unknowns; two assemblies per parameter and no eigen solve (``RELATIVE_STEP`` says why not one). With
 f = sqrt(lambda) / (2 pi), df/dp = (d lambda/dp) / (8 pi^2 f).
+
+The amplitude per volt at resonance of an output o (``ReducedModel.amplitude_per_volt``, short circuit, 1 V on the
+driven electrodes) is |c| with c = g(zeta) theta phi / lambda + P r, where theta = s^T f_V (f_V = -K x_V the voltage
+load), phi = P s (P the output's z-row of ``output_operators``), g = 1 / (2 i zeta) - 1 / kappa, kappa =
+1 - omega_d^2 / lambda, and r = T y + x_V the undamped response at omega_d = 0.97 omega_r ((A - omega_d^2 B) y = F)
+whose part along the mode, theta phi / (kappa lambda), ``reduce`` takes out (``modalfe.response.forced``). Its
+derivative takes, from the same dK, dM: d lambda as above; ds = T dx by Nelson's method (AIAA J. 14 (1976) 1201):
+dx = v + c x with (A - lambda B) v = -(dA - lambda dB) x + d lambda B x solved with v_k = 0 at the largest
+|x_k| (row and column k of the singular matrix replaced by the identity) and c = -x^T B v - x^T dB x / 2 (from
+x^T B x = 1); dtheta = ds^T f_V - s^T dK x_V (the electrodes' charge coupling, the electromechanical block of dK);
+dy = (A - omega_d^2 B)^-1 (dF - (dA - omega_d^2 dB) y + d(omega_d^2) B y); dzeta = zeta'(omega) d omega (non-zero for
+Rayleigh damping only). Nelson's matrix is singular for a repeated eigenvalue: such a mode is refused. An output
+that moves with the mesh (a face group's centre: a foot tip when the length changes) or a fixed point the mesh moves
+under has its probe row P differenced like K: dP = (P(p + h) - P(p - h)) / 2h on the two moved meshes, exactly what
+a solve at p +- h reads there.
 """
 
 from __future__ import annotations
@@ -24,13 +40,16 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
+import scipy.sparse as sp
 
-from modalfe.errors import SceneError
+from modalfe.errors import SceneError, SolverError
 from modalfe.geometry import builder_parameters
 from modalfe.geometry.gmsh_model import grid_breaks
 from modalfe.models.solid import Model, assemble
+from modalfe.response.forced import Damping, _beside_resonance, _free_coordinates
+from modalfe.response.loads import output_operators
 from modalfe.results.coupling import k_eff
-from modalfe.results.modes import Modes
+from modalfe.results.modes import Mode, Modes
 from modalfe.solve.eigen import RIGID_FRACTION
 from modalfe.solve.estimates import shape_partners
 
@@ -49,6 +68,10 @@ RELATIVE_STEP = 3e-5
 # farther apart, and those closer are resolved by the cluster's matrix (``frequency_derivatives``)
 DEGENERATE = 1e-3
 _COMPONENTS = "xyz"
+# piezoelectric constants a sensitivity can be taken to: the tensor and its (row, column) entries in Voigt notation,
+# the 6mm symmetry of a poled ceramic tying d31 = d32 and d15 = d24 (IEEE Std 176-1987, table of 6mm constants)
+_PIEZO_CONSTANTS = {f"{t}{k}": (t, entries) for t in "de" for k, entries in
+                    (("31", ((2, 0), (2, 1))), ("33", ((2, 2),)), ("15", ((0, 4), (1, 3))))}
 
 
 @dataclass(frozen=True)
@@ -98,7 +121,8 @@ def frequency_sensitivities(modes: Modes, parameters: Sequence[str], *, open_mod
 
     Parameters (``Scene.with_overrides`` syntax): a real builder parameter (``length``, ``x0``), for a box scene
     ``parts.NAME.origin.x`` or ``parts.NAME.size.z`` [m], ``materials.NAME.KEY`` of a material the scene defines
-    (``E``, ``nu``, ``rho``), ``springs.GROUP`` (all three components scaled together; the value is the
+    (``E``, ``nu``, ``rho``), ``materials.NAME.d31|d33|d15|e31|e33|e15`` of a piezoelectric material a part is
+    made of (``_piezo_parameter``), ``springs.GROUP`` (all three components scaled together; the value is the
     largest) or ``springs.GROUP.z`` [N/m], ``masses.GROUP`` [kg]. A dimension moves the mesh's nodes with the
     parts (``moved_nodes``); one that changes the topology (parts merging or crossing) is refused.
 
@@ -109,13 +133,27 @@ def frequency_sensitivities(modes: Modes, parameters: Sequence[str], *, open_mod
     mode's dk_eff is only as good as that allows (NaN where k_eff = 0).
     """
     model = _solid(modes.model)
+    specs, steps = _steps(model, parameters, relative_step)
+    return _pass(modes, specs, steps, open_modes)
+
+
+def _steps(model: Model, parameters: Sequence[str], relative_step: float) -> tuple[list[_Parameter], np.ndarray]:
+    """The parameters of ``model``'s scene (every name checked before anything is assembled) and their steps h."""
     if not (np.isfinite(relative_step) and 0 < relative_step < 0.1):
         raise SceneError(f"relative_step: must lie in (0, 0.1), got {relative_step}")
-    specs = [_parameter(model.scene, name) for name in parameters]  # every name checked before assembling
+    specs = [_parameter(model.scene, name) for name in parameters]
     steps = np.array([relative_step * (abs(s.value) or s.scale) for s in specs])
     for spec, h in zip(specs, steps):
         if not h > 0:
             raise SceneError(f"{spec.name}: is 0 with nothing to scale a step by; give another parameter")
+    return specs, steps
+
+
+def _pass(modes: Modes, specs: list[_Parameter], steps: np.ndarray, open_modes: Modes | None,
+          also: Callable[[int, Model, Model, object, object], None] | None = None) -> Sensitivities:
+    """One pass over the parameters: the models at p +- h, dK/dp and dM/dp, every mode's df/dp (and dk_eff/dp),
+    and ``also(column, above, below, dK, dM)`` for any other derivative taken from the same matrices."""
+    model = modes.model
     fr = modes.frequencies
     n, m = len(modes), len(specs)
     dfr, dk = np.full((n, m), np.nan), np.full((n, m), np.nan)
@@ -139,8 +177,145 @@ def frequency_sensitivities(modes: Modes, parameters: Sequence[str], *, open_mod
             for i, j in partners.items():
                 if coupling[i] > 0:
                     dk[i, column] = fr[i] * (fr[i] * dfa[j] / fa[j] - dfr[i, column]) / (coupling[i] * fa[j] ** 2)
+        if also is not None:
+            also(column, above, below, dK, dM)
     return Sensitivities(tuple(s.name for s in specs), np.array([s.value for s in specs]), steps,
                          tuple(mode.label for mode in modes), fr, dfr, coupling, dk)
+
+
+@dataclass(frozen=True)
+class AmplitudeSensitivities:
+    """Derivatives of one mode's amplitude per volt at resonance at its outputs (``ReducedModel.amplitude_per_volt``)
+    with respect to scene parameters, and of every mode's frequency from the same matrices.
+
+    label, frequency [Hz] : the mode; damping : its description; outputs : output names; amplitude : (outputs,)
+    0-peak normal amplitude per volt at resonance [m/V]; damplitude : (outputs, parameters) dA/dp [m/V per unit of
+    p]; dfrequency : (parameters,) df/dp of the mode [Hz per unit]; modal : every mode's ``Sensitivities``
+    (parameters, values, steps there).
+    """
+
+    label: str
+    frequency: float
+    damping: str
+    outputs: tuple[str, ...]
+    amplitude: np.ndarray
+    damplitude: np.ndarray
+    dfrequency: np.ndarray
+    modal: Sensitivities
+
+    @property
+    def relative(self) -> np.ndarray:
+        """(outputs, parameters) d ln A / d ln p = (p / A) dA/dp [-]."""
+        return self.damplitude * self.modal.values[None, :] / self.amplitude[:, None]
+
+
+def amplitude_sensitivities(modes: Modes, parameters: Sequence[str], *, mode: Mode, outputs, damping: Damping,
+                            open_modes: Modes | None = None,
+                            relative_step: float = RELATIVE_STEP) -> AmplitudeSensitivities:
+    """dA/dp [m/V per unit] of the amplitude per volt at resonance of ``mode`` (one of ``modes``, short circuit) at
+    ``outputs`` (names as for ``reduce``) with ``damping``, for each of ``parameters`` (as for
+    ``frequency_sensitivities``, whose derivatives of every mode, and k_eff's with ``open_modes``, come from the same
+    two assemblies per parameter): the module docstring's derivative; two factorizations (Nelson's matrix and the
+    one beside resonance), no eigen solve. SolverError for a mode whose eigenvalue is repeated (within
+    ``DEGENERATE`` of another of ``modes``): its eigenvector has no derivative of its own. A fixed output point
+    (name, (x, y, z)) on an element boundary of a moving mesh reads a field with a kink there: its derivative is the
+    mean of the one-sided ones."""
+    model = _solid(modes.model)
+    if not any(m is mode for m in modes):
+        raise SceneError("mode: not one of the modes given; pick it from them (modes.labelled(...))")
+    lam = mode.omega**2
+    for other in modes:
+        if other is not mode and abs(other.omega**2 - lam) <= DEGENERATE * lam:
+            raise SolverError(f"mode {mode.label}: its eigenvalue is repeated (mode {other.label} within "
+                              f"{DEGENERATE:g}); Nelson's eigenvector derivative needs a distinct one")
+    specs, steps = _steps(model, parameters, relative_step)
+    derivative = _AmplitudeDerivative(mode, outputs, damping)
+    damplitude, dlam = np.zeros((len(derivative.probes), len(specs))), np.zeros(len(specs))
+
+    def amplitude(column: int, above: Model, below: Model, dK, dM) -> None:
+        dP = None
+        if specs[column].geometric:
+            P_above, P_below = (output_operators(m, outputs) for m in (above, below))
+            dP = {name: (P_above[name][2] - P_below[name][2]) / (2 * steps[column]) for name in derivative.probes}
+        damplitude[:, column], dlam[column] = derivative(dK, dM, dP)
+
+    modal = _pass(modes, specs, steps, open_modes, amplitude)
+    return AmplitudeSensitivities(mode.label, mode.frequency, damping.describe(), tuple(derivative.probes),
+                                  np.abs(derivative.c), damplitude, dlam / (8 * np.pi**2 * mode.frequency), modal)
+
+
+def amplitude_derivatives(mode: Mode, dK, dM, *, outputs, damping: Damping) -> np.ndarray:
+    """(outputs,) dA [m/V per unit] of ``mode``'s amplitude per volt at resonance at ``outputs`` (fixed in the
+    mesh) for given derivatives ``dK``, ``dM`` of its model's full matrices (module docstring; the mode must be
+    distinct: ``amplitude_sensitivities`` checks that against its neighbours)."""
+    _solid(mode.model)
+    return _AmplitudeDerivative(mode, outputs, damping)(dK, dM, None)[0]
+
+
+class _AmplitudeDerivative:
+    """The amplitude per volt c (complex, per output) of a mode at resonance and what its derivative needs, factored
+    once: Nelson's matrix and the one beside resonance (module docstring); called with dK, dM (and the outputs'
+    probe derivatives dP, None for fixed ones) it gives (dA per output, d lambda)."""
+
+    def __init__(self, mode: Mode, outputs, damping: Damping) -> None:
+        from modalfe.solve.linalg import factorize
+
+        if mode.circuit != "short":
+            raise SolverError(f"mode: the amplitude per volt needs a short-circuit mode, got {mode.circuit}")
+        if not isinstance(damping, Damping):
+            raise SceneError(f"damping: must be a Damping (Damping.parse('Q=150')), got {damping!r}")
+        model = mode.model
+        T, F, _, x_v, y, omega_d = _beside_resonance(mode)
+        A, B = (T.T @ model.K @ T).tocsr(), (T.T @ model.M @ T).tocsr()
+        x = _free_coordinates(model, T, mode.shape)
+        x = x / np.sqrt(x @ (B @ x))
+        self.mode, self.damping, self.T, self.B, self.F, self.x_v, self.y, self.x = mode, damping, T, B, F, x_v, y, x
+        self.lam, self.wd2 = mode.omega**2, omega_d**2
+        self.s, self.r = T @ x, T @ y + x_v
+        self.probes = {name: P[2] for name, P in output_operators(model, outputs).items()}  # the normal (z) rows
+        self.theta = float(x @ F)
+        self.zeta = damping.ratio(mode.omega)
+        self.g = 1 / (2j * self.zeta) - self.lam / (self.lam - self.wd2)
+        self.phi = np.array([float((P @ self.s)[0]) for P in self.probes.values()])
+        self.c = self.g * self.theta * self.phi / self.lam + np.array([float((P @ self.r)[0])
+                                                                         for P in self.probes.values()])
+        self.k = int(np.argmax(np.abs(x)))  # Nelson: v_k = 0 where the mode is largest
+        pick = np.arange(len(x)) == self.k
+        keep = sp.diags((~pick).astype(float))
+        self.nelson, _ = factorize(keep @ (A - self.lam * B) @ keep + sp.diags(pick.astype(float)))
+        self.beside, _ = factorize(A - self.wd2 * B)
+
+    def __call__(self, dK, dM, dP: dict | None) -> tuple[np.ndarray, float]:
+        T, B, x, y, lam, wd2 = self.T, self.B, self.x, self.y, self.lam, self.wd2
+        dA, dB = T.T @ dK @ T, T.T @ dM @ T
+        dlam = float(x @ (dA @ x) - lam * (x @ (dB @ x)))
+        rhs = dlam * (B @ x) - (dA @ x - lam * (dB @ x))
+        rhs[self.k] = 0.0
+        v = self.nelson(rhs)
+        dx = v - (x @ (B @ v) + 0.5 * (x @ (dB @ x))) * x
+        dF = -(T.T @ (dK @ self.x_v))  # the electrodes' charge coupling: dK's electromechanical block
+        dtheta = float(dx @ self.F + x @ dF)
+        dy = self.beside(dF - (dA @ y - wd2 * (dB @ y)) + (wd2 / lam) * dlam * (B @ y))
+        ds, dr = T @ dx, T @ dy
+        omega = self.mode.omega
+        dg = -_ratio_slope(self.damping, omega) * dlam / (2 * omega) / (2j * self.zeta**2)
+        theta, phi, g = self.theta, self.phi, self.g
+        dc = np.empty(len(phi), dtype=complex)
+        for i, (name, P) in enumerate(self.probes.items()):
+            dphi, dPr = float((P @ ds)[0]), float((P @ dr)[0])
+            if dP is not None:
+                dphi, dPr = dphi + float((dP[name] @ self.s)[0]), dPr + float((dP[name] @ self.r)[0])
+            resonant = dg * theta * phi[i] + g * (dtheta * phi[i] + theta * dphi - theta * phi[i] * dlam / lam)
+            dc[i] = resonant / lam + dPr
+        return np.real(np.conj(self.c) * dc) / np.abs(self.c), dlam
+
+
+def _ratio_slope(damping: Damping, omega: float) -> float:
+    """d zeta / d omega [s] of ``damping.ratio``: 0 for a modal ratio or Q; -alpha / (2 omega^2) + beta / 2 for
+    Rayleigh damping, zeta = alpha / (2 omega) + beta omega / 2 (Chopra, Dynamics of Structures, sec. 11.4)."""
+    if damping.zeta is not None or damping.Q is not None:
+        return 0.0
+    return -damping.alpha / (2 * omega**2) + damping.beta / 2
 
 
 def check_parameters(scene, parameters: Sequence[str]) -> None:
@@ -252,6 +427,8 @@ def _parameter(scene, name: str) -> _Parameter:
     extent = max(b - a for a, b in zip(lo, hi))
     if head == "materials" and rest:
         material, _, key = rest.partition(".")
+        if key in _PIEZO_CONSTANTS and key not in scene.materials.get(material, {}):
+            return _piezo_parameter(scene, name, material, key)
         if material not in scene.materials or key not in scene.materials[material]:
             raise SceneError(f"{name}: the scene defines no such constant (materials.{material} must be a table "
                              f"of the scene holding {key or 'KEY'})")
@@ -284,13 +461,45 @@ def _parameter(scene, name: str) -> _Parameter:
     accepted = builder_parameters(scene.device) if scene.device != "boxes" else {}
     if name not in accepted:
         raise SceneError(f"{name}: not a parameter a sensitivity can be taken to; give a builder parameter "
-                         f"{sorted(accepted)}, materials.NAME.KEY, springs.GROUP, masses.GROUP"
+                         f"{sorted(accepted)}, materials.NAME.KEY, materials.NAME.d31|d33|d15|e31|e33|e15, "
+                         f"springs.GROUP, masses.GROUP"
                          + (" or parts.NAME.origin|size.x|y|z" if scene.device == "boxes" else ""))
     if accepted[name].kind is not float:
         raise SceneError(f"{name}: a {accepted[name].type_name} parameter; a sensitivity needs a real number "
                          f"(a count or a name changes the mesh topology)")
     value = _number(name, scene.params.get(name, accepted[name].default))
     return _Parameter(name, value, extent, True, lambda x: scene.with_overrides(**{name: x}))
+
+
+def _piezo_parameter(scene, name: str, material: str, key: str) -> _Parameter:
+    """``materials.NAME.d31|d33|d15`` [C/N] at fixed s^E and eps^T (a datasheet's constants) or ``e31|e33|e15``
+    [C/m^2] at fixed c^E and eps^S of a piezoelectric material that a part is made of (the scene's or the
+    library's), poled along its 3-axis; d31 = d32 and d15 = d24 (likewise e) change together, as in a poled ceramic
+    (6mm symmetry). The scene gets the material as an e-form table (IEEE Std 176-1987 conversions,
+    ``piezo_stiffness_form``)."""
+    from modalfe.scene.materials import piezo_compliance_form, piezo_stiffness_form
+
+    used = sorted({q.material for q in scene.full_assembly().parts})
+    if material not in used:
+        raise SceneError(f"{name}: no part is made of '{material}'; parts' materials: {used}")
+    m = scene.material(material)
+    if not m.is_piezoelectric:
+        raise SceneError(f"{name}: '{material}' is not piezoelectric")
+    tensor_name, entries = _PIEZO_CONSTANTS[key]
+    s_E, d, eps_T = piezo_compliance_form(m.C, m.e, m.eps_S)
+    tensor = d if tensor_name == "d" else m.e
+
+    def at(x: float):
+        changed = tensor.copy()
+        for i, j in entries:
+            changed[i, j] = x
+        C, e, eps_S = piezo_stiffness_form(s_E, changed, eps_T) if tensor_name == "d" else (m.C, changed, m.eps_S)
+        table = {"C": C.tolist(), "e": e.tolist(), "eps_S": (0.5 * (eps_S + eps_S.T)).tolist(), "rho": m.rho,
+                 "source": m.source}
+        return scene.with_overrides(**{f"materials.{material}": table})
+
+    row, column = entries[0]
+    return _Parameter(name, float(tensor[row, column]), float(np.abs(tensor).max()), False, at)
 
 
 def _box_parameter(scene, name: str, rest: str, extent: float) -> _Parameter:

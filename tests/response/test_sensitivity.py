@@ -167,6 +167,8 @@ def test_unknown_and_unusable_parameters(free_plate, ciliary):
         (free_plate, "parts.plate.size.w", "parts.plate.size.w: give parts.PART"),
         (ciliary[0], "beam_material", "beam_material: a str parameter"),
         (ciliary[0], "materials.PZT-5A.E", "materials.PZT-5A.E: the scene defines no such constant"),
+        (ciliary[0], "materials.PZT-4.d31", r"materials.PZT-4.d31: no part is made of 'PZT-4'"),
+        (free_plate, "materials.steel.e33", "materials.steel.e33: 'steel' is not piezoelectric"),
     ):
         with pytest.raises(SceneError, match=message):
             frequency_sensitivities(modes, [name])

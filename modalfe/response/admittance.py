@@ -1,7 +1,7 @@
 """Broadband electrical admittance Y(f) and impedance Z(f) of a scene's driven electrodes, by modal
 superposition with the residual of the modes left out, or by direct harmonic FE.
 
-Charge per volt on the driven electrodes (short-circuit free unknowns x, ``modalfe.response.forced._drive``):
+Charge per volt on the driven electrodes (short-circuit free unknowns x, ``modalfe.response.forced.drive_vectors``):
 
     (A - omega^2 B + losses) x = F,   Q / V = C_b + F . x,   Y = i omega Q / V,   Z = 1 / Y
 
@@ -248,9 +248,9 @@ def blocked_capacitance(model) -> float:
     """C_0 [F] of the solved part with every displacement held at zero (the dielectric alone)."""
     from scipy.sparse.linalg import splu
 
-    from modalfe.response.forced import _drive
+    from modalfe.response.forced import drive_vectors
 
-    T, F, C_b, _ = _drive(model)
+    T, F, C_b, _ = drive_vectors(model)
     n_uf = model.n_u - len(model.clamped)
     if T.shape[1] == n_uf:
         return C_b
@@ -364,7 +364,7 @@ def modal_losses(modes_list, model, losses: Losses) -> tuple[np.ndarray, np.ndar
 def modal_admittance(modes, frequency, losses: Losses, *, residual: str = "centre", note: str = "") -> Admittance:
     """Y(f) [S] by modal superposition of ``modes`` (short circuit, one model) with the residual of the modes left
     out at ``residual`` (module docstring)."""
-    from modalfe.response.forced import _drive
+    from modalfe.response.forced import drive_vectors
     from modalfe.solve.linalg import factorize
 
     if residual not in ("centre", "static"):
@@ -374,7 +374,7 @@ def modal_admittance(modes, frequency, losses: Losses, *, residual: str = "centr
     model = modes.model
     f = np.atleast_1d(np.asarray(frequency, dtype=float))
     w = 2 * np.pi * f
-    T, F, C_b, _ = _drive(model)
+    T, F, C_b, _ = drive_vectors(model)
     load = model.voltage_load(1.0)
     top = max(float(f.max()), max((m.frequency for m in modes), default=0.0))
     used = [m for m in modes if m.frequency > RIGID_HZ * top]
@@ -414,7 +414,7 @@ def modal_admittance(modes, frequency, losses: Losses, *, residual: str = "centr
 
 def direct_admittance(model, frequency, losses: Losses, *, progress: bool = False) -> Admittance:
     """Y(f) [S] by the direct damped FE solve at each frequency (one complex sparse LU each)."""
-    from modalfe.response.forced import _drive
+    from modalfe.response.forced import drive_vectors
     from modalfe.solve.linalg import solve_complex
 
     if losses.per_mode:
@@ -422,7 +422,7 @@ def direct_admittance(model, frequency, losses: Losses, *, progress: bool = Fals
     f = np.atleast_1d(np.asarray(frequency, dtype=float))
     w = 2 * np.pi * f
     n_u = model.n_u
-    T, _, _, x_v = _drive(model)
+    T, _, _, x_v = drive_vectors(model)
     K = model.K.astype(complex)
     K_mech = model.mechanical_stiffness()
     notes = []

@@ -205,7 +205,7 @@ class ReducedModel:
         return cls.from_json(Path(path).read_text())
 
 
-def _drive(model, load=None):
+def drive_vectors(model, load=None):
     """(T, F, C_b, x_p): constraints, the load on the free unknowns, the part of the charge that does not depend
     on them (voltage drive; zero for other loads) and the prescribed response (driven electrodes at 1 V)."""
     T = model.constraints("short").T
@@ -220,7 +220,7 @@ def _drive(model, load=None):
 _BESIDE: dict = {}  # the last mode's solve beside resonance, shared by ``reduce`` and ``resonant_state``
 
 
-def _beside_resonance(mode: Mode, load=None):
+def beside_resonance(mode: Mode, load=None):
     """(T, F, C_b, x_p, x_d, omega_d): one undamped full solve at 0.97 omega_r, for the quasi-static
     contribution of every other mode (residual flexibility)."""
     from modalfe.solve.linalg import factorize
@@ -228,7 +228,7 @@ def _beside_resonance(mode: Mode, load=None):
     if _BESIDE.get("mode") is mode and _BESIDE.get("load") == load:
         return _BESIDE["result"]
     model = mode.model
-    T, F, C_b, x_v = _drive(model, load)
+    T, F, C_b, x_v = drive_vectors(model, load)
     A = (T.T @ model.K @ T).tocsr()
     B = (T.T @ model.M @ T).tocsr()
     omega_d = 0.97 * mode.omega
@@ -247,9 +247,9 @@ def reduce(mode: Mode, *, outputs, damping: Damping, reference: str | None = Non
     if mode.circuit != "short":
         raise SolverError(f"mode: the reduced model needs a short-circuit mode, got {mode.circuit}")
     model = mode.model
-    T, F, C_b, x_v, x_d, omega_d = _beside_resonance(mode, load)
+    T, F, C_b, x_v, x_d, omega_d = beside_resonance(mode, load)
     probes = output_operators(model, outputs)
-    v_free = _free_coordinates(model, T, mode.shape)
+    v_free = free_coordinates(model, T, mode.shape)
     theta = float(v_free @ F)
     omega_r = mode.omega
     # residual of the other modes: one undamped full solve just below resonance
@@ -285,16 +285,16 @@ def resonant_state(mode: Mode, *, damping: Damping, load=None) -> np.ndarray:
     """Full DOF response (complex) per unit load at the mode's resonance, as the reduced model has it: the mode
     at theta / (2 i zeta omega_r^2) plus the quasi-static contribution of every other mode (the residual of the
     solve beside resonance) and the prescribed potential."""
-    T, F, _, x_p, x_d, omega_d = _beside_resonance(mode, load)
+    T, F, _, x_p, x_d, omega_d = beside_resonance(mode, load)
     omega_r = mode.omega
-    theta = float(_free_coordinates(mode.model, T, mode.shape) @ F)
+    theta = float(free_coordinates(mode.model, T, mode.shape) @ F)
     modal_d = theta / (omega_r**2 - omega_d**2)
     residual = T @ x_d + x_p - mode.shape * modal_d
     zeta = damping.ratio(omega_r)
     return mode.shape * (theta / (2j * zeta * omega_r**2)) + residual
 
 
-def _free_coordinates(model, T, x_full: np.ndarray) -> np.ndarray:
+def free_coordinates(model, T, x_full: np.ndarray) -> np.ndarray:
     """Free unknowns x with T x = x_full (T's columns are disjoint: a weighted pick)."""
     weights = np.asarray(T.multiply(T).sum(axis=0)).ravel()
     return (T.T @ x_full) / weights
@@ -329,7 +329,7 @@ def harmonic_response(model, frequency, *, outputs, damping: Damping, reference_
     (default 1 V on the driven electrodes; the admittance is zero for other loads)."""
     from modalfe.solve.linalg import solve_complex
 
-    T, F, C_b, x_v = _drive(model, load)
+    T, F, C_b, x_v = drive_vectors(model, load)
     A = (T.T @ model.K @ T).tocsc()
     B = (T.T @ model.M @ T).tocsc()
     alpha, beta = damping.rayleigh_at(reference_omega)

@@ -46,7 +46,7 @@ from modalfe.errors import SceneError, SolverError
 from modalfe.geometry import builder_parameters
 from modalfe.geometry.gmsh_model import grid_breaks
 from modalfe.models.solid import Model, assemble
-from modalfe.response.forced import Damping, _beside_resonance, _free_coordinates
+from modalfe.response.forced import Damping, beside_resonance, free_coordinates
 from modalfe.response.loads import output_operators
 from modalfe.results.coupling import k_eff
 from modalfe.results.modes import Mode, Modes
@@ -265,9 +265,9 @@ class _AmplitudeDerivative:
         if not isinstance(damping, Damping):
             raise SceneError(f"damping: must be a Damping (Damping.parse('Q=150')), got {damping!r}")
         model = mode.model
-        T, F, _, x_v, y, omega_d = _beside_resonance(mode)
+        T, F, _, x_v, y, omega_d = beside_resonance(mode)
         A, B = (T.T @ model.K @ T).tocsr(), (T.T @ model.M @ T).tocsr()
-        x = _free_coordinates(model, T, mode.shape)
+        x = free_coordinates(model, T, mode.shape)
         x = x / np.sqrt(x @ (B @ x))
         self.mode, self.damping, self.T, self.B, self.F, self.x_v, self.y, self.x = mode, damping, T, B, F, x_v, y, x
         self.lam, self.wd2 = mode.omega**2, omega_d**2

@@ -25,7 +25,7 @@ def scene_info(scene) -> dict[str, Any]:
 
     assembly = scene.full_assembly()
     parts = [{"name": p.name, "region": p.region, "material": p.material, "origin_m": list(p.lo),
-              "size_m": list(p.size), "poling": {1: "+z", -1: "-z"}.get(p.poling, "none")} for p in assembly.parts]
+              "size_m": list(p.size), "poling": _poling(p.poling)} for p in assembly.parts]
     materials = {}
     for name in dict.fromkeys(p.material for p in assembly.parts):
         mat = scene.material(name)
@@ -138,3 +138,10 @@ def _info(args) -> int:
     info = scene_info(scene)
     print(json.dumps(info, indent=2) if args.json else format_info(info))
     return 0
+
+
+def _poling(poling) -> str:
+    """A part's poling as written in scene files: "+z" for 1, "-z" for -1, an axis or "radial" as is."""
+    if isinstance(poling, str):
+        return poling
+    return {1: "+z", -1: "-z"}.get(poling, "none")

@@ -21,6 +21,7 @@ from modalfe.geometry.glass_plate import glass_plate
 from modalfe.geometry.honeycomb_tile import honeycomb_tile
 from modalfe.geometry.parameters import AtLeast, NonNegative, Parameter, Positive, Unit, parameters_of
 from modalfe.geometry.parts import Assembly, Box, Face
+from modalfe.geometry.shapes import shaped
 
 BUILDERS: dict[str, Callable[..., Assembly]] = {
     "cube_plate": cube_plate,
@@ -28,6 +29,7 @@ BUILDERS: dict[str, Callable[..., Assembly]] = {
     "honeycomb_tile": honeycomb_tile,
     "ciliary_beam": ciliary_beam,
     "boxes": boxes,
+    "shaped": shaped,  # scene files with cylinders, rings or extrusions (``modalfe.geometry.shapes``)
 }
 
 
@@ -57,4 +59,4 @@ def check_parameters(name: str, params: Mapping[str, Any]) -> None:
 
 __all__ = ["BUILDERS", "Assembly", "AtLeast", "Box", "Face", "NonNegative", "Parameter", "Positive", "Unit",
            "boxes", "builder_parameters", "check_parameters", "ciliary_beam", "cube_plate", "glass_plate",
-           "honeycomb_tile"]
+           "honeycomb_tile", "shaped"]

@@ -1,7 +1,8 @@
 """Box parts and named face groups: the pure-Python description every device builder returns.
 
-A device is a set of axis-aligned boxes (plates, patches, bars, beams, feet, mounts). Boxes that
-touch are bonded. Faces are named by role (``electrode_top``, ``clamp``, ``foot_1``...) so that the
+A device is a set of axis-aligned boxes (plates, patches, bars, beams, feet, mounts), and possibly
+cylinders, rings and extruded outlines (``modalfe.geometry.shapes``). Parts that touch are bonded.
+Faces are named by role (``electrode_top``, ``clamp``, ``foot_1``...) so that the
 same names reach the gmsh physical groups, the mesh, the model's DOF sets and the reports.
 Lengths in metres.
 """
@@ -56,6 +57,37 @@ class Box:
     def contains(self, point, tol: float = 0.0) -> bool:
         return all(a - tol <= p <= b + tol for p, a, b in zip(point, self.lo, self.hi))
 
+    def inside(self, points: np.ndarray, tol: float = 0.0) -> np.ndarray:
+        """Whether points (n, 3) [m] lie in the box widened by ``tol`` [m] (narrowed when negative)."""
+        p = np.asarray(points, dtype=float)
+        return np.all((p >= np.array(self.lo) - tol) & (p <= np.array(self.hi) + tol), axis=-1)
+
+    sides = SIDES
+
+    @property
+    def thickness(self) -> float:
+        """Smallest extent [m]."""
+        return min(self.size)
+
+    @property
+    def poling_faces(self) -> tuple[str, str] | None:
+        """The two faces the poling field runs between (None: unpoled)."""
+        return ("zmin", "zmax") if self.poling else None
+
+    @property
+    def poling_vector(self) -> np.ndarray | None:
+        """Unit poling direction (3,), None when unpoled."""
+        return np.array([0.0, 0.0, float(self.poling)]) if self.poling else None
+
+    def planar_face(self, side: str):
+        """(normal axis, coordinate, lo, hi) of a face: every box face is a rectangle."""
+        return self.face_bounds(side)
+
+    def area(self, side: str, window=None) -> float:
+        """Area [m^2] of one face (or of a window in it)."""
+        axis, _, lo, hi = self.face_bounds(side, window)
+        return float(np.prod([hi[k] - lo[k] for k in range(3) if k != axis]))
+
     def face(self, side: str) -> Face:
         if side not in SIDES:
             raise SceneError(f"part '{self.name}': face side must be one of {SIDES}, got '{side}'")
@@ -96,7 +128,7 @@ class Assembly:
     faces : name -> faces, e.g. ``{"electrode_top": (Face("ceramic_1", "zmax"), ...)}``
     """
 
-    parts: tuple[Box, ...]
+    parts: tuple  # Box, Cylinder, Ring or Extrusion
     faces: dict[str, tuple[Face, ...]] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
@@ -111,8 +143,14 @@ class Assembly:
                 if f.part not in by_name:
                     raise SceneError(f"faces.{group}: unknown part '{f.part}'")
                 by_name[f.part].face(f.side)
-                by_name[f.part].face_bounds(f.side, f.window)
+                if f.window is not None:
+                    by_name[f.part].face_bounds(f.side, f.window)
         _check_overlaps(self.parts)
+
+    @property
+    def shaped(self) -> tuple[str, ...]:
+        """Names of the parts that are not boxes (cylinders, rings, extrusions): they need tetrahedra."""
+        return tuple(p.name for p in self.parts if not isinstance(p, Box))
 
     def part(self, name: str) -> Box:
         for p in self.parts:
@@ -135,12 +173,8 @@ class Assembly:
         return {k: tuple(v) for k, v in out.items()}
 
     def face_area(self, group: str) -> float:
-        """Area [m^2] of a face group, from the boxes (windows included)."""
-        total = 0.0
-        for f in self.faces[group]:
-            axis, _, lo, hi = self.part(f.part).face_bounds(f.side, f.window)
-            total += float(np.prod([hi[k] - lo[k] for k in range(3) if k != axis]))
-        return total
+        """Area [m^2] of a face group, from the parts' exact shapes (windows included)."""
+        return sum(self.part(f.part).area(f.side, f.window) for f in self.faces[group])
 
     def halved(self, axis: int) -> Assembly:
         """The half below the mid-plane normal to ``axis``, with the cut faces in group
@@ -158,10 +192,13 @@ class Assembly:
         for p in self.parts:
             a, b = mirrored(p)
             if not any(q.material == p.material and q.poling == p.poling and np.allclose(q.lo, a, atol=tol)
-                       and np.allclose(q.hi, b, atol=tol) for q in self.parts):
+                       and np.allclose(q.hi, b, atol=tol) and _profile(q) == _profile(p) for q in self.parts):
                 raise SceneError(f"symmetry: part '{p.name}' has no mirror image about the {'xyz'[axis]} mid-plane")
         kept, cut = [], []
         for p in self.parts:
+            if not isinstance(p, Box) and p.lo[axis] < mid - tol < mid + tol < p.hi[axis]:
+                raise SceneError(f"symmetry: part '{p.name}' crosses the {'xyz'[axis]} mid-plane; only boxes can be "
+                                 f"cut there (drop the symmetry)")
             if p.lo[axis] >= mid - tol:
                 continue
             if p.hi[axis] > mid + tol:
@@ -217,7 +254,7 @@ class Assembly:
 
         for i, a in enumerate(self.parts):
             for j in range(i + 1, len(self.parts)):
-                if contact_area(a, self.parts[j], tol) > 0:
+                if _bonded(a, self.parts[j], tol):
                     parent[root(j)] = root(i)
         groups: dict[int, list[str]] = {}
         for i, n in enumerate(names):
@@ -253,19 +290,69 @@ def contact_area(a: Box, b: Box, tol: float = 0.0) -> float:
     return 0.0
 
 
+def _profile(part) -> tuple:
+    """What a part's bounding box does not say of its shape: its type and, for a shape, its axis and radii or
+    section area (an extrusion's mirror image is matched by its box, section and height only)."""
+    if isinstance(part, Box):
+        return ("box",)
+    dims = [getattr(part, k, None) for k in ("radius", "inner", "outer", "section_area")]
+    return (type(part).__name__, part.axis, *(None if d is None else round(d, 12) for d in dims))
+
+
+def _bonded(a, b, tol: float) -> bool:
+    """Two parts share a face patch of positive area. Boxes: ``contact_area``. With a shape: their bounding boxes
+    meet on a plane (``contact_area`` > 0) and a 24 x 24 grid of points over that patch has a point in both parts
+    (just off the plane on either side). A shape bonded only through a curved wall (a shaft in a ring's bore)
+    is not recognised."""
+    if isinstance(a, Box) and isinstance(b, Box):
+        return contact_area(a, b, tol) > 0
+    if contact_area(_bbox(a), _bbox(b), tol) <= 0:
+        return False
+    for axis in range(3):
+        for below, above in ((a, b), (b, a)):
+            if abs(below.hi[axis] - above.lo[axis]) > tol:
+                continue
+            others = [k for k in range(3) if k != axis]
+            grids = [np.linspace(max(a.lo[k], b.lo[k]), min(a.hi[k], b.hi[k]), 26)[1:-1] for k in others]
+            u, v = np.meshgrid(*grids, indexing="ij")
+            points = np.zeros((u.size, 3))
+            points[:, others[0]], points[:, others[1]] = u.ravel(), v.ravel()
+            step = max(10 * tol, 1e-6 * max(max(a.size), max(b.size)))
+            points[:, axis] = below.hi[axis] - step
+            in_below = below.inside(points)
+            points[:, axis] = above.lo[axis] + step
+            if np.any(in_below & above.inside(points)):
+                return True
+    return False
+
+
+def _bbox(part) -> Box:
+    return part if isinstance(part, Box) else Box(part.name, part.region, part.material, part.lo, part.hi)
+
+
 def _touching(a: Box, b: Box, tol: float) -> bool:
     """The closed boxes meet (a face, an edge or a corner in common)."""
     return all(min(a.hi[k], b.hi[k]) - max(a.lo[k], b.lo[k]) >= -tol for k in range(3))
 
 
-def _check_overlaps(parts: tuple[Box, ...]) -> None:
-    """Bonded parts may touch but not interpenetrate."""
+def _check_overlaps(parts: tuple) -> None:
+    """Bonded parts may touch but not interpenetrate. Two boxes overlap when their extents do; with a shape, when
+    a point of a 16 x 16 x 16 grid over their common extent lies inside both, 1e-6 of their size inside their
+    surfaces (an overlap thinner than the grid's step can pass here: the mesher finds it exactly, see
+    ``modalfe.geometry.gmsh_model.add_parts``)."""
     for i, a in enumerate(parts):
         for b in parts[i + 1 :]:
             overlap = [min(a.hi[k], b.hi[k]) - max(a.lo[k], b.lo[k]) for k in range(3)]
             scale = max(max(a.size), max(b.size))
-            if all(o > 1e-9 * scale for o in overlap):
-                raise SceneError(f"parts: '{a.name}' and '{b.name}' overlap")
+            if not all(o > 1e-9 * scale for o in overlap):
+                continue
+            if not (isinstance(a, Box) and isinstance(b, Box)):
+                grids = [np.linspace(max(a.lo[k], b.lo[k]), min(a.hi[k], b.hi[k]), 18)[1:-1] for k in range(3)]
+                points = np.stack(np.meshgrid(*grids, indexing="ij"), axis=-1).reshape(-1, 3)
+                margin = -1e-6 * scale
+                if not np.any(a.inside(points, margin) & b.inside(points, margin)):
+                    continue
+            raise SceneError(f"parts: '{a.name}' and '{b.name}' overlap")
 
 
 def face_on_face(outer: Box, side: str, inner: Box, inner_side: str, name: str) -> None:

@@ -1,8 +1,11 @@
 """Mesh a box assembly with gmsh, convert it to scikit-fem through meshio, cache it by parameters.
 
 Structured hexahedra (transfinite volumes on the tensor grid of the parts' coordinates) when
-``element="hex"``, unstructured tetrahedra otherwise. The mesh is geometrically linear; quadratic
-fields come from the element chosen in the model (serendipity hex or P2 tet), exact for boxes.
+``element="hex"``, unstructured tetrahedra otherwise. A box assembly's mesh is geometrically linear
+(exact for boxes); quadratic fields come from the element chosen in the model (serendipity hex or P2
+tet). An assembly with cylinders, rings or extruded outlines is meshed with quadratic, curved
+tetrahedra (gmsh ``Mesh.ElementOrder`` 2 -> skfem ``MeshTet2``: the mid-edge nodes of the boundary lie
+on the true surface, so a disc's rim is not a polygon).
 """
 
 from __future__ import annotations
@@ -33,7 +36,7 @@ _memory_cache: dict[str, DeviceMesh] = {}
 class DeviceMesh:
     """A scikit-fem mesh with its named parts, regions and faces.
 
-    mesh : skfem MeshHex1 or MeshTet1 (coordinates in m)
+    mesh : skfem MeshHex1, MeshTet1, or MeshTet2 (curved) for assemblies with non-box parts (coordinates in m)
     parts : part name -> element indices
     faces : face group name -> facet indices
     key : content hash of the parameters that built it
@@ -153,6 +156,9 @@ def build_mesh(assembly, *, size: float | Mapping[str, float], element: str = "h
     toward the face groups ``graded_faces`` (see ``graded_breaks``)."""
     if element not in ("hex", "tet"):
         raise MeshError(f"mesh.element must be 'hex' or 'tet', got '{element}'")
+    if element == "hex" and assembly.shaped:
+        raise MeshError(f"mesh.element: part '{assembly.shaped[0]}' is not a box; structured hexahedra mesh boxes "
+                        f"only: set mesh.element = 'tet'")
     sizes = size if isinstance(size, Mapping) else {p.name: size for p in assembly.parts}
     for name, h in sizes.items():
         if not (np.isfinite(h) and h > 0):
@@ -215,11 +221,13 @@ def _gmsh_mesh(assembly, *, sizes: Mapping[str, float], element: str, min_layers
             if any(f.window is not None for faces in assembly.faces.values() for f in faces):
                 raise MeshError("mesh.element: face windows need element = 'hex'")
             add_parts(assembly)
-            main = assembly.main_part
-            size = min(min(sizes.values()), min(main.size) / min_layers)
+            size = min(min(sizes.values()), assembly.main_part.thickness / min_layers)
             gmsh.option.setNumber("Mesh.MeshSizeMax", size)
             gmsh.option.setNumber("Mesh.MeshSizeMin", size / 20)
-        gmsh.option.setNumber("Mesh.ElementOrder", 1)
+        curved = bool(assembly.shaped)
+        gmsh.option.setNumber("Mesh.ElementOrder", 2 if curved else 1)
+        if curved:  # untangle curved elements whose mid-edge nodes, moved onto the surface, fold them
+            gmsh.option.setNumber("Mesh.HighOrderOptimize", 2)
         try:
             gmsh.model.mesh.generate(3)
         except Exception as exc:  # gmsh raises bare Exception
@@ -229,7 +237,8 @@ def _gmsh_mesh(assembly, *, sizes: Mapping[str, float], element: str, min_layers
         index[node_tags.astype(np.int64)] = np.arange(len(node_tags))
         points = coords.reshape(-1, 3)
         vtype, ftype, vname, fname, nv, nf = (
-            (5, 3, "hexahedron", "quad", 8, 4) if element == "hex" else (4, 2, "tetra", "triangle", 4, 3)
+            (5, 3, "hexahedron", "quad", 8, 4) if element == "hex"
+            else (11, 9, "tetra10", "triangle", 10, 6) if curved else (4, 2, "tetra", "triangle", 4, 3)
         )
         volumes, vsets = [], {}
         facets, fsets = [], {}
@@ -253,6 +262,8 @@ def _gmsh_mesh(assembly, *, sizes: Mapping[str, float], element: str, min_layers
         gmsh.finalize()
     if not volumes:
         raise MeshError("the mesh is empty: gmsh produced no volume elements")
+    if curved:
+        points, volumes, facets = _corners_first(points, volumes, facets)
     # a face shared by several groups is listed once per group; skfem matches facets by nodes
     empty = np.array([], dtype=int)
     cells = [(vname, np.concatenate(volumes))]
@@ -262,6 +273,22 @@ def _gmsh_mesh(assembly, *, sizes: Mapping[str, float], element: str, min_layers
         cell_sets = {k: [v, empty] for k, v in vsets.items()}
         cell_sets.update({k: [empty, v] for k, v in fsets.items()})
     return meshio.Mesh(points, cells, cell_sets=cell_sets)
+
+
+def _corners_first(points: np.ndarray, volumes: list, facets: list):
+    """Quadratic tetrahedra as skfem reads them: corner nodes numbered first (so ``MeshTet2`` keeps the numbering
+    its facets are matched in), mid-edge nodes in VTK/skfem edge order (01, 12, 02, 03, 13, 23: gmsh lists
+    23 before 13), facets by their 3 corners."""
+    vol = np.concatenate(volumes)[:, [0, 1, 2, 3, 4, 5, 6, 7, 9, 8]]
+    corners = np.unique(vol[:, :4])
+    rest = np.setdiff1d(np.unique(vol), corners)
+    new = np.full(len(points), -1)
+    new[corners] = np.arange(len(corners))
+    new[rest] = len(corners) + np.arange(len(rest))
+    order = np.concatenate([corners, rest])
+    sizes = np.cumsum([0] + [len(v) for v in volumes])
+    vols = [new[vol[a:b]] for a, b in itertools.pairwise(sizes)]
+    return points[order], vols, [new[f[:, :3]] for f in facets]
 
 
 def _set_transfinite(breaks: list[np.ndarray], counts: list[np.ndarray]) -> None:
@@ -350,7 +377,7 @@ def _save(path: Path, result: DeviceMesh) -> None:
 def _load(path: Path, key: str, element: str, size: float) -> DeviceMesh:
     """Read a cached mesh; ValueError unless the file holds ``key``, ``element``, this format version and
     content matching its checksum."""
-    from skfem import MeshHex1, MeshTet1
+    from skfem import MeshHex1, MeshTet1, MeshTet2
 
     with np.load(path, allow_pickle=False) as data:
         files = set(data.files)
@@ -367,7 +394,8 @@ def _load(path: Path, key: str, element: str, size: float) -> DeviceMesh:
     p, t = arrays["p"], arrays["t"]
     if p.ndim != 2 or p.shape[0] != 3 or t.ndim != 2 or t.shape[0] != (8 if element == "hex" else 4):
         raise ValueError(f"arrays of shapes p {p.shape}, t {t.shape} are not a {element} mesh")
-    mesh = (MeshHex1 if element == "hex" else MeshTet1)(p, t)
+    curved = element == "tet" and p.shape[1] > t.max() + 1  # MeshTet2: mid-edge nodes after the vertices
+    mesh = (MeshHex1 if element == "hex" else MeshTet2 if curved else MeshTet1)(p, t)
     parts = {k[5:]: v for k, v in arrays.items() if k.startswith("part:")}
     faces = {k[5:]: v for k, v in arrays.items() if k.startswith("face:")}
     return DeviceMesh(mesh, parts, faces, element, size, key, 0.0)

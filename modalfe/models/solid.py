@@ -146,7 +146,7 @@ class Model(PiezoUnknowns):
         """(3 n, ndofs) matrix giving (ux, uy, uz) [m] at ``points`` (n, 3) [m] of the whole device from a full
         DOF vector, rows component-major (all ux, then uy, then uz); a symmetric model reads mirror images."""
         p, flip = fold(self.scene, np.asarray(points, dtype=float).reshape(-1, 3).T)
-        P = sp.diags(flip.ravel()) @ self.u_basis.probes(self._inside(p))
+        P = sp.diags(flip.ravel()) @ _probing(self.u_basis).probes(self._inside(p))
         return sp.hstack([P, sp.csr_matrix((P.shape[0], self.n_phi))], format="csr")
 
     def potential_probes(self, points: np.ndarray) -> sp.csr_matrix:
@@ -156,7 +156,7 @@ class Model(PiezoUnknowns):
 
         p, _ = fold(self.scene, np.asarray(points, dtype=float).reshape(-1, 3).T)
         # probes need the element and its DOF numbering only: one quadrature point keeps the basis cheap
-        scalar = Basis(self.u_basis.mesh, element_for(self.scene.mesh), intorder=1)
+        scalar = _probing(Basis(self.u_basis.mesh, element_for(self.scene.mesh), intorder=1))
         P = scalar.probes(self._inside(p)).tocsc()[:, self.phi_dofs]
         return sp.hstack([sp.csr_matrix((P.shape[0], self.n_u)), P], format="csr")
 
@@ -167,7 +167,7 @@ class Model(PiezoUnknowns):
         lo = np.array([q.lo for q in parts], dtype=float)  # (parts, 3)
         hi = np.array([q.hi for q in parts], dtype=float)
         step = 1e-9 * float(np.max(hi.max(axis=0) - lo.min(axis=0)))
-        inside = np.all((p.T[:, None, :] >= lo - step) & (p.T[:, None, :] <= hi + step), axis=2)  # (n, parts)
+        inside = np.stack([q.inside(p.T, step) for q in parts], axis=1)  # (n, parts), exact shapes
         if not inside.any(axis=1).all():
             x, y, z = p[:, np.argmin(inside.any(axis=1))]
             raise SceneError(f"points: ({x:g}, {y:g}, {z:g}) m lies outside the device's parts")
@@ -198,6 +198,19 @@ class Model(PiezoUnknowns):
         ratio = (self.potential_scale() if scale is None else scale) / self.potential_scale()
         rescale = sp.diags(np.r_[np.ones(n_u_free), np.full(A.shape[0] - n_u_free, ratio)])
         return (rescale @ A @ rescale).tocsr()
+
+
+def _probing(basis):
+    """``basis``, or on a curved mesh (skfem MeshTet2, whose isoparametric point search does not converge in the
+    elements next to a point) the same element on the straight-sided tetrahedra of the same vertices: the DOF
+    numbering is the same (vertices, then edges), the point is only located through the chords, off by at most
+    the sagitta h^2 / (8 R) of an element of size h on a boundary of radius R."""
+    from skfem import Basis, MeshTet1, MeshTet2
+
+    mesh = basis.mesh
+    if not isinstance(mesh, MeshTet2):
+        return basis
+    return Basis(MeshTet1(np.ascontiguousarray(mesh.p[:, : mesh.nvertices]), mesh.t), basis.elem, intorder=1)
 
 
 @dataclass(frozen=True, eq=False)
@@ -258,19 +271,16 @@ def assemble(scene, device_mesh, *, frame: np.ndarray | None = None) -> Model:
     K_blocks, M_blocks = [], []
     boxes, piezo_parts = [], []
     for part in assembly.parts:
-        mat = scene.material(part.material)
-        if part.poling:
-            mat = mat.poled(part.poling)
-        if frame is not None:
-            mat = mat.rotated(frame)
+        mat, tensors = _material_of(scene, part, frame)
         found, rest = box_assembly.find_boxes(mesh, scalar, scalar_dofs, device_mesh.parts[part.name])
         boxes.append((found, mat))
         if part.poling:
-            piezo_parts.append((mat, found, rest))
+            piezo_parts.append((mat, tensors, found, rest))
         for chunk in _chunks(rest, chunk_size):
             b = Basis(mesh, ElementVector(scalar), intorder=intorder, elements=chunk)
             Bv, V = _strain_and_value(b)
-            K_blocks.append(_scatter(b.element_dofs, b.element_dofs, _contract(Bv, mat.C, Bv, b.dx), n_u, n_u))
+            C = tensors(b)[0]
+            K_blocks.append(_scatter(b.element_dofs, b.element_dofs, _contract(Bv, C, Bv, b.dx), n_u, n_u))
             M_blocks.append(_scatter(b.element_dofs, b.element_dofs, mat.rho * _contract(V, None, V, b.dx), n_u, n_u))
     Kuu, Muu = box_assembly.assemble_elastic(scalar, intorder, boxes, n_u // 3)
     Kuu = sum(K_blocks, Kuu).tocsr()
@@ -292,6 +302,32 @@ def assemble(scene, device_mesh, *, frame: np.ndarray | None = None) -> Model:
     clamped = _clamped_dofs(scene, device_mesh, u_basis)
     return Model(scene, device_mesh, u_basis, K, M, n_u, phi_dofs, electrodes, clamped,
                  {"assembly": time.perf_counter() - start}, frame)
+
+
+def _material_of(scene, part, frame):
+    """(material, tensors) of one part: the material poled along the part's poling direction (boxes: +z or -z;
+    other parts: any axis, ``modalfe.scene.materials.poling_frames``) and turned by ``frame``; ``tensors(basis)``
+    gives (c^E, e, eps^S) on a batch basis, constant, or for radial poling one set per quadrature point: the poling
+    axis follows the radius at each point, so the only error is the quadrature's (of order h^(2p) like the
+    rest of the element integrals), where per-element centroid tensors would add an O(h) error in the direction."""
+    from modalfe.scene.materials import poled_tensors, poling_frames
+
+    mat = scene.material(part.material)
+    if part.poling and part.poling_vector is None:  # radial: varies through the part
+        def tensors(basis):
+            x = np.asarray(basis.global_coordinates())  # (3, nel, nq), in the rotated frame if any
+            if frame is not None:
+                x = np.einsum("ji,jeq->ieq", frame, x)
+            R = poling_frames(part.poling_directions(x))
+            return poled_tensors(mat, R if frame is None else frame @ R)
+
+        return mat, tensors
+    if part.poling:
+        mat = mat.poled(part.poling) if isinstance(part.poling, int) else mat.rotated(poling_frames(part.poling_vector))
+    if frame is not None:
+        mat = mat.rotated(frame)
+    constant = (mat.C, getattr(mat, "e", None), getattr(mat, "eps_S", None))
+    return mat, lambda basis: constant
 
 
 def _clamped_dofs(scene, device_mesh, u_basis) -> np.ndarray:
@@ -319,10 +355,16 @@ def _strain_and_value(b):
 
 
 def _contract(A, C, B, dx):
-    """Element matrices sum_q A_i^T C B_j dx -> (nel, nA, nB); A (nA, a, nel, nq), B (nB, b, nel, nq)."""
+    """Element matrices sum_q A_i^T C B_j dx -> (nel, nA, nB); A (nA, a, nel, nq), B (nB, b, nel, nq), C (a, b) or
+    one per point (nel, nq, a, b)."""
     nA, _, nel, _ = A.shape
     nB = B.shape[0]
-    CB = B if C is None else np.einsum("ab,jbeq->jaeq", C, B, optimize=True)
+    if C is None:
+        CB = B
+    elif C.ndim == 4:
+        CB = np.einsum("eqab,jbeq->jaeq", C, B, optimize=True)
+    else:
+        CB = np.einsum("ab,jbeq->jaeq", C, B, optimize=True)
     left = (A * dx).transpose(2, 0, 1, 3).reshape(nel, nA, -1)
     right = CB.transpose(2, 0, 1, 3).reshape(nel, nB, -1)
     return left @ right.transpose(0, 2, 1)
@@ -336,28 +378,30 @@ def _scatter(rows, cols, Ke, n_rows, n_cols) -> sp.csr_matrix:
 
 
 def _piezo_blocks(mesh, scalar, intorder, scalar_dofs, piezo_parts, n_u, chunk_size):
-    """K_uphi and K_phiphi over the piezo parts ((material, boxes, other elements) each), on the potential
-    unknowns they use."""
+    """K_uphi and K_phiphi over the piezo parts ((material, tensors, boxes, other elements) each, see
+    ``_material_of``; a radially poled part has no box elements), on the potential unknowns they use."""
     from skfem import Basis, ElementVector
 
     if not piezo_parts:
         return np.array([], dtype=int), None, None
-    used = np.unique(np.concatenate([found.dofs.ravel() for _, found, _ in piezo_parts]
-                                    + [scalar_dofs[:, rest].ravel() for _, _, rest in piezo_parts]))
+    used = np.unique(np.concatenate([found.dofs.ravel() for _, _, found, _ in piezo_parts]
+                                    + [scalar_dofs[:, rest].ravel() for _, _, _, rest in piezo_parts]))
     index = np.full(n_u // 3, -1)
     index[used] = np.arange(len(used))
     n_phi = len(used)
-    Kup, Kpp = box_assembly.assemble_piezo(scalar, intorder, [(found, mat) for mat, found, _ in piezo_parts],
+    Kup, Kpp = box_assembly.assemble_piezo(scalar, intorder, [(found, mat) for mat, _, found, _ in piezo_parts],
                                            index, n_phi, n_u)
-    for mat, _, rest in piezo_parts:
+    for _, tensors, _, rest in piezo_parts:
         for chunk in _chunks(rest, chunk_size):
             ub = Basis(mesh, ElementVector(scalar), intorder=intorder, elements=chunk)
             pb = Basis(mesh, scalar, intorder=intorder, elements=chunk)
             Bv, _ = _strain_and_value(ub)
             Gp = np.array([f[0].grad for f in pb.basis])  # (nloc, 3, nel, nq)
             phi_rows = index[pb.element_dofs]
-            Kup = Kup + _scatter(ub.element_dofs, phi_rows, _contract(Bv, mat.e.T, Gp, ub.dx), n_u, n_phi)
-            Kpp = Kpp + _scatter(phi_rows, phi_rows, _contract(Gp, mat.eps_S, Gp, pb.dx), n_phi, n_phi)
+            _, e, eps = tensors(ub)
+            Kup = Kup + _scatter(ub.element_dofs, phi_rows, _contract(Bv, np.swapaxes(e, -1, -2), Gp, ub.dx),
+                                 n_u, n_phi)
+            Kpp = Kpp + _scatter(phi_rows, phi_rows, _contract(Gp, eps, Gp, pb.dx), n_phi, n_phi)
     return used, Kup.tocsr(), Kpp.tocsr()
 
 

@@ -120,4 +120,7 @@ def _default_feet(scene):
 
     from modalfe.geometry import BUILDERS
 
-    return inspect.signature(BUILDERS[scene.device]).parameters["feet"].default
+    feet = inspect.signature(BUILDERS[scene.device]).parameters.get("feet")
+    if feet is None:
+        raise SolverError(f"place_feet: the scene's device '{scene.device}' has no feet parameter")
+    return feet.default

@@ -458,7 +458,7 @@ def _parameter(scene, name: str) -> _Parameter:
                           lambda x: scene.with_overrides(**{name: x}))
     if head == "parts" and rest and scene.device == "boxes":
         return _box_parameter(scene, name, rest, extent)
-    accepted = builder_parameters(scene.device) if scene.device != "boxes" else {}
+    accepted = builder_parameters(scene.device) if scene.device not in ("boxes", "shaped") else {}  # parts tables
     if name not in accepted:
         raise SceneError(f"{name}: not a parameter a sensitivity can be taken to; give a builder parameter "
                          f"{sorted(accepted)}, materials.NAME.KEY, materials.NAME.d31|d33|d15|e31|e33|e15, "

@@ -23,48 +23,57 @@ def check_device(scene) -> None:
 
 def check_electrodes(assembly, roles: dict[str, str]) -> None:
     """Raise SceneError naming the electrode group at fault: a face of no poled part, a face both
-    driven and grounded, a drive face touching a ground face, a poled part with one group on both z faces.
+    driven and grounded, a drive face touching a ground face, a poled part with one group on both faces its
+    poling runs between (z faces of a box; top and bottom, or inner and outer when radial, of a shape).
 
     Electrode faces are compared as rectangles in space, so a ground electrode on a metal part's face
     under a piezo counts as touching that piezo (a legitimate design), and a face listed under another
-    part's name (the plate's top under a ceramic's bottom) counts as the same face."""
+    part's name (the plate's top under a ceramic's bottom) counts as the same face. A shape's planar end
+    compares by its bounding rectangle, its walls by name (an approximation: a disc's top over a box
+    electrode counts as overlapping where their rectangles do)."""
     tol = assembly.tolerance
     poled = [p for p in assembly.parts if p.poling]
-    rects = {g: [(f"{f.part}.{f.side}", _rect(assembly, f)) for f in assembly.faces.get(g, ())] for g in roles}
+    faces = {g: [(f"{f.part}.{f.side}", (f.part, f.side), _rect(assembly, f)) for f in assembly.faces.get(g, ())]
+             for g in roles}
     for group in roles:
-        for name, r in rects[group]:
-            if not any(_overlap(r, _rect_of(p, side), tol) for p in poled for side in ("zmin", "zmax", "xmin",
-                                                                                        "xmax", "ymin", "ymax")):
+        for name, key, r in faces[group]:
+            if not any(_same(key, r, (p.name, side), p.planar_face(side), tol) for p in poled for side in p.sides):
                 what = "the device has no poled part" if not poled else "an electrode must lie on a poled part's face"
                 raise SceneError(f"electrodes.{group}: face '{name}' touches no poled piezo part ({what})")
     drive = [g for g, role in roles.items() if role == "drive"]
     ground = [g for g, role in roles.items() if role == "ground"]
     for g in drive:
         for h in ground:
-            for name, r in rects[g]:
-                for other, s in rects[h]:
-                    if _overlap(r, s, tol):
+            for name, key, r in faces[g]:
+                for other, key2, s in faces[h]:
+                    if _same(key, r, key2, s, tol):
                         raise SceneError(f"electrodes.{g}: face '{name}' is also in the ground electrode '{h}' "
                                          f"('{other}'): a face cannot be both driven and grounded")
-                    if _touch(r, s, tol):
+                    if r is not None and s is not None and _touch(r, s, tol):
                         raise SceneError(f"electrodes.{g}: drive face '{name}' touches ground face '{other}' of "
                                          f"'{h}' along an edge or at a corner (a short circuit)")
     for p in poled:
-        covering = {side: {g for g in roles for _, r in rects[g] if _overlap(r, _rect_of(p, side), tol)}
-                    for side in ("zmin", "zmax")}
-        shorted = covering["zmin"] & covering["zmax"]
+        if p.poling_faces is None:
+            continue  # poled across its axis: no pair of named faces to short
+        covering = {side: {g for g in roles for _, key, r in faces[g]
+                           if _same(key, r, (p.name, side), p.planar_face(side), tol)} for side in p.poling_faces}
+        shorted = set.intersection(*covering.values())
         if shorted:
             g = sorted(shorted)[0]
-            raise SceneError(f"electrodes.{g}: covers both z faces of the poled part '{p.name}' (it shorts the "
-                             f"part: no field through it)")
+            raise SceneError(f"electrodes.{g}: covers both {' and '.join(p.poling_faces)} faces of the poled part "
+                             f"'{p.name}' (it shorts the part: no field through it)")
 
 
-def _rect(assembly, face) -> _Rect:
-    return assembly.part(face.part).face_bounds(face.side, face.window)
+def _rect(assembly, face) -> _Rect | None:
+    """The face's rectangle (its bounding rectangle for a shape's planar end), None for a curved or many-sided wall."""
+    part = assembly.part(face.part)
+    return part.face_bounds(face.side, face.window) if face.window is not None else part.planar_face(face.side)
 
 
-def _rect_of(part, side: str) -> _Rect:
-    return part.face_bounds(side)
+def _same(key, r: _Rect | None, key2, s: _Rect | None, tol: float) -> bool:
+    """Two faces are one: the same part and side, or coplanar rectangles sharing a patch of positive area (walls
+    that are not planar compare by name only)."""
+    return key == key2 or (r is not None and s is not None and _overlap(r, s, tol))
 
 
 def _overlap(a: _Rect, b: _Rect, tol: float) -> bool:

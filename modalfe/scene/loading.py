@@ -1,4 +1,5 @@
-"""Loading scenes: a built-in by name, or a box-built device from a TOML file."""
+"""Loading scenes: a built-in by name, or a device of boxes (and cylinders, rings, extruded outlines:
+``modalfe.scene.part_tables``) from a TOML file."""
 
 from __future__ import annotations
 
@@ -11,6 +12,7 @@ from typing import Any
 import modalfe.scene.values as v
 from modalfe.errors import SceneError
 from modalfe.scene.builtin import BUILTIN
+from modalfe.scene.part_tables import has_shapes, shaped_parts
 from modalfe.scene.scene import KINDS, USER_DAMPING_SOURCE, Analysis, Drive, MeshSettings, Scene, Target, WorkingMode
 
 if sys.version_info >= (3, 11):
@@ -75,13 +77,16 @@ def scene_from_dict(data: Mapping[str, Any], default_name: str = "scene") -> Sce
     scale = _UNITS[units]
     if "parts" not in data:
         raise SceneError("parts: a scene file needs at least one [[parts]] table")
-    parts = v.box_parts(data["parts"], scale=scale)
+    shapes = has_shapes(data["parts"])
+    parts = shaped_parts(data["parts"], scale=scale) if shapes else v.box_parts(data["parts"], scale=scale)
     faces = v.face_groups(data.get("faces", {}))
     analysis_data = v.table("analysis", data.get("analysis", {}))
     v.known_keys("analysis", analysis_data, [f.name for f in fields(Analysis)])
     analysis = Analysis(**analysis_data)
     mesh_data = v.table("mesh", data.get("mesh", {}))
     v.known_keys("mesh", mesh_data, [f.name for f in fields(MeshSettings)])
+    if shapes:  # curved parts mesh with tetrahedra only: the default then, as kind = "solid" is
+        mesh_data = {"element": "tet", **mesh_data}
     mesh = MeshSettings(**mesh_data)
     materials = {str(k): dict(v.table(f"materials.{k}", m)) for k, m in v.table("materials",
                                                                                 data.get("materials", {})).items()}
@@ -118,7 +123,7 @@ def scene_from_dict(data: Mapping[str, Any], default_name: str = "scene") -> Sce
     symmetry = v.array("symmetry", data.get("symmetry", []))
     scene = Scene(
         name=v.string("name", data.get("name", default_name)),
-        device="boxes",
+        device="shaped" if shapes else "boxes",
         params={"parts": parts, "faces": faces},
         electrodes=electrodes,
         clamps=_clamps(data.get("clamps", {})),
@@ -128,7 +133,7 @@ def scene_from_dict(data: Mapping[str, Any], default_name: str = "scene") -> Sce
         analysis=analysis,
         mesh=mesh,
         working_modes=tuple(working_modes),
-        kind=v.string("kind", data.get("kind", "plate"), choices=KINDS),
+        kind=v.string("kind", data.get("kind", "solid" if shapes else "plate"), choices=KINDS),
         symmetry=tuple(v.string(f"symmetry[{i}]", a, choices=("x", "y", "z")) for i, a in enumerate(symmetry)),
         drive=_drive(data.get("drive", {}), scale),
     )

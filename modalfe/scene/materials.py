@@ -68,11 +68,8 @@ class PiezoMaterial(ElasticMaterial):
 
     def rotated(self, R: np.ndarray) -> PiezoMaterial:
         """The same material seen in a frame rotated by ``R`` (3, 3)."""
-        M = bond_matrix(R)
-        C, eps = M @ self.C @ M.T, R @ self.eps_S @ R.T
-        return PiezoMaterial(
-            self.name, (C + C.T) / 2, self.rho, self.source, e=R @ self.e @ M.T, eps_S=(eps + eps.T) / 2,
-        )
+        C, e, eps = poled_tensors(self, R)
+        return PiezoMaterial(self.name, (C + C.T) / 2, self.rho, self.source, e=e, eps_S=(eps + eps.T) / 2)
 
     def poled(self, sign: int) -> PiezoMaterial:
         """Poled along +z (``sign`` = +1) or -z (-1): a half turn about x for -z."""
@@ -90,14 +87,39 @@ def _check_tensor(name: str, field: str, A, shape) -> None:
 
 
 def bond_matrix(R: np.ndarray) -> np.ndarray:
-    """Bond stress-transformation matrix (6, 6) of rotation ``R`` in Voigt order (Auld 1973)."""
+    """Bond stress-transformation matrix (6, 6) of rotation ``R`` in Voigt order (Auld 1973); a stack of
+    rotations (..., 3, 3) gives a stack of matrices (..., 6, 6)."""
     R = np.asarray(R, dtype=float)
     pairs = [(0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1)]
-    M = np.zeros((6, 6))
+    M = np.zeros((*R.shape[:-2], 6, 6))
     for I, (i, j) in enumerate(pairs):
         for J, (k, l) in enumerate(pairs):
-            M[I, J] = R[i, k] * R[j, l] + (R[i, l] * R[j, k] if k != l else 0.0)
+            M[..., I, J] = R[..., i, k] * R[..., j, l] + (R[..., i, l] * R[..., j, k] if k != l else 0.0)
     return M
+
+
+def poling_frames(directions: np.ndarray) -> np.ndarray:
+    """Rotations R (..., 3, 3) taking the local 3-axis (the poling axis of ``PiezoMaterial``) to the unit
+    ``directions`` (..., 3): columns e1, e2 = d x e1, d, with e1 the x (or, near x, the y) axis made normal to d.
+    The choice of e1 does not matter for poled ceramics (class 6mm, transversely isotropic about 3)."""
+    d = np.asarray(directions, dtype=float)
+    helper = np.zeros_like(d)
+    near_x = np.abs(d[..., 0]) > 0.9
+    helper[..., 0] = ~near_x
+    helper[..., 1] = near_x
+    e1 = helper - np.sum(helper * d, axis=-1, keepdims=True) * d
+    e1 /= np.linalg.norm(e1, axis=-1, keepdims=True)
+    return np.stack([e1, np.cross(d, e1), d], axis=-1)
+
+
+def poled_tensors(material: PiezoMaterial, R: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(c^E, e, eps^S) of ``material`` seen through rotations R (..., 3, 3) (as ``PiezoMaterial.rotated``, one per
+    point): M c M^T, R e M^T, R eps R^T with M the Bond matrix of R."""
+    M = bond_matrix(R)
+    C = np.einsum("...ia,ab,...jb->...ij", M, material.C, M)
+    e = np.einsum("...ia,ab,...jb->...ij", R, material.e, M)
+    eps = np.einsum("...ia,ab,...jb->...ij", R, material.eps_S, R)
+    return C, e, eps
 
 
 def isotropic(name: str, *, E: float, nu: float, rho: float, source: str) -> ElasticMaterial:

@@ -20,7 +20,7 @@ from modalfe.scene.loads import Load, check_load
 
 DEFAULT_DAMPING_SOURCE = "assumption (docs/assumptions.md, Damping: default Q ~ 150)"
 USER_DAMPING_SOURCE = "set by the user"
-KINDS = ("plate", "beam")
+KINDS = ("plate", "beam", "solid")  # solid: no reduced model (a device with cylinders, rings or outlines)
 _DAMPING = re.compile(r"^(zeta|Q)=([^,]+)$|^rayleigh=([^,]+),([^,]+)$")
 
 
@@ -282,6 +282,12 @@ class Scene:
             else:
                 params[key] = value
         scene = replace(scene, params=params)
+        if scene.params != self.params and _has_shapes(scene):
+            # a built-in given round parts: no reduced model describes them, and only tetrahedra mesh them
+            # (unless mesh.element = "hex" is asked here, which the mesher refuses naming the part)
+            scene = replace(scene, kind="solid")
+            if scene.mesh.element == "hex" and "mesh.element" not in overrides:
+                scene = replace(scene, mesh=replace(scene.mesh, element="tet"))
         scene.validate()
         if self.assumption_writer is not None and (scene.params != self.params or scene.materials != self.materials):
             scene = replace(scene, assumptions=self.assumption_writer(scene))  # from the validated parameters
@@ -297,9 +303,14 @@ class Scene:
             expected = {"analysis": Analysis, "mesh": MeshSettings, "drive": Drive}[name]
             if not isinstance(getattr(self, name), expected):
                 raise SceneError(f"{name}: must be a {expected.__name__}")
-        if self.device == "boxes":
+        if self.device in ("boxes", "shaped"):
             v.known_keys("", self.params, ("parts", "faces"))
-            v.box_parts(self.params.get("parts", ()))
+            if self.device == "boxes":
+                v.box_parts(self.params.get("parts", ()))
+            else:
+                from modalfe.scene.part_tables import shaped_parts
+
+                shaped_parts(self.params.get("parts", ()))
             v.face_groups(self.params.get("faces", {}))
         elif self.device in BUILDERS:
             check_parameters(self.device, self.params)  # types and constraints from the builder's signature
@@ -309,6 +320,9 @@ class Scene:
             v.table(f"materials.{name}", spec)
             self.material(name)
         assembly = self.assembly()
+        if assembly.shaped and self.kind != "solid":
+            raise SceneError(f"kind: part '{assembly.shaped[0]}' is not a box, which only the solid model meshes: "
+                             f"kind must be 'solid', got '{self.kind}'")
         for part in assembly.parts:
             try:
                 mat = self.material(part.material)
@@ -353,6 +367,15 @@ class Scene:
         a = self.analysis
         top = a.band[1] if a.band is not None else a.near
         return max(self.mesh.max_frequency, top)
+
+
+def _has_shapes(scene: Scene) -> bool:
+    """Whether the scene's device has parts other than boxes (False when its parameters do not build: ``validate``
+    then names the parameter at fault)."""
+    try:
+        return bool(scene.full_assembly().shaped)
+    except SceneError:
+        return False
 
 
 _TABLES = ("params", "electrodes", "clamps", "springs", "masses", "materials", "reference_spectra")

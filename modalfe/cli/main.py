@@ -14,11 +14,11 @@ import os
 import sys
 import traceback
 
-from modalfe.cli import admittance, contact, forced, info, modes, place, sensitivity, sweep, tune, view
+from modalfe.cli import admittance, calibrate, contact, forced, info, modes, place, sensitivity, sweep, tune, view
 from modalfe.cli.options import check_output_paths
 from modalfe.errors import ModalfeError, SceneError
 
-COMMAND_GROUPS = (modes, forced, contact, view, sweep, info, place, admittance, sensitivity, tune)
+COMMAND_GROUPS = (modes, forced, contact, view, sweep, info, place, admittance, sensitivity, tune, calibrate)
 EXIT_INPUT, EXIT_FAILED, EXIT_INTERNAL, EXIT_INTERRUPTED = 2, 1, 70, 130
 
 

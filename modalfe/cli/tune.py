@@ -1,25 +1,45 @@
-"""``modalfe tune``: change scene parameters until a mode sits on a target frequency (3-D solid)."""
+"""``modalfe tune``: change scene parameters until modes sit on target frequencies (3-D solid), optionally
+maximizing k_eff, keeping a separation from neighbouring modes and the feet on the antinodes; from one start or
+several on the sweep's Dask cluster; the final design written as a scene file."""
 
 from __future__ import annotations
 
+import argparse
 import json
 import math
 import sys
+from pathlib import Path
 
 from modalfe.cli.options import parse_overrides, positive_int
 from modalfe.errors import SceneError
 
 
 def register(sub) -> None:
-    p = sub.add_parser("tune", help="change parameters until a mode reaches a target frequency (3-D solid)")
+    p = sub.add_parser("tune", help="change parameters until modes reach target frequencies (3-D solid)")
     p.add_argument("scene", help="built-in scene name or path to a .toml scene file")
-    p.add_argument("--target", required=True, metavar="LABEL=HZ", help='the mode and its frequency, "(0,6)=40.7e3"')
+    p.add_argument("--target", required=True, action="append", metavar="LABEL=HZ",
+                   help='a mode and its frequency, "(0,6)=40.7e3" (repeatable, one per mode label)')
     p.add_argument("--vary", required=True, metavar="P1,P2,...",
                    help="parameters changed (as for modalfe sensitivity): builder parameters, materials.NAME.KEY, "
                         "springs.GROUP, masses.GROUP, parts.NAME.origin|size.x|y|z")
     p.add_argument("--bounds", action="append", metavar="NAME=LOW:HIGH", help="limits of a parameter (repeatable)")
-    p.add_argument("--tol", type=float, default=1e-3, help="relative distance to the target (default 1e-3)")
-    p.add_argument("--max-iterations", type=positive_int, default=12, help="most solves (default 12)")
+    p.add_argument("--tol", type=float, default=1e-3, help="relative distance to the targets (default 1e-3)")
+    p.add_argument("--maximize", choices=("k_eff",), help="maximize the first target mode's coupling k_eff")
+    p.add_argument("--separation", metavar="FRACTION|PERCENT%",
+                   help="least relative distance of the first target mode to its neighbours, e.g. 3%%")
+    p.add_argument("--replace-feet", action=argparse.BooleanOptionalAction, default=None,
+                   help="re-place the feet on the first target mode's antinodes after each iterate (default: on "
+                        "when the scene has feet)")
+    p.add_argument("--max-iterations", type=positive_int, default=12, help="most evaluations (default 12)")
+    p.add_argument("--starts", type=positive_int, default=1,
+                   help="starting points spread inside --bounds (Latin hypercube; needs bounds for every "
+                        "parameter when > 1); the best result is kept")
+    p.add_argument("--seed", type=int, default=0, help="seed of the starting points (default 0)")
+    p.add_argument("--scheduler", help="with --starts: address of an existing dask scheduler (default: a "
+                   "LocalCluster); 'inline' runs the starts one after another in this process")
+    p.add_argument("--workers", type=positive_int, help="with --starts: LocalCluster worker processes "
+                                                        "(default: one per start, at most the CPU count)")
+    p.add_argument("--out", metavar="DESIGN.toml", help="write the final design as a scene file")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene parameter first")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=_tune)
@@ -27,45 +47,145 @@ def register(sub) -> None:
 
 def _tune(args) -> int:
     from modalfe.response.sensitivity import check_parameters
-    from modalfe.response.tuning import tune_frequency
+    from modalfe.response.tuning import (
+        FrequencyTarget,
+        TuneTask,
+        best_result,
+        feet_text,
+        has_feet,
+        latin_hypercube,
+        tune,
+    )
     from modalfe.scene import load_scene
+    from modalfe.scene.writing import scene_to_toml
 
-    label, target = _target(args.target)
+    targets = [_target(text) for text in args.target]
     names = [name.strip() for name in args.vary.split(",") if name.strip()]
     bounds = dict(_bound(text) for text in args.bounds or [])
+    separation = _separation(args.separation) if args.separation is not None else None
     scene = load_scene(args.scene, **parse_overrides(args.set))
     check_parameters(scene, names)  # before the header and any solve
+    replace_feet = has_feet(scene) if args.replace_feet is None else args.replace_feet
+    if args.out is not None:
+        if Path(args.out).suffix.lower() != ".toml":
+            raise SceneError(f"--out: '{args.out}' must end in .toml (a scene file)")
+        scene_to_toml(scene)  # a device the file format cannot hold is refused before any solve
+    if args.starts > 1:
+        missing = [n for n in names if n not in bounds]
+        if missing:
+            raise SceneError(f"--bounds: --starts {args.starts} spreads the starts inside the bounds; give "
+                             f"--bounds {missing[0]}=LOW:HIGH")
+    options = {"tol": args.tol, "bounds": bounds, "maximize": args.maximize, "separation": separation,
+               "replace_feet": replace_feet, "max_iterations": args.max_iterations}
 
     def progress(k, it) -> None:
         if not args.json:
-            values = ", ".join(f"{n} = {v:.6g}" for n, v in it.values.items())
-            slopes = ", ".join(f"{s:+.3f}" for s in it.relative_sensitivity.values())
-            print(f"{k:>3}  {it.frequency:12.2f} Hz  {100 * (it.frequency / target - 1):+8.4f} %  {values}  "
-                  f"(d ln f / d ln p {slopes}; {it.seconds:.1f} s)", flush=True)
+            print(_line(k, it, targets), flush=True)
 
     if not args.json:
-        print(f"{scene.name}: tuning {label} to {target:.6g} Hz within {args.tol:.2%} by {', '.join(names)}")
-    result = tune_frequency(scene, label, target, names, tol=args.tol, bounds=bounds,
-                            max_iterations=args.max_iterations, progress=progress)
+        goals = ", ".join(f"{label} to {hz:.6g} Hz" for label, hz in targets)
+        extras = [f"maximizing {args.maximize}"] if args.maximize else []
+        extras += [f"separation >= {separation:.2%}"] if separation else []
+        extras += ["feet re-placed on the antinodes"] if replace_feet else []
+        print(f"{scene.name}: tuning {goals} within {args.tol:.2%} by {', '.join(names)}"
+              + (f" ({'; '.join(extras)})" if extras else ""))
+    goals = tuple(FrequencyTarget(label, hz) for label, hz in targets)
+    table = None
+    if args.starts == 1:
+        result = tune(scene, goals, names, **options, progress=progress)
+    else:
+        from modalfe.sweeps.multistart import run_starts
+
+        starts = latin_hypercube({n: bounds[n] for n in names}, args.starts, seed=args.seed)
+        results = run_starts(TuneTask(scene, goals, tuple(names), options), starts, scheduler=args.scheduler,
+                             workers=args.workers, progress=not args.json)
+        table = list(zip(starts, results))
+        chosen = best_result(results)
+        if not args.json:
+            _print_starts(table, names, chosen)
+        result = results[chosen]
+        if isinstance(result, BaseException):
+            raise result  # every start failed: the first's error
+        if not args.json:
+            print(f"best: start {chosen + 1}")
     final = result.final
-    seconds = sum(it.seconds for it in result.iterates)
+    if args.out is not None:
+        Path(args.out).write_text(scene_to_toml(result.scene), encoding="utf-8")
     if args.json:
-        print(json.dumps({"scene": scene.name, "label": label, "target_hz": target, "tol": args.tol,
-                          "converged": result.converged, "reason": result.reason, "solves": len(result.iterates),
-                          "seconds": seconds, "parameters": final.values, "frequency_hz": final.frequency,
-                          "iterates": [{"values": it.values, "frequency_hz": it.frequency,
-                                        "dlnf_dlnp": it.relative_sensitivity, "seconds": it.seconds}
-                                       for it in result.iterates]}, indent=2))
+        out = {"scene": scene.name, "targets": [{"label": t.label, "target_hz": t.frequency, "frequency_hz": f}
+                                                for t, f in zip(goals, final.frequencies)],
+               "tol": args.tol, "converged": result.converged, "reason": result.reason, "solves": result.solves,
+               "seconds": result.seconds, "parameters": final.values, "frequency_hz": final.frequencies[0],
+               "k_eff": _number(final.k_eff), "separation": _number(final.separation),
+               "feet": [list(f) for f in final.feet], "out": args.out,
+               "iterates": [_iterate_json(it) for it in result.iterates]}
+        if table is not None:
+            out["starts"] = [{"start": s, "error": str(r)} if isinstance(r, BaseException) else
+                             {"start": s, "converged": r.converged, "reason": r.reason, "parameters": r.final.values,
+                              "frequencies_hz": list(r.final.frequencies), "k_eff": _number(r.final.k_eff),
+                              "solves": r.solves, "seconds": r.seconds} for s, r in table]
+        print(json.dumps(out, indent=2))
     else:
         verdict = "reached" if result.converged else "NOT reached"
-        print(f"{verdict}: {label} at {final.frequency:.2f} Hz ({100 * (final.frequency / target - 1):+.4f} %) "
-              f"after {len(result.iterates)} solves, {seconds:.1f} s ({result.reason})")
+        reached = ", ".join(f"{t.label} at {f:.2f} Hz ({100 * (f / t.frequency - 1):+.4f} %)"
+                            for t, f in zip(goals, final.frequencies))
+        print(f"{verdict}: {reached} after {result.solves} solves, {result.seconds:.1f} s ({result.reason})")
+        if args.maximize:
+            first = result.first_on_target
+            start = "not reached" if first is None else f"{first.k_eff:.5f} at the first design on the targets"
+            gain = "" if first is None else f" ({100 * (final.k_eff / first.k_eff - 1):+.2f} %)"
+            print(f"k_eff {result.iterates[0].k_eff:.5f} at the start, {start}, {final.k_eff:.5f} final{gain}")
+        if final.feet:
+            print(f"feet: {feet_text(final.feet)}")
         print("parameters: " + " ".join(f"--set {n}={v:.9g}" for n, v in final.values.items()
                                          if not n.startswith("parts.")))
+        if args.out is not None:
+            print(f"design written to {args.out}")
     if not result.converged:
-        print(f"modalfe: tune: {label} not within {args.tol:.2%} of {target:.6g} Hz: {result.reason}", file=sys.stderr)
+        print(f"modalfe: tune: not converged (tol {args.tol:.2%}): {result.reason}", file=sys.stderr)
         return 1
     return 0
+
+
+def _line(k: int, it, targets) -> str:
+    """One iterate of the progress log."""
+    freqs = "  ".join(f"{f:11.2f} Hz {100 * (f / hz - 1):+8.4f} %" for f, (_, hz) in zip(it.frequencies, targets))
+    values = ", ".join(f"{n} = {v:.6g}" for n, v in it.values.items())
+    slopes = "; ".join(", ".join(f"{s:+.3f}" for s in row.values()) for row in it.relative_sensitivity)
+    text = f"{k:>3}  {freqs}  {values}  (d ln f / d ln p {slopes}; {it.solves} solves, {it.seconds:.1f} s)"
+    if math.isfinite(it.k_eff):
+        text += f"  k_eff {it.k_eff:.5f}"
+    if math.isfinite(it.separation):
+        text += f"  separation {it.separation:.2%}"
+    if it.feet:
+        from modalfe.response.tuning import feet_text
+
+        text += f"  feet {feet_text(it.feet)}"
+    return "\n".join([text] + [f"     {note}" for note in it.notes])
+
+
+def _print_starts(table, names, chosen: int) -> None:
+    print(f"{'start':>5}  " + "  ".join(f"{n:>14}" for n in names) + "  result")
+    for i, (start, r) in enumerate(table):
+        values = "  ".join(f"{start[n]:>14.6g}" for n in names)
+        if isinstance(r, BaseException):
+            outcome = f"error: {r}"
+        else:
+            outcome = (("converged" if r.converged else "not converged") + f", residual {r.residual:.2e}"
+                       + (f", k_eff {r.final.k_eff:.5f}" if r.maximize else "")
+                       + f", {r.solves} solves, {r.seconds:.1f} s ({r.reason})")
+        print(f"{i + 1:>5}{'*' if i == chosen else ' '} {values}  {outcome}")
+
+
+def _iterate_json(it) -> dict:
+    return {"values": it.values, "frequencies_hz": list(it.frequencies), "frequency_hz": it.frequencies[0],
+            "dlnf_dlnp": list(it.relative_sensitivity), "k_eff": _number(it.k_eff),
+            "separation": _number(it.separation), "feet": [list(f) for f in it.feet], "solves": it.solves,
+            "seconds": it.seconds, "accepted": it.accepted, "notes": list(it.notes)}
+
+
+def _number(x: float) -> float | None:
+    return x if math.isfinite(x) else None
 
 
 def _target(text: str) -> tuple[str, float]:
@@ -77,6 +197,19 @@ def _target(text: str) -> tuple[str, float]:
     if not sep or not label.strip() or not (math.isfinite(hz) and hz > 0):
         raise SceneError(f"--target: expected LABEL=HZ with a positive frequency, e.g. \"(0,6)=40.7e3\", got '{text}'")
     return label.strip(), hz
+
+
+def _separation(text: str) -> float:
+    """``3%`` or ``0.03`` -> 0.03."""
+    body = text.strip()
+    percent = body.endswith("%")
+    try:
+        value = float(body[:-1] if percent else body) / (100 if percent else 1)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and 0 < value < 1):
+        raise SceneError(f"--separation: expected a fraction in (0, 1) or a percentage, e.g. 3%, got '{text}'")
+    return value
 
 
 def _bound(text: str) -> tuple[str, tuple[float, float]]:

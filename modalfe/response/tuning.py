@@ -1,12 +1,39 @@
-"""Tuning a mode to a target frequency by changing scene parameters: Gauss-Newton on ln f with the modal
-sensitivities (``modalfe.response.sensitivity``), one 3-D solid solve and its sensitivities per iterate."""
+"""Tuning modes to target frequencies by changing scene parameters, with the modal sensitivities
+(``modalfe.response.sensitivity``): 3-D solid solves and their sensitivities at each iterate, no finite differences.
+
+Unknowns are x = ln |p| (a relative change of each parameter; signs are kept). At each iterate:
+
+* targets: the residuals r_i = ln (f_i / target_i) and their Jacobian J_ij = d ln f_i / d ln p_j; the step is the
+  minimum-norm least-squares (Gauss-Newton) step s = -J^+ r (Nocedal & Wright, Numerical Optimization, 2nd ed.
+  2006, sec. 10.3). With more targets than independent parameters it is the least-squares compromise; when that
+  stops moving with a target still outside ``tol`` the run ends saying the targets cannot all be met.
+* separation (``separation``): the first target's mode keeps |f_n - f_0| / f_0 >= separation from every other
+  mode of its solve (the modes the model solves; the gap logged is the nearest's). Linearised in x,
+  sigma (d_n + a_n s - ln(1 + sigma sep)) >= 0 with d_n = ln (f_n / f_0), a_n = J_n - J_0, sigma = +1 above,
+  -1 below; active set, rebuilt at every iterate: a neighbour whose linearised separation the step would break
+  joins the equality rows at its limit and the step is recomputed (Nocedal & Wright sec. 16.5).
+* ``maximize="k_eff"``: the effective coupling of the first target's mode (open-circuit partner, Sensitivities.
+  k_eff). The targets (and active separations) stay equality constraints: from a design that meets them, the
+  gradient g = d ln k / d ln p projected onto the null space of the constraint rows, P g with P = I - A^+ A, is
+  added to the restoring step over the trust radius (Rosen's gradient projection, J. SIAM 8 (1960) 181),
+  parameters on a bound that g pushes outward held; from a design off them, the restoring step alone
+  (restoration, Rosen, J. SIAM 9 (1961) 514). A design back on the targets with a lower k_eff than the best so
+  far is rejected and the trust radius halved; the run ends when the predicted gain over the trust radius is
+  below ``K_GAIN_TOL`` or the radius below ``MIN_RADIUS``.
+* trust region: no parameter moves by more than ``MAX_RELATIVE_STEP`` of itself (radius ln 1.2), then ``bounds``.
+* the device holds together: a step whose scene the builder or the scene checks refuse (a ceramic or foot off
+  the plate, parts apart) is halved until it is accepted, up to ``MAX_HALVINGS`` times, and the reason is logged.
+* feet (``replace_feet``): after each solve the feet are moved to the in-phase antinodes nearest to them of the
+  first target's mode of the device without feet (``modalfe.response.placement.antinodes``, as ``place_feet``
+  does), kept inside the plate; the run converges only once no foot moves by more than ``FOOT_TOL``.
+"""
 
 from __future__ import annotations
 
 import math
 import time
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -16,98 +43,446 @@ from modalfe.results.modes import select
 from modalfe.solve.api import solve_modes
 
 MAX_RELATIVE_STEP = 0.2  # trust region: no parameter moves by more than this fraction of itself in one iterate
-TUNE_COUNT = 6  # modes asked of each solve around the tracked one (enough to find it by label when neighbours move)
+TUNE_COUNT = 6  # modes asked of each solve around a target (enough to find it by label when neighbours move)
+MAX_HALVINGS = 6  # a step the scene refuses is halved at most this often (down to 1/64)
+# maximising k_eff: stop when the projected gradient promises less than 0.1 % of k_eff over the trust radius, or
+# the radius has shrunk below 0.5 % of each parameter (the modal sensitivities' own error is ~1e-4 relative,
+# sensitivity.RELATIVE_STEP, and a 0.1 % coupling gain is below what a prototype's scatter resolves)
+K_GAIN_TOL = 1e-3
+MIN_RADIUS = math.log(1.005)
+# first trust radius of the k_eff ascent (a fraction of each parameter): a step of the full 20 % along the projected
+# gradient lost the Cu-Be plate's (0,6) mode from the solve's window (docs/tuning.md)
+ASCENT_RADIUS = 0.05
+# feet are placed on the antinode grid of ``placement.antinodes`` (0.5 mm spacing): a foot that would move by less
+# than half a grid step is left where it is
+FOOT_TOL = 0.25e-3
+# a (0,n) mode's antinodes are ridges across the plate: a foot moves to the nearest ridge point counting a move along
+# the ridge this many times a move across it, so it stays near its row (the plain nearest point of a ridge may lie
+# rows away: a foot at y = 32 mm went to 34.8 mm, one at x = 20 mm to the plate's end on a row where the inner ridge
+# fell below antinodes' threshold)
+RIDGE_WEIGHT = 4.0
+
+
+@dataclass(frozen=True)
+class FrequencyTarget:
+    """A mode, by label (``(0,6)``, ``bending-z 6``, a family ``(0,n)``), and its target frequency [Hz]."""
+
+    label: str
+    frequency: float
 
 
 @dataclass(frozen=True)
 class Iterate:
-    """One solve: parameter values [their units], the tracked mode's frequency [Hz] and d ln f / d ln p."""
+    """One evaluated design: parameter values [their units]; each target mode's frequency [Hz] and
+    d ln f / d ln p; k_eff of the first target's mode (NaN unless maximizing); the smallest relative distance
+    of that mode to its neighbours (NaN when not asked); the feet (x, y) [m] it was solved with (empty when not
+    re-placed); eigen solves and seconds spent; whether it was kept (a k_eff step may be rejected); notes
+    (steps shortened, feet moved, rejection)."""
 
     values: dict[str, float]
-    frequency: float
-    relative_sensitivity: dict[str, float]
+    frequencies: tuple[float, ...]
+    relative_sensitivity: tuple[dict[str, float], ...]
+    k_eff: float
+    separation: float
+    feet: tuple[tuple[float, float], ...]
+    solves: int
     seconds: float
+    accepted: bool = True
+    notes: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
 class TuningResult:
-    """The iterates, whether the last one is within ``tol`` of the target, and the scene at the last values."""
+    """The iterates, whether the final design meets the targets (and, maximizing, the optimality test), why the
+    run ended, and the final design: its scene and its iterate."""
 
-    label: str
-    target: float
+    targets: tuple[FrequencyTarget, ...]
     tol: float
     iterates: tuple[Iterate, ...]
     converged: bool
     reason: str
     scene: object
+    final: Iterate  # the design in ``scene``
+    maximize: str | None = None
 
     @property
-    def final(self) -> Iterate:
-        return self.iterates[-1]
+    def solves(self) -> int:
+        return sum(it.solves for it in self.iterates)
+
+    @property
+    def seconds(self) -> float:
+        return sum(it.seconds for it in self.iterates)
+
+    @property
+    def first_on_target(self) -> Iterate | None:
+        """The first kept iterate within ``tol`` of every target (the reference of a k_eff gain), if any."""
+        return next((it for it in self.iterates if it.accepted and all(
+            abs(f / t.frequency - 1) <= self.tol for f, t in zip(it.frequencies, self.targets))), None)
+
+    @property
+    def residual(self) -> float:
+        """Largest |f / target - 1| of the final design."""
+        return max(abs(f / t.frequency - 1) for f, t in zip(self.final.frequencies, self.targets))
 
 
-def tune_frequency(scene, label: str, target: float, parameters: Sequence[str], *, tol: float = 1e-3,
-                   bounds: Mapping[str, tuple[float, float]] | None = None, max_iterations: int = 12,
-                   progress: Callable[[int, Iterate], None] | None = None) -> TuningResult:
-    """Change ``parameters`` (``Scene.with_overrides`` names, real and non-zero) until the mode ``label`` (selected
-    by label nearest the current frequency) lies within ``tol`` (relative) of ``target`` [Hz].
+@dataclass
+class _Point:
+    """What one evaluation knows: the iterate, the residuals r, Jacobian J (targets x parameters), separation
+    rows (sigma, d, a), k_eff gradient g = d ln k / d ln p, and the feet placed on its antinodes."""
 
-    Each iterate solves the 3-D solid near the tracked frequency (no error estimate), takes d ln f / d ln p of the
-    mode (``frequency_sensitivities``) and steps ln p by the minimum-norm Gauss-Newton step for
-    ln f(p) = ln target (Nocedal & Wright, Numerical Optimization, 2006, sec. 10.3), each relative change limited
-    to ``MAX_RELATIVE_STEP`` and clipped to ``bounds`` (name -> (low, high)). Stops converged, or (not converged,
-    with the reason) when the parameters sit on their bounds or the mode does not move, or after
-    ``max_iterations`` solves."""
+    scene: object
+    iterate: Iterate
+    r: np.ndarray
+    J: np.ndarray
+    neighbours: list = field(default_factory=list)
+    g: np.ndarray | None = None
+    placed: tuple | None = None  # feet re-placed on the antinodes of this point's plate, when they moved
+
+
+def tune(scene, targets: Sequence[FrequencyTarget], parameters: Sequence[str], *, tol: float = 1e-3,
+         bounds: Mapping[str, tuple[float, float]] | None = None, maximize: str | None = None,
+         separation: float | None = None, replace_feet: bool = False, max_iterations: int = 12,
+         progress: Callable[[int, Iterate], None] | None = None) -> TuningResult:
+    """Change ``parameters`` (``frequency_sensitivities`` names, real and non-zero) until every target mode lies
+    within ``tol`` (relative) of its frequency, optionally maximizing k_eff of the first, keeping its
+    ``separation`` from its neighbours and its feet on its antinodes (module docstring). ``bounds``: name ->
+    (low, high) [its unit]. ``progress(k, iterate)`` after each evaluation (kept or rejected). Ends after
+    ``max_iterations`` evaluations at most."""
+    targets = tuple(targets)
     names = list(dict.fromkeys(parameters))
-    if not names or len(names) != len(parameters):
+    _check(scene, targets, list(parameters), tol, bounds, maximize, separation, replace_feet)
+    bounds = dict(bounds or {})
+    low = np.array([bounds.get(n, (-math.inf, math.inf))[0] for n in names])
+    high = np.array([bounds.get(n, (-math.inf, math.inf))[1] for n in names])
+    iterates: list[Iterate] = []
+    radius = math.log1p(ASCENT_RADIUS)
+    near = [t.frequency for t in targets]
+    notes: list[str] = []
+    kept: _Point | None = None  # the point the next step starts from
+    best: _Point | None = None  # maximizing: the point on the targets with the highest k_eff so far
+
+    def finish(converged: bool, reason: str) -> TuningResult:
+        # maximizing and stopped early: the best design on the targets, not the last one off them
+        final = best if best is not None and not converged else kept
+        if final is not kept:
+            reason += "; the best design on the targets kept"
+        return TuningResult(targets, tol, tuple(iterates), converged, reason, final.scene, final.iterate, maximize)
+
+    def record(it: Iterate) -> None:
+        iterates.append(it)
+        if progress is not None:
+            progress(len(iterates), it)
+
+    x = taken = np.zeros(len(names))  # the kept design's values and the last step from it (ln |p|)
+    base = scene  # the kept design's scene the last step was taken from (its feet re-placed)
+    for _ in range(max_iterations):
+        try:
+            point = _evaluate(scene, targets, names, near, maximize is not None, separation, replace_feet, notes)
+        except SolverError as exc:  # a target mode lost after a step: the step halved, from the kept design
+            if kept is None or not np.any(taken):
+                raise
+            taken = taken / 2
+            radius /= 2
+            scene = with_values(base, dict(zip(names, (x * np.exp(taken)).tolist())))
+            near = [f * math.exp(float(row @ taken)) for f, row in zip(kept.iterate.frequencies, kept.J)]
+            notes = [f"step halved: {exc}"]
+            continue
+        notes = []
+        x = np.array(list(point.iterate.values.values()))
+        for name, value, lo, hi in zip(names, x, low, high):
+            if value == 0 or not lo <= value <= hi:
+                raise SceneError(f"{name}: {value:g} cannot be tuned (must be non-zero and within its bounds "
+                                 f"{lo:g}-{hi:g})")
+        met = _met(point, tol, separation)
+        if maximize and met and best is not None and point.iterate.k_eff < best.iterate.k_eff:
+            record(replace(point.iterate, accepted=False, notes=(
+                *point.iterate.notes, f"rejected: k_eff {point.iterate.k_eff:.5f} is below the best "
+                                      f"{best.iterate.k_eff:.5f}; trust radius halved")))
+            radius /= 2
+            point = kept = best
+            x = np.array(list(point.iterate.values.values()))
+        else:
+            record(point.iterate)
+            kept = point
+            if maximize and met:
+                best = point
+        ascend = bool(maximize) and met  # the ascent only from a point on the targets (restoration first)
+        step, ascent = _step(point, separation, radius if ascend else 0.0, x, low, high)
+        moved = point.placed is not None
+        if met and not moved:
+            if not maximize:
+                return finish(True, "within tol")
+            if radius < MIN_RADIUS:
+                return finish(True, "within tol; the trust region can no longer improve k_eff")
+            # predicted gain in ln k_eff of a step of max-norm ``radius`` along P g
+            if radius * float(ascent @ ascent) / max(float(np.max(np.abs(ascent))), 1e-300) < K_GAIN_TOL:
+                return finish(True, "within tol; k_eff's projected gradient is small")
+        if not np.all(np.isfinite(point.J)) or not np.any(point.J):
+            return finish(False, "the modes do not move with these parameters")
+        proposed = np.clip(x * np.exp(step), low, high)
+        # stalled: off the targets (or the separation), and the step would move no target frequency nor
+        # neighbour distance by a tenth of ``tol``
+        rows = np.vstack([point.J] + [a[None, :] for _, _, a in point.neighbours])
+        if not moved and not ascend and np.max(np.abs(rows @ np.log(proposed / x))) < 0.1 * tol:
+            if np.any((x <= low) | (x >= high)):
+                return finish(False, "the parameters sit on their bounds")
+            return finish(False, f"the targets{' and the separation' if separation else ''} cannot all be met "
+                                 f"with these parameters ({len(targets)} targets, {len(names)} parameters: the "
+                                 f"least-squares step no longer moves them)")
+        base = point.scene
+        if moved:
+            base = base.with_overrides(feet=point.placed)
+            notes.append("feet moved to the antinodes: " + feet_text(point.placed))
+        scene, fraction, why = _feasible(base, names, x, proposed)
+        if scene is None:
+            return finish(False, f"no step is accepted by the scene: {why}")
+        if fraction < 1:
+            notes.append(f"step shortened to {fraction:g} of itself: {why}")
+        taken = fraction * np.log(proposed / x)
+        near = [f * math.exp(float(row @ taken)) for f, row in zip(point.iterate.frequencies, point.J)]
+    if best is not None:
+        return finish(False, f"k_eff not at its optimum after {max_iterations} evaluations")
+    return finish(False, f"not within tol after {max_iterations} evaluations")
+
+
+def feet_text(feet: Sequence[tuple[float, float]]) -> str:
+    """``(x, y)`` of each foot in mm."""
+    return " ".join(f"({1e3 * x:.2f}, {1e3 * y:.2f})" for x, y in feet) + " mm"
+
+
+def _check(scene, targets, names, tol, bounds, maximize, separation, replace_feet) -> None:
+    """SceneError naming the first bad argument (before any solve)."""
+    if not targets:
+        raise SceneError("target: give one or more LABEL=HZ")
+    for t in targets:
+        if not (isinstance(t.label, str) and t.label.strip()):
+            raise SceneError(f"target: a mode label is needed, got {t.label!r}")
+        if not (math.isfinite(t.frequency) and t.frequency > 0):
+            raise SceneError(f"target: must be a positive frequency in Hz, got {t.frequency}")
+    if len({t.label for t in targets}) != len(targets):
+        raise SceneError("target: give each mode label once")
+    if not names or len(set(names)) != len(names) or not all(isinstance(n, str) and n for n in names):
         raise SceneError("vary: give one or more distinct parameters")
-    if not (math.isfinite(target) and target > 0):
-        raise SceneError(f"target: must be a positive frequency in Hz, got {target}")
     if not (math.isfinite(tol) and 0 < tol < 0.5):
         raise SceneError(f"tol: must lie in (0, 0.5), got {tol}")
     check_parameters(scene, names)
-    bounds = dict(bounds or {})
-    unknown = sorted(set(bounds) - set(names))
+    unknown = sorted(set(bounds or {}) - set(names))
     if unknown:
         raise SceneError(f"bounds: {unknown[0]} is not among the parameters varied {names}")
-    iterates: list[Iterate] = []
-    near = target
-    for _ in range(max_iterations):
-        start = time.perf_counter()
-        modes = solve_modes(scene, near=near, count=TUNE_COUNT, fidelity="solid", error_estimate=False)
+    if maximize not in (None, "k_eff"):
+        raise SceneError(f"maximize: only k_eff can be maximized, got {maximize!r}")
+    if maximize and "drive" not in scene.electrodes.values():
+        raise SceneError('maximize: k_eff needs a driven electrode (electrodes.GROUP = "drive")')
+    if separation is not None and not (math.isfinite(separation) and 0 < separation < 1):
+        raise SceneError(f"separation: must lie in (0, 1) (a fraction of the frequency), got {separation}")
+    if replace_feet and "feet" not in _builder_parameters(scene):
+        raise SceneError(f"replace_feet: the scene '{scene.name}' has no feet to place (its device takes no "
+                         f"'feet')")
+
+
+def has_feet(scene) -> bool:
+    """Whether the scene's builder places feet (``replace_feet`` can be used)."""
+    return "feet" in _builder_parameters(scene)
+
+
+def _builder_parameters(scene) -> dict:
+    from modalfe.geometry import builder_parameters
+
+    return builder_parameters(scene.device) if scene.device != "boxes" else {}
+
+
+def _feet(scene) -> tuple[tuple[float, float], ...]:
+    """The scene's foot centres (x, y) [m] (its builder's default when not set)."""
+    feet = scene.params.get("feet", _builder_parameters(scene)["feet"].default)
+    return tuple((float(x), float(y)) for x, y in feet)
+
+
+def _evaluate(scene, targets, names, near, need_k, separation, replace_feet, notes) -> _Point:
+    """Solve ``scene`` near each target (one solve serves every target inside its span of modes; with ``need_k``
+    an open-circuit solve beside the first), take the sensitivities, re-place the feet (``replace_feet``: a
+    solve without feet, ``_feet_on_antinodes``) and build the iterate."""
+    start = time.perf_counter()
+    solves: list = []  # (modes, Sensitivities)
+    rows, found = [], []
+    extra = 0
+    for i, (t, f) in enumerate(zip(targets, near)):
+        use = next((k for k, (modes, _) in enumerate(solves)
+                    if modes.frequencies.min() <= f <= modes.frequencies.max()), None)
+        if use is None:
+            modes = solve_modes(scene, near=f, count=TUNE_COUNT, fidelity="solid", error_estimate=False)
+            open_modes = None
+            if need_k and i == 0:
+                open_modes = solve_modes(scene, near=f, count=TUNE_COUNT, circuit="open", fidelity="solid",
+                                         error_estimate=False)
+                extra = 1
+            solves.append((modes, frequency_sensitivities(modes, names, open_modes=open_modes)))
+            use = len(solves) - 1
+        modes, sens = solves[use]
         try:
-            mode = select(modes, label, near)
+            mode = select(modes, t.label, f)
         except SolverError as exc:
-            raise SolverError(f"tune: the mode {label} is not found near {near:.6g} Hz ({exc})") from None
-        found = frequency_sensitivities(modes, names)
+            raise SolverError(f"tune: the mode {t.label} is not found near {f:.6g} Hz ({exc})") from None
         row = [m.index for m in modes].index(mode.index)
-        slope = found.relative[row]
-        values = dict(zip(names, found.values.tolist()))
-        for name, value in values.items():
-            low, high = bounds.get(name, (-math.inf, math.inf))
-            if value == 0 or not low <= value <= high:
-                raise SceneError(f"{name}: {value:g} cannot be tuned (must be non-zero and within its bounds "
-                                 f"{low:g}-{high:g})")
-        iterate = Iterate(values, mode.frequency, dict(zip(names, slope.tolist())), time.perf_counter() - start)
-        iterates.append(iterate)
-        if progress is not None:
-            progress(len(iterates), iterate)
-        residual = math.log(mode.frequency / target)
-        if abs(mode.frequency / target - 1) <= tol:
-            return TuningResult(label, target, tol, tuple(iterates), True, "within tol", scene)
-        if not np.all(np.isfinite(slope)) or float(slope @ slope) == 0:
-            return TuningResult(label, target, tol, tuple(iterates), False,
-                                "the mode does not move with these parameters", scene)
-        step = -residual * slope / float(slope @ slope)  # min-norm d ln p
-        step = np.clip(step, math.log(1 - MAX_RELATIVE_STEP), math.log(1 + MAX_RELATIVE_STEP))
-        proposed = {}
-        for (name, value), s in zip(values.items(), step):
-            low, high = bounds.get(name, (-math.inf, math.inf))
-            proposed[name] = float(np.clip(value * math.exp(s), low, high))  # ln |p| moves by s, the sign is kept
-        if all(math.isclose(proposed[n], values[n], rel_tol=1e-12) for n in names):
-            return TuningResult(label, target, tol, tuple(iterates), False,
-                                "the parameters sit on their bounds", scene)
-        scene = with_values(scene, proposed)
-        near = mode.frequency * math.exp(float(slope @ step))  # where the mode should be now
-    return TuningResult(label, target, tol, tuple(iterates), False, f"not within tol after {max_iterations} solves",
-                        scene)
+        rows.append(sens.relative[row])
+        found.append((mode, row, sens))
+    J = np.array(rows)
+    frequencies = tuple(float(mode.frequency) for mode, _, _ in found)
+    r = np.log(np.array(frequencies) / np.array([t.frequency for t in targets]))
+    _, row0, sens0 = found[0]
+    k, g = math.nan, None
+    if need_k:
+        k = float(sens0.k_eff[row0])
+        if not (math.isfinite(k) and k > 0):
+            raise SolverError(f"tune: k_eff of {targets[0].label} cannot be computed (no open-circuit mode alike "
+                              f"in shape)")
+        g = sens0.dk_eff[row0] * sens0.values / k  # d ln k / d ln p
+    neighbours, gap = [], math.nan
+    if separation is not None:
+        f = sens0.frequencies
+        elastic = [j for j in range(len(f)) if j != row0 and np.all(np.isfinite(sens0.relative[j]))]
+        for j in elastic:  # every mode of the solve: one farther away may come closer faster than the nearest
+            sigma = 1 if f[j] > f[row0] else -1
+            neighbours.append((sigma, math.log(f[j] / f[row0]), sens0.relative[j] - sens0.relative[row0]))
+        gap = min((abs(math.expm1(d)) for _, d, _ in neighbours), default=math.nan)
+    placed = None
+    if replace_feet:
+        placed = _feet_on_antinodes(scene, targets[0].label, frequencies[0])
+        extra += 1
+    iterate = Iterate(dict(zip(names, sens0.values.tolist())), frequencies,
+                      tuple(dict(zip(names, row.tolist())) for row in J), k, gap,
+                      _feet(scene) if has_feet(scene) else (), len(solves) + extra, time.perf_counter() - start,
+                      True, tuple(notes))
+    return _Point(scene, iterate, r, J, neighbours, g, placed)
+
+
+def _met(point: _Point, tol: float, separation: float | None) -> bool:
+    """Every target within ``tol`` and the first target's neighbours at least ``separation`` away, to ``tol`` / 2
+    of a frequency (an active separation row lands on its limit only as closely as the targets on theirs)."""
+    within = bool(np.all(np.abs(np.expm1(point.r)) <= tol))
+    return within and all(sigma * (d - math.log1p(sigma * separation)) >= -tol / 2 for sigma, d, _ in point.neighbours)
+
+
+def _step(point: _Point, separation, radius: float, x, low, high) -> tuple[np.ndarray, np.ndarray]:
+    """The step in ln |p| (module docstring) and the projected k_eff gradient P g (zeros when not maximizing):
+    the restoring minimum-norm step on the target rows and the active separation rows, within the trust
+    region ln(1 + ``MAX_RELATIVE_STEP``), plus the projected gradient over ``radius`` (at most what the restoring
+    step leaves of the trust region; 0: none)."""
+    n = point.J.shape[1]
+    active: list[int] = []
+    while True:
+        rows = [point.J] + [point.neighbours[i][2][None, :] for i in active]
+        # at its limit a separation row reads d + a s = ln(1 + sigma sep)
+        rhs = [-point.r] + [np.array([math.log1p(sigma * separation) - d])
+                            for sigma, d, _ in (point.neighbours[i] for i in active)]
+        A, b = np.vstack(rows), np.concatenate(rhs)
+        step = np.linalg.lstsq(A, b, rcond=None)[0]  # minimum-norm least squares
+        largest, region = float(np.max(np.abs(step))), math.log1p(MAX_RELATIVE_STEP)
+        if largest > region:
+            step *= region / largest
+        ascent = np.zeros(n)
+        if point.g is not None:
+            g = point.g
+            free = ~(((x >= high) & (g > 0)) | ((x <= low) & (g < 0)))  # bounds g pushes against are held
+            Af = A[:, free]
+            ascent[free] = g[free] - np.linalg.pinv(Af) @ (Af @ g[free])  # P g, P = I - A^+ A
+            top = float(np.max(np.abs(ascent)))
+            if top > 0:
+                step = step + max(min(radius, region - largest), 0.0) * ascent / top
+        broken = [i for i, (sigma, d, a) in enumerate(point.neighbours)
+                  if i not in active and sigma * (d + a @ step - math.log1p(sigma * separation)) < -1e-12]
+        if not broken:
+            return step, ascent
+        active += broken
+
+
+def _feasible(scene, names, x, proposed) -> tuple[object | None, float, str]:
+    """The scene at ``proposed`` (values of ``names``), or, where the builder or the scene checks refuse it (a
+    part off its support, parts apart), at the step from ``x`` halved until accepted (``MAX_HALVINGS``):
+    (scene or None, fraction of the step taken, the last refusal)."""
+    why = ""
+    for halvings in range(MAX_HALVINGS + 1):
+        fraction = 0.5**halvings
+        values = proposed if halvings == 0 else x * (proposed / x) ** fraction  # exactly on a bound when clipped
+        try:
+            return with_values(scene, dict(zip(names, values.tolist()))), fraction, why
+        except SceneError as exc:
+            why = str(exc)
+    return None, 0.0, why
+
+
+def _feet_on_antinodes(scene, label: str, near: float) -> tuple[tuple[float, float], ...] | None:
+    """Each foot moved to the nearest antinode, on the plate's underside, of the mode ``label`` of the device
+    without feet (solved near ``near`` [Hz]) in phase with the one nearest the first foot, kept inside the
+    plate, as ``placement.place_feet`` does (without its re-solves with the feet; the antinodes of the mode
+    with feet are pulled off each foot by the foot itself), a move along a (0,n) or (m,0) mode's ridges counted
+    ``RIDGE_WEIGHT`` times; None when no foot would move by more than ``FOOT_TOL``."""
+    from modalfe.response.placement import antinodes
+
+    feet = _feet(scene)
+    size = float(scene.params.get("foot_size", _builder_parameters(scene)["foot_size"].default))
+    bare = solve_modes(scene.with_overrides(feet=()), near=near, count=8, fidelity="solid", error_estimate=False)
+    try:
+        mode = select(bare, label, near)
+    except SolverError as exc:
+        raise SolverError(f"tune: the mode {label} of the device without feet is not found near {near:.6g} Hz "
+                          f"({exc})") from None
+    found = antinodes(mode, part="plate")
+
+    def distance(a, x: float, y: float) -> float:
+        """(0,n): the antinodes are ridges across the plate (``antinodes``), so a move across the ridges (along
+        x) is preferred ``RIDGE_WEIGHT`` to 1 to one along them; (m,0) likewise along y; other modes: Euclidean."""
+        if mode.label.startswith("(0,") and not mode.label.startswith("(0,0"):
+            return math.hypot(a.x - x, RIDGE_WEIGHT * (a.y - y))
+        if mode.label.endswith(",0)"):
+            return math.hypot(RIDGE_WEIGHT * (a.x - x), a.y - y)
+        return math.hypot(a.x - x, a.y - y)
+
+    first = min(found, key=lambda a: distance(a, *feet[0]))
+    in_phase = [a for a in found if np.sign(a.w) == np.sign(first.w)]
+    plate = scene.full_assembly().part("plate")
+    placed = []
+    for x, y in feet:
+        nearest = min(in_phase, key=lambda a, x=x, y=y: distance(a, x, y))
+        placed.append((float(np.clip(nearest.x, plate.lo[0] + size / 2, plate.hi[0] - size / 2)),
+                       float(np.clip(nearest.y, plate.lo[1] + size / 2, plate.hi[1] - size / 2))))
+    moved = max(math.hypot(a - x, b - y) for (a, b), (x, y) in zip(placed, feet))
+    return tuple(placed) if moved > FOOT_TOL else None
+
+
+@dataclass(frozen=True)
+class TuneTask:
+    """``tune`` from one start (a dict of parameter values), as a picklable callable for
+    ``modalfe.sweeps.multistart.run_starts``: the scene, the targets, the parameters and ``tune``'s options."""
+
+    scene: object
+    targets: tuple[FrequencyTarget, ...]
+    parameters: tuple[str, ...]
+    options: Mapping = field(default_factory=dict)
+
+    def __call__(self, start: Mapping[str, float]) -> TuningResult:
+        return tune(with_values(self.scene, start), self.targets, self.parameters, **self.options)
+
+
+def latin_hypercube(bounds: Mapping[str, tuple[float, float]], count: int, *, seed: int = 0) -> list[dict]:
+    """``count`` starts spread over the box ``bounds`` (name -> (low, high)): a Latin hypercube (McKay, Beckman &
+    Conover, Technometrics 21 (1979) 239), each parameter's range cut in ``count`` equal strata, one start in
+    each; seeded, so a run repeats."""
+    from scipy.stats import qmc
+
+    names = list(bounds)
+    unit = qmc.LatinHypercube(d=len(names), seed=seed).random(count)
+    low, high = (np.array([bounds[n][k] for n in names]) for k in (0, 1))
+    return [dict(zip(names, (low + u * (high - low)).tolist())) for u in unit]
+
+
+def best_result(results: Sequence) -> int:
+    """Index of the best of several runs' results (exceptions last): converged first, then the highest k_eff
+    when maximizing, then the smallest residual."""
+    def key(i: int):
+        r = results[i]
+        if not isinstance(r, TuningResult):
+            return (2, 0.0, 0.0)
+        k = r.final.k_eff if r.maximize else 0.0
+        return (0 if r.converged else 1, -k, r.residual)
+
+    return min(range(len(results)), key=key)

@@ -35,12 +35,12 @@ from pathlib import Path
 import numpy as np
 
 from modalfe.errors import ModalfeError, SceneError
+from modalfe.sweeps.multistart import INLINE, check_workers, dask_client, submit_all
 
 log = logging.getLogger(__name__)
 
 MAC_CROSSING = 0.8  # below this the tracked mode is not the same shape any more (Allemang 2003: MAC > 0.9 consistent)
 GRID = (12, 6)  # samples of the normal displacement over the main part's top face (relative coordinates)
-INLINE = "inline"  # ``scheduler=INLINE``: compute the points one after another in this process (no dask)
 # the table's fixed columns; the swept parameters' columns go between DEFINITION and RESULT
 DEFINITION = ["point", "point_id", "scene", "scene_sha256", "overrides", "selector", "near_hz", "count", "extra_fn"]
 RESULT = ["status", "label", "frequency_hz", "tracked_label", "tracked_frequency_hz", "mac_previous", "crossing",
@@ -315,8 +315,7 @@ def sweep(scene_ref: str, params: Mapping[str, Sequence], *, out: str | Path, se
     (see the module docstring for the table). ``scheduler``: address of an existing dask scheduler, ``"inline"``
     to compute in this process, else a LocalCluster of ``workers`` single-threaded processes."""
     out = Path(out)
-    if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
-        raise SceneError(f"--workers: must be an integer >= 1, got {workers!r}")
+    check_workers(workers)
     if isinstance(count, bool) or not isinstance(count, (int, np.integer)) or count < 1:
         raise SceneError(f"count: must be an integer >= 1, got {count!r}")
     if not (isinstance(near, (int, float)) and np.isfinite(near) and near > 0):
@@ -395,22 +394,15 @@ def _compute(todo, scene_ref, base, selector, near, count, extra, scheduler, wor
                 if bar is not None:
                     bar.update()
             return
-        from dask.distributed import Client, LocalCluster, as_completed
+        from dask.distributed import as_completed
 
-        cluster = None if scheduler else LocalCluster(n_workers=int(workers), threads_per_worker=1, processes=True,
-                                                      dashboard_address=None, silence_logs=logging.WARNING)
-        client = Client(scheduler or cluster)
-        try:
-            futures = {client.submit(evaluate_point, scene_ref, p, base, selector, near, count, extra,
-                                     key=f"modalfe-{i}-{time.time_ns()}", pure=False): i for i, p in todo}
+        with dask_client(scheduler, workers) as client:
+            futures = submit_all(client, evaluate_point,
+                                 [(i, (scene_ref, p, base, selector, near, count, extra)) for i, p in todo])
             for future in as_completed(futures):
                 finish(futures[future], future.result())
                 if bar is not None:
                     bar.update()
-        finally:
-            client.close()
-            if cluster is not None:
-                cluster.close()
     finally:
         if bar is not None:
             bar.close()

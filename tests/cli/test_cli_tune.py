@@ -1,11 +1,14 @@
-"""``modalfe tune``: the progress log, the JSON result, exit status 1 when the target is not reached, and
-one-line errors for malformed options."""
+"""``modalfe tune``: the progress log, the JSON result, several targets, the final design written as a scene
+file, multi-start, exit status 1 when the target is not reached, and one-line errors for malformed options."""
 
 import json
+import math
 
 import pytest
 
 from modalfe.cli.main import main
+from modalfe.scene import load_scene
+from modalfe.solve.api import solve_modes
 from tests.cli.test_cli_sensitivity import STRIP
 
 
@@ -16,18 +19,39 @@ def strip(tmp_path):
     return str(path)
 
 
-def test_json_reports_the_solves_and_the_final_design(strip, capsys):
-    assert main(["tune", strip, "--target", "(0,2)=1300", "--vary", "parts.strip.size.x", "--json"]) == 0
+def test_json_reports_the_solves_and_the_final_design(strip, tmp_path, capsys):
+    """The design written with --out reads back and its (0,2) mode is where the run says (same scene, same mesh:
+    the same frequency to round-off, 1e-9)."""
+    design = tmp_path / "design.toml"
+    assert main(["tune", strip, "--target", "(0,2)=1300", "--vary", "parts.strip.size.x", "--json",
+                 "--out", str(design)]) == 0
     out = json.loads(capsys.readouterr().out)
-    assert out["converged"] and out["solves"] == len(out["iterates"]) >= 2
-    assert abs(out["frequency_hz"] / 1300 - 1) <= 1e-3
+    assert out["converged"] and len(out["iterates"]) >= 2 and out["solves"] == len(out["iterates"])
+    assert abs(out["frequency_hz"] / 1300 - 1) <= 1e-3 and out["targets"][0]["label"] == "(0,2)"
     assert out["parameters"]["parts.strip.size.x"] > 0.060  # longer strip, lower frequency
+    assert out["k_eff"] is None and out["feet"] == [] and out["out"] == str(design)
+    scene = load_scene(design)
+    assert scene.full_assembly().part("strip").size[0] == out["parameters"]["parts.strip.size.x"]
+    f = solve_modes(scene, near=1300.0, count=4, fidelity="solid", error_estimate=False).labelled("(0,2)").frequency
+    assert f == pytest.approx(out["frequency_hz"], rel=1e-9)
 
 
-def test_the_log_has_one_line_per_solve(strip, capsys):
-    assert main(["tune", strip, "--target", "(0,2)=1300", "--vary", "materials.steel.E"]) == 0
+def test_the_log_has_one_line_per_evaluation_and_two_targets(strip, capsys):
+    """f ~ sqrt(E) for every mode: two targets scaled alike by 1.05 are met by E alone."""
+    assert main(["tune", strip, "--target", "(0,2)=1514.3", "--target", "(0,3)=4182.8", "--vary",
+                 "materials.steel.E", "--separation", "3%"]) == 0
     out = capsys.readouterr().out
-    assert "reached: (0,2)" in out and "  1  " in out and "  2  " in out
+    assert "reached: (0,2) at" in out and ", (0,3) at" in out
+    assert "  1  " in out and "  2  " in out and "separation" in out
+
+
+def test_starts_keep_the_best(strip, capsys):
+    argv = ["tune", strip, "--target", "(0,2)=1300", "--vary", "parts.strip.size.x", "--starts", "2",
+            "--scheduler", "inline", "--bounds", "parts.strip.size.x=0.058:0.068", "--json"]
+    assert main(argv) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert len(out["starts"]) == 2 and all(s["converged"] for s in out["starts"])
+    assert out["parameters"]["parts.strip.size.x"] == pytest.approx(0.060 * math.sqrt(1442.2 / 1300), rel=5e-4)
 
 
 def test_an_unreachable_target_exits_1(strip, capsys):
@@ -42,6 +66,11 @@ def test_an_unreachable_target_exits_1(strip, capsys):
     (["--target", "(0,2)"], "--target: expected LABEL=HZ"),
     (["--target", "(0,2)=-3"], "--target: expected LABEL=HZ"),
     (["--target", "(0,2)=1300", "--bounds", "parts.strip.size.x=0.07:0.06"], "--bounds: expected NAME=LOW:HIGH"),
+    (["--target", "(0,2)=1300", "--separation", "150%"], "--separation: expected a fraction"),
+    (["--target", "(0,2)=1300", "--starts", "3"], "--bounds: --starts 3 spreads"),
+    (["--target", "(0,2)=1300", "--out", "design.txt"], "--out: 'design.txt' must end in .toml"),
+    (["--target", "(0,2)=1300", "--maximize", "k_eff"], "maximize: k_eff needs a driven electrode"),
+    (["--target", "(0,2)=1300", "--replace-feet"], "replace_feet: the scene 'strip' has no feet"),
 ])
 def test_malformed_options_are_refused_in_one_line(strip, capsys, extra, message):
     assert main(["tune", strip, "--vary", "parts.strip.size.x", *extra]) == 2

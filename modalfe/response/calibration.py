@@ -1,0 +1,581 @@
+"""Model updating from measured modes: the scene parameters (in ln p) that best explain measured frequencies and
+bending wavelengths, with their posterior uncertainty, correlation and what the data cannot identify.
+
+Weighted nonlinear least squares, chi^2(x) = sum_i ((y_i(x) - d_i) / sigma_i)^2 over x = ln |p|, minimised by
+Levenberg-Marquardt in its trust-region form (Nocedal & Wright, Numerical Optimization, 2nd ed. 2006, sec. 10.3,
+algorithm 4.1 for the radius; Friswell & Mottershead, Finite Element Model Updating in Structural Dynamics, 1995,
+ch. 7 for sensitivity-based updating), one 3-D solid solve per trial point. The Jacobian of a frequency is
+df/dp of ``modalfe.response.sensitivity`` (no new eigen solve); that of a wavelength is a central difference of
+the labeller's wavelength (``Mode.wavelength``: twice the mean spacing of the nodal lines crossed along the
+plate's centre line, ``modalfe.results.labels``) between eigen solves of the model assembled at p +- h on the
+same mesh with its nodes moved (``perturbed_model``): the extraction is piecewise linear in the nodal values, so
+no closed-form derivative exists short of the eigenvector derivative (Nelson 1976), which costs a linear solve
+per parameter anyway; the moved mesh keeps the extraction smooth in p (the same triangles, the same samples).
+
+At the optimum the posterior covariance of ln p is the Gauss-Newton one, (J^T W J)^-1 (Friswell & Mottershead
+eq. 7.27; Bard, Nonlinear Parameter Estimation, 1974, sec. 7-5), scaled by chi^2 / (m - n) when that exceeds 1
+(the stated sigmas do not explain the residuals: the Birge ratio) and left unscaled otherwise; the result says
+which. Identifiability is read from the SVD of the weighted Jacobian J_w = W^(1/2) J: a direction v_k with
+singular value s_k below ``RELATIVE_THRESHOLD`` s_max, or whose posterior sd 1 / s_k (ln units) exceeds 1 (the
+combination uncertain by more than itself), is not identified; the parameters along it are named, with the
+combination the data do fix (``E^0.5*thickness``).
+"""
+
+from __future__ import annotations
+
+import fnmatch
+import math
+import time
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import numpy as np
+
+from modalfe.errors import SceneError, SolverError
+from modalfe.response.sensitivity import check_parameters, frequency_sensitivities, perturbed_model, with_values
+from modalfe.results.modes import select
+from modalfe.solve.api import solve_modes
+from modalfe.solve.estimates import partner
+from modalfe.solve.levels import modes_of
+
+CALIBRATE_COUNT = 6  # modes asked of each solve around a measured one (enough to find it by label as it moves)
+INITIAL_RADIUS = math.log(1.2)  # first trust radius in ln p: parameters move by at most ~20 % in the first step
+MAX_RADIUS = 1.0  # the trust region never exceeds a factor e in the parameters
+RELATIVE_THRESHOLD = 1e-3  # s_k / s_max below this: the direction is not identified (numerical rank of J_w)
+WAVELENGTH_STEP = 1e-3  # relative step of the wavelength's central difference (module docstring): truncation
+# ~ h^2 (1e-6 relative), eigen-solver noise on the shapes ~ 1e-10 / h = 1e-7
+_SHIFT = 0.995  # solves are shifted this far below the expected frequency: never onto an eigenvalue
+_ACCEPT = 0.1  # actual / predicted chi^2 reduction above which a trial point is accepted
+_MESH_MARGIN = 1.1  # the mesh resolves the highest measured frequency with this margin
+_FIELDS = {"label", "frequency", "sigma", "wavelength", "wavelength_sigma"}
+
+
+@dataclass(frozen=True)
+class Measurement:
+    """One measured mode: ``label`` (its shape, e.g. ``(0,6)``), ``frequency`` and its 1-sigma ``sigma`` [Hz];
+    optionally its bending ``wavelength`` along the length and ``wavelength_sigma`` [m] (NaN when not measured)."""
+
+    label: str
+    frequency: float
+    sigma: float
+    wavelength: float = math.nan
+    wavelength_sigma: float = math.nan
+
+
+def read_measurements(path: str | Path) -> tuple[Measurement, ...]:
+    """Measurements from a TOML file of ``[[mode]]`` tables (``measurements_from_dict``); SceneError naming the
+    file and field at fault."""
+    import tomllib
+
+    try:
+        with open(path, "rb") as handle:
+            data = tomllib.load(handle)
+    except tomllib.TOMLDecodeError as exc:
+        raise SceneError(f"{path}: not valid TOML ({exc})") from None
+    return measurements_from_dict(data, source=str(path))
+
+
+def measurements_from_dict(data: Mapping, *, source: str = "measured") -> tuple[Measurement, ...]:
+    """``{"mode": [{"label": "(0,6)", "frequency": 40.7e3, "sigma": 50.0, "wavelength": ..., "wavelength_sigma":
+    ...}, ...]}``: frequency, sigma [Hz] and wavelength, wavelength_sigma [m] positive; sigma is required (there is
+    no default uncertainty), wavelength_sigma with a wavelength; labels distinct."""
+    if not isinstance(data, Mapping) or set(data) != {"mode"}:
+        extra = sorted(set(data) - {"mode"}) if isinstance(data, Mapping) else []
+        raise SceneError(f"{source}: {extra[0] if extra else 'mode'}: expected only [[mode]] tables")
+    rows = data["mode"]
+    if not isinstance(rows, list) or not rows or not all(isinstance(row, Mapping) for row in rows):
+        raise SceneError(f"{source}: mode: give one or more [[mode]] tables")
+    out = []
+    for i, row in enumerate(rows):
+        where = f"{source}: mode[{i}]"
+        unknown = sorted(set(row) - _FIELDS)
+        if unknown:
+            raise SceneError(f"{where}.{unknown[0]}: unknown field; known: {sorted(_FIELDS)}")
+        label = row.get("label")
+        if not isinstance(label, str) or not label.strip():
+            raise SceneError(f"{where}.label: required, the mode's shape label, e.g. \"(0,6)\"")
+        values = {key: _positive(f"{where}.{key}", row[key]) if key in row else math.nan
+                  for key in ("frequency", "sigma", "wavelength", "wavelength_sigma")}
+        for key in ("frequency", "sigma"):
+            if math.isnan(values[key]):
+                raise SceneError(f"{where}.{key}: required ({'Hz' if key == 'frequency' else '1-sigma, Hz'})")
+        if math.isnan(values["wavelength"]) != math.isnan(values["wavelength_sigma"]):
+            missing, given = (("wavelength_sigma", "wavelength") if math.isnan(values["wavelength_sigma"])
+                              else ("wavelength", "wavelength_sigma"))
+            raise SceneError(f"{where}.{missing}: required with {given} [m]")
+        out.append(Measurement(label.strip(), **values))
+    labels = [m.label for m in out]
+    for i, name in enumerate(labels):
+        if name in labels[:i]:
+            raise SceneError(f"{source}: mode[{i}].label: '{name}' measured twice; give each mode once")
+    return tuple(out)
+
+
+@dataclass(frozen=True)
+class Iterate:
+    """One trial point: parameter values [their units], chi^2 there, whether it was accepted, the trust radius
+    it was taken in [ln p] and the seconds its solve (and, if accepted, its Jacobian) took."""
+
+    values: dict[str, float]
+    chi2: float
+    accepted: bool
+    radius: float
+    seconds: float
+
+
+@dataclass(frozen=True)
+class Calibration:
+    """The fit: ``values`` [their units] of ``parameters`` with posterior ``sd`` (same units, first order:
+    |p| x sd of ln p), ``correlation`` (of ln p); per measured quantity (``quantities``: ``"(0,6) frequency"``,
+    ``"(0,6) wavelength"``) its ``measured``, ``sigma`` and ``predicted`` value [Hz or m]; ``chi2`` and its
+    ``dof`` (m - n); ``scale``: the factor the covariance was multiplied by and ``covariance_basis`` saying why;
+    ``singular_values`` and ``directions`` (columns, in ln p) of the weighted Jacobian; ``jacobian``: d y / d ln p
+    (quantities, parameters) at the estimates [Hz or m], unweighted (``posterior`` with other sigmas);
+    ``unidentified``: plain statements of what the data cannot identify (empty when all can); the ``iterates``;
+    whether it ``converged`` and why it stopped; the ``scene`` at the estimates."""
+
+    parameters: tuple[str, ...]
+    values: np.ndarray
+    sd: np.ndarray
+    correlation: np.ndarray
+    quantities: tuple[str, ...]
+    measured: np.ndarray
+    sigma: np.ndarray
+    predicted: np.ndarray
+    chi2: float
+    dof: int
+    scale: float
+    covariance_basis: str
+    singular_values: np.ndarray
+    directions: np.ndarray
+    jacobian: np.ndarray
+    unidentified: tuple[str, ...]
+    iterates: tuple[Iterate, ...]
+    converged: bool
+    reason: str
+    scene: object
+
+    @property
+    def residuals(self) -> np.ndarray:
+        """(predicted - measured) / sigma of each quantity [-]."""
+        return (self.predicted - self.measured) / self.sigma
+
+    @property
+    def solves(self) -> int:
+        return len(self.iterates)
+
+
+@dataclass(frozen=True)
+class _Parameter:
+    """A varied parameter: its members (scene parameter names set to one common value; several for a pattern such
+    as ``springs.foot_*.z``), its sign and the bounds of ln |p|."""
+
+    name: str
+    members: tuple[str, ...]
+    sign: float
+    low: float
+    high: float
+
+
+@dataclass(frozen=True)
+class _Point:
+    """The model at one parameter point: predicted quantities, the selected modes, and the Jacobian d y / d ln p
+    (unweighted) once asked for."""
+
+    x: np.ndarray
+    scene: object
+    predicted: np.ndarray
+    modes: tuple
+    solve: object
+    jacobian: np.ndarray | None = None
+
+
+def calibrate(scene, measurements: Sequence[Measurement], parameters: Sequence[str], *,
+              bounds: Mapping[str, tuple[float, float]] | None = None, max_iterations: int = 20,
+              tol: float = 1e-5, start: Mapping[str, float] | None = None,
+              progress: Callable[[int, Iterate], None] | None = None) -> Calibration:
+    """Fit ``parameters`` of ``scene`` to ``measurements`` (module docstring: Levenberg-Marquardt in ln |p|, one
+    3-D solid solve per trial point, at most ``max_iterations``), within ``bounds`` (name -> (low, high), same sign
+    as the value). Names as for ``frequency_sensitivities``; a ``*`` in the group of ``springs.GROUP...``,
+    ``masses.GROUP`` or ``materials.NAME.KEY`` ties every matching group to one value (``springs.foot_*.z``: all
+    feet alike), which they must share at the start. Each measured mode is found by label nearest its current
+    predicted frequency (the measured one at the start). Converged when the Gauss-Newton step moves no ln p by more
+    than ``tol``. ``start``: values to start from (name -> value, a pattern's value set on all it matches) instead
+    of the scene's. The mesh resolves the highest measured frequency (``mesh.max_frequency`` raised if below it)."""
+    measurements = tuple(measurements)
+    if not measurements or not all(isinstance(m, Measurement) for m in measurements):
+        raise SceneError("measured: give one or more measurements")
+    if not (math.isfinite(tol) and 0 < tol < 0.1):
+        raise SceneError(f"tol: must lie in (0, 0.1), got {tol}")
+    top = _MESH_MARGIN * max(m.frequency for m in measurements)
+    if scene.max_frequency < top:
+        scene = scene.with_overrides(**{"mesh.max_frequency": top})
+    specs = _parameters(scene, parameters, dict(bounds or {}))
+    if start:
+        unknown = sorted(set(start) - {s.name for s in specs})
+        if unknown:
+            raise SceneError(f"start: {unknown[0]} is not among the parameters varied {[s.name for s in specs]}")
+        scene = with_values(scene, {member: float(start[s.name]) for s in specs if s.name in start
+                                    for member in s.members})
+        specs = _parameters(scene, parameters, dict(bounds or {}))
+    quantities, measured, sigma = _data(measurements)
+    values = _values(scene, specs)
+    start = time.perf_counter()
+    point = _evaluate(scene, specs, measurements, np.log(np.abs(values)), [m.frequency for m in measurements],
+                      jacobian=True)
+    iterates = []
+    radius = INITIAL_RADIUS
+    low, high = np.array([s.low for s in specs]), np.array([s.high for s in specs])
+    converged, reason = False, f"not converged after {max_iterations} solves"
+
+    def record(p: _Point, chi2: float, accepted: bool) -> None:
+        nonlocal start
+        iterate = Iterate(dict(zip([s.name for s in specs], _values(p.scene, specs).tolist())), chi2, accepted,
+                          radius, time.perf_counter() - start)
+        iterates.append(iterate)
+        start = time.perf_counter()
+        if progress is not None:
+            progress(len(iterates), iterate)
+
+    chi2 = _chi2(point.predicted, measured, sigma)
+    record(point, chi2, True)
+    while True:
+        r = (point.predicted - measured) / sigma
+        J = point.jacobian / sigma[:, None]
+        free = _free(point.x, J.T @ r, low, high)
+        if chi2 == 0 or np.max(np.abs(_step(J, r, math.inf, free)), initial=0.0) <= tol:
+            held = [s.name for s, f in zip(specs, free) if not f]
+            converged, reason = True, "the Gauss-Newton step is below tol" + (
+                f"; held on their bounds (the data pull them beyond): {', '.join(held)}" if held else "")
+            break
+        if len(iterates) >= max_iterations:
+            break
+        step = _step(J, r, radius, free)
+        x = np.clip(point.x + step, low, high)
+        step = x - point.x
+        if np.max(np.abs(step)) <= tol:
+            reason = "the parameters sit on their bounds"
+            break
+        predicted_chi2 = float(np.sum((r + J @ step) ** 2))
+        near = _near(point, measurements, step)
+        trial = _evaluate(scene, specs, measurements, x, near, jacobian=False, previous=point.modes)
+        trial_chi2 = _chi2(trial.predicted, measured, sigma)
+        ratio = (chi2 - trial_chi2) / max(chi2 - predicted_chi2, 1e-300)
+        accepted = ratio > _ACCEPT
+        if accepted:
+            point, chi2 = _evaluate(scene, specs, measurements, x, near, jacobian=True, found=trial), trial_chi2
+        norm = float(np.linalg.norm(step))
+        record(trial, trial_chi2, accepted)
+        if ratio < 0.25:
+            radius = 0.25 * norm
+        elif ratio > 0.75 and norm >= 0.99 * radius:
+            radius = min(2 * radius, MAX_RADIUS)
+        if radius <= tol:
+            reason = "the trust region shrank below tol (the model does not follow its linearisation)"
+            break
+    return _result(specs, point, quantities, measured, sigma, chi2, tuple(iterates), converged, reason)
+
+
+def latin_hypercube(bounds: Mapping[str, tuple[float, float]], count: int, *, seed: int = 0) -> list[dict]:
+    """``count`` starting points, Latin hypercube in ln |p| within ``bounds`` (name -> (low, high), one sign):
+    each parameter's range cut in ``count`` equal slices of ln |p|, one point in each, slices paired at random
+    (McKay, Beckman & Conover, Technometrics 21 (1979) 239); ``seed`` makes it reproducible."""
+    if isinstance(count, bool) or not isinstance(count, int) or count < 1:
+        raise SceneError(f"--starts: must be an integer >= 1, got {count!r}")
+    rng = np.random.default_rng(seed)
+    starts: list[dict] = [{} for _ in range(count)]
+    for name, (lo, hi) in bounds.items():
+        if not (lo < hi and lo * hi > 0):
+            raise SceneError(f"--bounds {name}: LOW < HIGH of one sign needed for a start in ln |p|")
+        a, b = sorted((math.log(abs(lo)), math.log(abs(hi))))
+        fractions = (rng.permutation(count) + rng.random(count)) / count
+        for start, u in zip(starts, fractions):
+            start[name] = math.copysign(math.exp(a + u * (b - a)), lo)
+    return starts
+
+
+def _positive(field: str, value) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not (math.isfinite(value) and value > 0):
+        raise SceneError(f"{field}: must be a positive number (SI: Hz, m), got {value!r}")
+    return float(value)
+
+
+def _data(measurements: Sequence[Measurement]) -> tuple[tuple[str, ...], np.ndarray, np.ndarray]:
+    """Quantities (frequencies first, in measurement order, then wavelengths), measured values and sigmas."""
+    waved = [m for m in measurements if not math.isnan(m.wavelength)]
+    names = [f"{m.label} frequency" for m in measurements] + [f"{m.label} wavelength" for m in waved]
+    measured = [m.frequency for m in measurements] + [m.wavelength for m in waved]
+    sigma = [m.sigma for m in measurements] + [m.wavelength_sigma for m in waved]
+    return tuple(names), np.array(measured), np.array(sigma)
+
+
+def _parameters(scene, names: Sequence[str], bounds: dict) -> list[_Parameter]:
+    """The varied parameters with their members expanded, checked against the scene, and their bounds in ln |p|."""
+    names = list(names)
+    if not names or len(set(names)) != len(names) or not all(isinstance(n, str) and n for n in names):
+        raise SceneError(f"vary: give one or more distinct parameter names, got {names}")
+    unknown = sorted(set(bounds) - set(names))
+    if unknown:
+        raise SceneError(f"bounds: {unknown[0]} is not among the parameters varied {names}")
+    specs = []
+    for name in names:
+        members = _members(scene, name)
+        check_parameters(scene, members)
+        value = _values(scene, [_Parameter(name, members, 1.0, 0.0, 0.0)])[0]
+        if value == 0:
+            raise SceneError(f"{name}: is 0; a calibration works in ln |p|, start it from a non-zero value")
+        lo, hi = bounds.get(name, (-math.inf, math.inf) if value < 0 else (0.0, math.inf))
+        if not (lo < hi) or lo * value < 0 or hi * value < 0:
+            raise SceneError(f"bounds {name}: needs LOW < HIGH of the value's sign, got {lo:g}:{hi:g}")
+        if not lo <= value <= hi:
+            raise SceneError(f"{name}: {value:g} lies outside its bounds {lo:g}:{hi:g}")
+        ln = sorted(math.log(abs(b)) if b != 0 else -math.inf for b in (lo, hi))
+        specs.append(_Parameter(name, members, math.copysign(1.0, value), ln[0], ln[1]))
+    return specs
+
+
+def _members(scene, name: str) -> tuple[str, ...]:
+    """The scene parameters a (possibly patterned) name stands for; SceneError if a pattern matches nothing."""
+    if "*" not in name and "?" not in name:
+        return (name,)
+    head, _, rest = name.partition(".")
+    group, _, tail = rest.partition(".")
+    table = {"springs": scene.springs, "masses": scene.masses, "materials": scene.materials}.get(head)
+    if table is None or "*" in tail or "?" in tail:
+        raise SceneError(f"{name}: a pattern may stand only for the group of springs.GROUP, masses.GROUP or "
+                         f"materials.NAME.KEY")
+    found = sorted(g for g in table if fnmatch.fnmatchcase(g, group))
+    if not found:
+        raise SceneError(f"{name}: matches no {head} group; known: {sorted(table)}")
+    return tuple(f"{head}.{g}" + (f".{tail}" if tail else "") for g in found)
+
+
+def _values(scene, specs: Sequence[_Parameter]) -> np.ndarray:
+    """The common value of each parameter's members [its unit]; SceneError if tied members differ."""
+    from modalfe.response.sensitivity import _parameter
+
+    out = []
+    for spec in specs:
+        found = [_parameter(scene, member).value for member in spec.members]
+        if not all(math.isclose(v, found[0], rel_tol=1e-9) for v in found):
+            raise SceneError(f"{spec.name}: the tied parameters {list(spec.members)} must start equal, got {found}")
+        out.append(found[0])
+    return np.array(out)
+
+
+def _at(scene, specs: Sequence[_Parameter], x: np.ndarray):
+    """``scene`` with every member of each parameter set to sign exp(x)."""
+    return with_values(scene, {member: float(s.sign * math.exp(v)) for s, v in zip(specs, x) for member in s.members})
+
+
+def _chi2(predicted: np.ndarray, measured: np.ndarray, sigma: np.ndarray) -> float:
+    return float(np.sum(((predicted - measured) / sigma) ** 2))
+
+
+def _near(point: _Point, measurements: Sequence[Measurement], step: np.ndarray) -> list[float]:
+    """Where each measured mode should be after ``step`` (first order), to find it by label there."""
+    n = len(measurements)
+    return (point.predicted[:n] + point.jacobian[:n] @ step).tolist()
+
+
+def _evaluate(scene, specs, measurements, x, near, *, jacobian: bool, found: _Point | None = None,
+              previous: tuple = ()) -> _Point:
+    """The model at ln |p| = ``x``: predicted frequencies (and wavelengths) of the measured modes, each selected by
+    label nearest ``near`` [Hz] (or by shape to ``previous``, ``_solve``), from one solve plus one eigen solve of
+    the same model per measured frequency outside the first solve's span; with ``jacobian``, d y / d ln p too
+    (reusing ``found``'s solve)."""
+    point = found if found is not None else _solve(_at(scene, specs, x), measurements, near, x, previous)
+    if not jacobian:
+        return point
+    members = [member for spec in specs for member in spec.members]
+    model = point.modes[0].model
+    unique = sorted({id(mode): mode for mode in point.modes}.values(), key=lambda mode: mode.frequency)
+    modes = replace(point.solve, modes=tuple(unique))
+    found_df = frequency_sensitivities(modes, members)
+    row = {id(mode): i for i, mode in enumerate(unique)}
+    rows = [found_df.dfrequency[row[id(mode)]] * found_df.values for mode in point.modes]
+    waved = [(m, mode) for m, mode in zip(measurements, point.modes) if not math.isnan(m.wavelength)]
+    if waved:
+        dw = np.empty((len(waved), len(members)))
+        for j, (member, value) in enumerate(zip(members, found_df.values)):
+            h = WAVELENGTH_STEP * abs(value)
+            above, below = (_wavelengths(perturbed_model(model, member, value + sign * h), waved)
+                            for sign in (1, -1))
+            dw[:, j] = (above - below) / (2 * h) * value
+        rows += list(dw)
+    full = np.array(rows)
+    columns, start = [], 0
+    for spec in specs:  # a tied parameter's column: the sum of its members' (all at the common value)
+        columns.append(full[:, start:start + len(spec.members)].sum(axis=1))
+        start += len(spec.members)
+    return replace(point, jacobian=np.column_stack(columns))
+
+
+def _solve(scene, measurements, near, x, previous: tuple = ()) -> _Point:
+    """One solve near the first measured mode, more eigen solves of its model for measured modes outside its span.
+    Each measured mode by label nearest ``near``; where no mode carries the label (a mode mixed with a neighbour
+    in a veering takes another pattern), the one most alike in shape (MAC) to its match at the last accepted point
+    (``previous``)."""
+    first = solve_modes(scene, near=_SHIFT * near[0], count=CALIBRATE_COUNT, fidelity="solid", error_estimate=False)
+    solves = [first]
+    chosen = []
+    for m, f in zip(measurements, near):
+        try:
+            mode = select(_covering(solves, first.model, f), m.label, f)
+        except SolverError:  # crowded by other modes: once more with four times as many around it
+            analysis = replace(scene.analysis, near=_SHIFT * f, count=4 * CALIBRATE_COUNT, band=None, circuit="short")
+            solves.append(modes_of(first.model, analysis, fidelity="solid"))
+            try:
+                mode = select(solves[-1], m.label, f)
+            except SolverError as exc:  # relabelled (mixed with a neighbour): the last point's mode by shape
+                mode = partner(previous[len(chosen)], solves[-1]) if previous else None
+                if mode is None:
+                    raise SolverError(f"calibrate: the measured mode {m.label} is not found near {f:.6g} Hz "
+                                      f"({exc})") from None
+        if not math.isnan(m.wavelength) and not math.isfinite(mode.wavelength):
+            raise SolverError(f"calibrate: {m.label} has a measured wavelength but its computed shape has none "
+                              f"(not a plate mode with two or more nodal lines across the length)")
+        chosen.append(mode)
+    waved = [mode.wavelength for m, mode in zip(measurements, chosen) if not math.isnan(m.wavelength)]
+    return _Point(np.asarray(x, dtype=float), scene, np.array([mode.frequency for mode in chosen] + waved),
+                  tuple(chosen), first)
+
+
+def _covering(solves: list, model, frequency: float):
+    """The solve of ``solves`` whose modes span ``frequency`` [Hz], else a new eigen solve of ``model`` near it
+    (appended to ``solves``): one factorization serves every measured mode within one solve's span."""
+    for modes in solves:
+        if modes.frequencies.min() <= frequency <= modes.frequencies.max():
+            return modes
+    analysis = replace(model.scene.analysis, near=_SHIFT * frequency, count=CALIBRATE_COUNT, band=None,
+                       circuit="short")
+    solves.append(modes_of(model, analysis, fidelity="solid"))
+    return solves[-1]
+
+
+def _wavelengths(model, waved) -> np.ndarray:
+    """Wavelength [m] of each (measurement, mode) of ``waved`` in ``model`` (the same unknowns, nodes moved): the
+    mode most alike in shape (``partner``) among eigen solves near the modes' frequencies."""
+    out, solves = [], []
+    for _, mode in waved:
+        found = partner(mode, _covering(solves, model, mode.frequency))
+        if found is None or not math.isfinite(found.wavelength):
+            raise SolverError(f"calibrate: {mode.label} loses its shape (or wavelength) when a parameter moves by "
+                              f"{WAVELENGTH_STEP:g} of itself; its wavelength has no derivative")
+        out.append(found.wavelength)
+    return np.array(out)
+
+
+def _free(x: np.ndarray, gradient: np.ndarray, low: np.ndarray, high: np.ndarray) -> np.ndarray:
+    """Parameters free to move: not on a bound that the descent direction -gradient pushes against."""
+    on_low = (x <= low + 1e-12) & (gradient > 0)
+    on_high = (x >= high - 1e-12) & (gradient < 0)
+    return ~(on_low | on_high)
+
+
+def _step(J: np.ndarray, r: np.ndarray, radius: float, free: np.ndarray) -> np.ndarray:
+    """Levenberg-Marquardt step in ln p of the free parameters: the minimum-norm Gauss-Newton step (singular values
+    below ``RELATIVE_THRESHOLD`` s_max dropped) if it lies within ``radius`` (2-norm), else (J^T J + mu I)^-1
+    (-J^T r) with mu > 0 such that its norm is ``radius`` (Nocedal & Wright 2006, sec. 10.3, eq. 10.34)."""
+    step = np.zeros(J.shape[1])
+    if not free.any():
+        return step
+    U, s, Vt = np.linalg.svd(J[:, free], full_matrices=False)
+    g = U.T @ r
+    kept = s > RELATIVE_THRESHOLD * s.max() if s.size and s.max() > 0 else np.zeros(s.shape, bool)
+
+    def at(mu: float) -> np.ndarray:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            c = np.where(kept, -s * g / (s**2 + mu), 0.0)
+        return Vt.T @ c
+
+    delta = at(0.0)
+    if np.linalg.norm(delta) > radius:
+        lo, hi = 0.0, max(float(s.max() ** 2), 1e-300)
+        while np.linalg.norm(at(hi)) > radius:
+            hi *= 10
+        for _ in range(100):  # ||delta(mu)|| decreases with mu: bisect (geometrically once lo > 0)
+            mu = 0.5 * (lo + hi) if lo == 0 else math.sqrt(lo * hi)
+            if np.linalg.norm(at(mu)) > radius:
+                lo = mu
+            else:
+                hi = mu
+            if hi - lo <= 1e-6 * hi:
+                break
+        delta = at(hi)
+    step[free] = delta
+    return step
+
+
+def _result(specs, point: _Point, quantities, measured, sigma, chi2, iterates, converged, reason) -> Calibration:
+    """Estimates, Gauss-Newton covariance (module docstring) and identifiability at ``point``."""
+    names = tuple(s.name for s in specs)
+    values = _values(point.scene, specs)
+    found = posterior(point.jacobian, sigma, chi2)
+    sd_ln = np.sqrt(np.diag(found.covariance))
+    correlation = found.covariance / np.outer(sd_ln, sd_ln)
+    s = found.singular_values
+    weak = (s < RELATIVE_THRESHOLD * max(float(s.max()), 1e-300)) | (
+        math.sqrt(found.scale) / np.maximum(s, 1e-300) > 1)
+    statements = _identifiability(names, found.directions, weak, sd_ln)
+    return Calibration(names, values, np.abs(values) * sd_ln, correlation, quantities, measured, sigma,
+                       point.predicted, chi2, found.dof, found.scale, found.basis, s, found.directions,
+                       point.jacobian, tuple(statements), iterates, converged, reason, point.scene)
+
+
+@dataclass(frozen=True)
+class Posterior:
+    """Gauss-Newton posterior of ln p: ``covariance`` (n, n), the ``scale`` it carries and why (``basis``),
+    residual ``dof`` = m - n, and the weighted Jacobian's ``singular_values`` (n, zeros where m < n) and right
+    singular vectors ``directions`` (columns)."""
+
+    covariance: np.ndarray
+    scale: float
+    basis: str
+    dof: int
+    singular_values: np.ndarray
+    directions: np.ndarray
+
+
+def posterior(jacobian: np.ndarray, sigma: np.ndarray, chi2: float) -> Posterior:
+    """(J_w^T J_w)^-1 with J_w = ``jacobian`` / ``sigma`` (d y / d ln p over the 1-sigma of each quantity), times
+    chi2 / (m - n) when that exceeds 1 (module docstring); a direction with no information (singular value 0)
+    gets the variance of a singular value 1e-12 of the largest (a huge, finite sd)."""
+    J = np.asarray(jacobian, dtype=float) / np.asarray(sigma, dtype=float)[:, None]
+    m, n = J.shape
+    _, s, Vt = np.linalg.svd(J, full_matrices=True)
+    s = np.concatenate([s, np.zeros(n - len(s))])
+    dof = m - n
+    scale, basis = 1.0, "stated sigmas (chi2 / dof <= 1)" if dof > 0 else "stated sigmas (no residual dof)"
+    if dof > 0 and chi2 / dof > 1:
+        scale, basis = chi2 / dof, f"residual variance (chi2 / dof = {chi2 / dof:.3g} > 1 scales it)"
+    floor = max(float(s.max()), 1e-300) * 1e-12
+    covariance = scale * (Vt.T / np.maximum(s, floor) ** 2) @ Vt
+    return Posterior(covariance, scale, basis, dof, s, Vt.T)
+
+
+def _identifiability(names: Sequence[str], V: np.ndarray, weak: np.ndarray, sd_ln: np.ndarray) -> list[str]:
+    """Plain statements for the weak directions (columns of ``V`` where ``weak``) and the parameters whose posterior
+    sd of ln p exceeds 1 (``sd_ln``): those are not (separately) identifiable; the combination the strong
+    directions fix among them, as a product of powers."""
+    involved = (np.sum(V[:, weak] ** 2, axis=1) > 0.01) | (sd_ln > 1)  # > 10 % of a weak direction, or sd > value
+    if not involved.any():
+        return []
+    group = [i for i in range(len(names)) if involved[i]]
+    strong = V[np.ix_(group, np.flatnonzero(~weak))]
+    quoted = [names[i] for i in group]
+    if len(group) == 1:
+        return [f"{quoted[0]} is not identified: the data hardly depend on it (posterior sd above its value)"]
+    together = ", ".join(quoted[:-1]) + f" and {quoted[-1]}"
+    if strong.size == 0 or np.linalg.norm(strong) < 1e-6:
+        return [f"{together} are not identified: the data depend on none of them"]
+    u, sv, _ = np.linalg.svd(strong, full_matrices=False)
+    if len(sv) > 1 and sv[1] > 0.1 * sv[0]:
+        return [f"{together} are not separately identifiable: only {int(np.sum(sv > 0.1 * sv[0]))} combinations "
+                f"of them are"]
+    lead = int(np.flatnonzero(np.abs(u[:, 0]) >= 0.99 * np.abs(u[:, 0]).max())[0])  # the first of the largest
+    exponents = u[:, 0] / u[lead, 0]
+    product = "*".join(f"{q}^{e:.3g}" if abs(e - 1) > 5e-4 else q for q, e in zip(quoted, exponents)
+                       if abs(e) > 1e-4)
+    return [f"{together} are not separately identifiable: only {product} is"]

@@ -1,0 +1,117 @@
+"""Writing a scene as a scene file (README, 'Scene files'), so that ``load_scene`` reads back the same device.
+
+A box scene is written as it is; a built-in builder's device (``cube_plate``...) as the boxes and face groups its
+builder makes (``Scene.full_assembly``), lengths in metres. Every value that defines the device and its analysis
+is written: parts, faces, materials, electrodes, clamps, springs, masses, analysis, mesh, kind, symmetry, the
+drive (damping, load, outputs, with their sources) and the working modes with their targets. What the file format
+has no place for (a built-in's assumption lines, its drive targets and reference spectra) is written as comments.
+A face group restricted to a window of a face cannot be written (the format names whole faces only), nor yet a
+scene of shaped parts or with a geometry file.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import numbers
+import re
+from collections.abc import Mapping, Sequence
+from dataclasses import fields
+from typing import Any
+
+from modalfe.errors import SceneError
+from modalfe.scene.scene import Analysis, MeshSettings, Scene
+
+_BARE_KEY = re.compile(r"^[A-Za-z0-9_-]+$")
+
+
+def scene_to_toml(scene: Scene) -> str:
+    """The text of a scene file (TOML) for ``scene`` (module docstring); SceneError naming the face group for a
+    windowed face."""
+    out = [f"# scene '{scene.name}' written by modalfe" + (f" from the built-in device '{scene.device}'"
+                                                            if scene.device != "boxes" else ""),
+           f"name = {_value(scene.name)}", 'units = "m"', f"kind = {_value(scene.kind)}",
+           f"symmetry = {_value(list(scene.symmetry))}"]
+    out += [f"# assumption: {line}" for line in scene.assumptions]
+    out += [f"# reference spectrum ({family}): {text}" for family, text in scene.reference_spectra.items()]
+    out += _table("analysis", {f.name: getattr(scene.analysis, f.name) for f in fields(Analysis)
+                               if getattr(scene.analysis, f.name) is not None})
+    out += _table("mesh", {f.name: getattr(scene.mesh, f.name) for f in fields(MeshSettings)})
+    for name, constants in scene.materials.items():
+        out += _table(f"materials.{_key(name)}", constants)
+    parts, faces = _boxes(scene)
+    for part in parts:
+        out += ["", "[[parts]]"] + [f"{_key(k)} = {_value(x)}" for k, x in part.items()]
+    for name in ("faces", "electrodes", "clamps", "springs", "masses"):
+        out += _table(name, faces if name == "faces" else getattr(scene, name))
+    drive = scene.drive
+    load = {k: x for k, x in (("kind", drive.load.kind), ("group", drive.load.group),
+                              ("value", list(drive.load.value)), ("axis", drive.load.axis)) if x not in (None, [])}
+    outputs = [o if isinstance(o, str) else {"name": o[0], "point": list(o[1])} for o in drive.outputs]
+    out += _table("drive", {"damping": drive.damping, "damping_source": drive.damping_source, "load": load,
+                            "load_source": drive.load_source, "outputs": outputs})
+    out += [f"# drive target: {t.name} = {t.value!r} {t.unit} ({t.kind}; {t.source})" for t in drive.targets]
+    for wm in scene.working_modes:
+        targets = [{"name": t.name, "value": t.value, "unit": t.unit, "kind": t.kind, "source": t.source}
+                   for t in wm.targets]
+        out += ["", "[[working_modes]]", f"selector = {_value(wm.selector)}", f"near = {_value(wm.near)}",
+                f"targets = {_value(targets)}"]
+    return "\n".join(out) + "\n"
+
+
+def _boxes(scene: Scene) -> tuple[list[dict], dict[str, list[str]]]:
+    """The part tables and face groups of the scene file: a box scene's own, else its builder's assembly."""
+    if scene.device == "boxes":
+        return [dict(p) for p in scene.params["parts"]], {g: list(r) for g, r in scene.params["faces"].items()}
+    if scene.device in ("shaped", "imported"):
+        raise SceneError(f"scene: a scene of {scene.device} parts cannot be written yet (box scenes and built-in "
+                         f"devices can)")
+    assembly = scene.full_assembly()
+    parts = []
+    for box in assembly.parts:
+        part = {"name": box.name, "region": box.region, "material": box.material, "origin": list(box.lo),
+                "size": [_size(a, b) for a, b in zip(box.lo, box.hi)]}
+        parts.append({**part, "poling": box.poling} if box.poling else part)
+    faces = {}
+    for group, members in assembly.faces.items():
+        if any(face.window is not None for face in members):
+            raise SceneError(f"faces.{group}: a window of a face cannot be written to a scene file (it names "
+                             f"whole faces only)")
+        faces[group] = [f"{face.part}.{face.side}" for face in members]
+    return parts, faces
+
+
+def _size(lo: float, hi: float) -> float:
+    """hi - lo [m], nudged by an ulp where needed so that lo + size == hi exactly (the box is rebuilt from it)."""
+    size = hi - lo
+    for candidate in (size, math.nextafter(size, math.inf), math.nextafter(size, -math.inf)):
+        if lo + candidate == hi:
+            return candidate
+    return size
+
+
+def _table(header: str, items: Mapping[str, Any]) -> list[str]:
+    return ["", f"[{header}]"] + [f"{_key(k)} = {_value(x)}" for k, x in items.items()]
+
+
+def _key(key: Any) -> str:
+    key = str(key)
+    return key if _BARE_KEY.match(key) else json.dumps(key)
+
+
+def _value(x: Any) -> str:
+    """One TOML value: string, boolean, integer, float (repr: exact), array or inline table."""
+    if isinstance(x, str):
+        return json.dumps(x)  # a JSON string is a TOML basic string (same escapes)
+    if isinstance(x, bool):
+        return "true" if x else "false"
+    if isinstance(x, numbers.Integral):
+        return str(int(x))
+    if isinstance(x, numbers.Real):
+        x = float(x)
+        return repr(x) if math.isfinite(x) else ("nan" if math.isnan(x) else ("inf" if x > 0 else "-inf"))
+    if isinstance(x, Mapping):
+        return "{" + ", ".join(f"{_key(k)} = {_value(v)}" for k, v in x.items()) + "}"
+    if isinstance(x, Sequence):
+        return "[" + ", ".join(_value(v) for v in x) + "]"
+    raise SceneError(f"scene file: cannot write a {type(x).__name__} value ({x!r})")

@@ -5,14 +5,15 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 
 from modalfe.errors import SceneError
-from modalfe.geometry.parts import SIDES, Assembly, Box, Face
+from modalfe.geometry.parts import SIDES, Assembly, Box, face_ref
 
 
 def boxes(*, parts: Sequence[Mapping], faces: Mapping[str, Sequence[str]] | None = None) -> Assembly:
     """Assembly from part tables and face groups (lists or tuples, dicts or read-only mappings).
 
     parts : each {name, region, material, origin (x, y, z) [m], size (dx, dy, dz) [m], poling}
-    faces : group name -> ["part.side", ...], side one of xmin, xmax, ymin, ymax, zmin, zmax
+    faces : group name -> ["part.side", ...], side one of xmin, xmax, ymin, ymax, zmin, zmax, or a window of one
+            ({face = "part.side", window = [[u0, v0], [u1, v1]]}, ``modalfe.geometry.parts.face_ref``)
     """
     built = []
     for i, spec in enumerate(parts):
@@ -38,12 +39,10 @@ def boxes(*, parts: Sequence[Mapping], faces: Mapping[str, Sequence[str]] | None
     for group, refs in (faces or {}).items():
         if isinstance(refs, str) or not isinstance(refs, Sequence):
             raise SceneError(f"faces.{group}: must be a list of 'part.side'")
-        entries = []
-        for ref in refs:
-            part, _, side = str(ref).rpartition(".")
-            if not part or side not in SIDES:
-                raise SceneError(f"faces.{group}: '{ref}' is not 'part.side' with side in {SIDES}")
-            entries.append(Face(part, side))
+        entries = [face_ref(group, ref) for ref in refs]
+        for face in entries:
+            if face.side not in SIDES:
+                raise SceneError(f"faces.{group}: '{face.part}.{face.side}' is not 'part.side' with side in {SIDES}")
         groups[group] = tuple(entries)
     return Assembly(tuple(built), groups)
 

@@ -9,6 +9,7 @@ Lengths in metres.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -119,6 +120,18 @@ class Face:
     part: str
     side: str
     window: tuple[tuple[float, float], tuple[float, float]] | None = None
+
+
+def face_ref(group: str, ref) -> Face:
+    """A scene file's face reference: 'part.side', or {face = 'part.side', window = [[u0, v0], [u1, v1]]} [m]."""
+    window = None
+    if isinstance(ref, Mapping):
+        window = tuple(tuple(float(c) for c in corner) for corner in ref["window"])
+        ref = ref["face"]
+    part, _, side = str(ref).rpartition(".")
+    if not part:
+        raise SceneError(f"faces.{group}: '{ref}' is not 'part.side'")
+    return Face(part, side, window)
 
 
 @dataclass(frozen=True)

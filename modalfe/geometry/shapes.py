@@ -475,7 +475,7 @@ def shaped(*, parts: Sequence[Mapping], faces: Mapping[str, Sequence[str]] | Non
     """Assembly from part tables with shapes (``modalfe.scene.part_tables``: lengths already in metres) and face
     groups (group name -> ["part.side", ...], sides as the part's ``sides``)."""
     from modalfe.geometry.boxes import boxes
-    from modalfe.geometry.parts import Assembly, Face
+    from modalfe.geometry.parts import Assembly, face_ref
 
     built = []
     for spec in parts:
@@ -494,13 +494,5 @@ def shaped(*, parts: Sequence[Mapping], faces: Mapping[str, Sequence[str]] | Non
         if "centre" in spec:
             spec["centre"] = tuple(spec["centre"])
         built.append({"cylinder": Cylinder, "ring": Ring, "extrusion": Extrusion}[shape](**spec))
-    groups = {}
-    for group, refs in (faces or {}).items():
-        entries = []
-        for ref in refs:
-            part, _, side = str(ref).rpartition(".")
-            if not part:
-                raise SceneError(f"faces.{group}: '{ref}' is not 'part.side'")
-            entries.append(Face(part, side))
-        groups[group] = tuple(entries)
+    groups = {group: tuple(face_ref(group, ref) for ref in refs) for group, refs in (faces or {}).items()}
     return Assembly(tuple(built), groups)

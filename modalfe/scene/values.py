@@ -134,10 +134,25 @@ def box_parts(parts: Any, *, scale: float = 1.0, field: str = "parts") -> list[d
     return out
 
 
-def face_groups(faces: Any, field: str = "faces") -> dict[str, list[str]]:
-    """Face groups: group -> list of 'part.side' strings."""
+def face_groups(faces: Any, field: str = "faces", *, scale: float = 1.0) -> dict[str, list]:
+    """Face groups: group -> list of 'part.side' strings, or of {face = 'part.side', window = [[u0, v0], [u1, v1]]}
+    tables for a rectangle of a box face (in the face's two in-plane coordinates in xyz order, lengths x
+    ``scale`` to metres)."""
     out = {}
     for group, refs in table(field, faces).items():
         refs = array(f"{field}.{group}", refs)
-        out[str(group)] = [string(f"{field}.{group}[{i}]", r) for i, r in enumerate(refs)]
+        entries = []
+        for i, ref in enumerate(refs):
+            where = f"{field}.{group}[{i}]"
+            if not isinstance(ref, Mapping):
+                entries.append(string(where, ref))
+                continue
+            known_keys(where, ref, ("face", "window"))
+            if "face" not in ref or "window" not in ref:
+                raise SceneError(f"{where}: a windowed face needs face = 'part.side' and window = [[u0, v0], [u1, v1]]")
+            corners = array(f"{where}.window", ref["window"], length=2)
+            window = [[number(f"{where}.window[{j}]", c, unit="length") * scale
+                       for c in array(f"{where}.window[{j}]", corner, length=2)] for j, corner in enumerate(corners)]
+            entries.append({"face": string(f"{where}.face", ref["face"]), "window": window})
+        out[str(group)] = entries
     return out

@@ -5,8 +5,8 @@ builder makes (``Scene.full_assembly``), lengths in metres. Every value that def
 is written: parts, faces, materials, electrodes, clamps, springs, masses, analysis, mesh, kind, symmetry, the
 drive (damping, load, outputs, with their sources) and the working modes with their targets. What the file format
 has no place for (a built-in's assumption lines, its drive targets and reference spectra) is written as comments.
-A face group restricted to a window of a face cannot be written (the format names whole faces only), nor yet a
-scene of shaped parts or with a geometry file.
+A window of a face is written as {face = "part.side", window = [[u0, v0], [u1, v1]]}; a scene with a geometry
+file cannot be written yet.
 """
 
 from __future__ import annotations
@@ -20,16 +20,16 @@ from dataclasses import fields
 from typing import Any
 
 from modalfe.errors import SceneError
+from modalfe.geometry import BUILDERS
 from modalfe.scene.scene import Analysis, MeshSettings, Scene
 
 _BARE_KEY = re.compile(r"^[A-Za-z0-9_-]+$")
 
 
 def scene_to_toml(scene: Scene) -> str:
-    """The text of a scene file (TOML) for ``scene`` (module docstring); SceneError naming the face group for a
-    windowed face."""
+    """The text of a scene file (TOML) for ``scene`` (module docstring); SceneError for a scene it cannot write."""
     out = [f"# scene '{scene.name}' written by modalfe" + (f" from the built-in device '{scene.device}'"
-                                                            if scene.device != "boxes" else ""),
+                                                            if scene.device not in ("boxes", "shaped") else ""),
            f"name = {_value(scene.name)}", 'units = "m"', f"kind = {_value(scene.kind)}",
            f"symmetry = {_value(list(scene.symmetry))}"]
     out += [f"# assumption: {line}" for line in scene.assumptions]
@@ -59,25 +59,23 @@ def scene_to_toml(scene: Scene) -> str:
     return "\n".join(out) + "\n"
 
 
-def _boxes(scene: Scene) -> tuple[list[dict], dict[str, list[str]]]:
-    """The part tables and face groups of the scene file: a box scene's own, else its builder's assembly."""
-    if scene.device == "boxes":
+def _boxes(scene: Scene) -> tuple[list[dict], dict[str, list]]:
+    """The part tables and face groups of the scene file: a scene file's own (boxes or shaped parts, lengths in
+    metres), else its builder's assembly (boxes, and windows of their faces)."""
+    if scene.device in ("boxes", "shaped"):
         return [dict(p) for p in scene.params["parts"]], {g: list(r) for g, r in scene.params["faces"].items()}
-    if scene.device in ("shaped", "imported"):
-        raise SceneError(f"scene: a scene of {scene.device} parts cannot be written yet (box scenes and built-in "
-                         f"devices can)")
+    if scene.device not in BUILDERS:
+        raise SceneError(f"scene: a scene of device '{scene.device}' cannot be written yet (scene files of boxes or "
+                         f"shaped parts and built-in devices can)")
     assembly = scene.full_assembly()
     parts = []
     for box in assembly.parts:
         part = {"name": box.name, "region": box.region, "material": box.material, "origin": list(box.lo),
                 "size": [_size(a, b) for a, b in zip(box.lo, box.hi)]}
         parts.append({**part, "poling": box.poling} if box.poling else part)
-    faces = {}
-    for group, members in assembly.faces.items():
-        if any(face.window is not None for face in members):
-            raise SceneError(f"faces.{group}: a window of a face cannot be written to a scene file (it names "
-                             f"whole faces only)")
-        faces[group] = [f"{face.part}.{face.side}" for face in members]
+    faces = {group: [f"{face.part}.{face.side}" if face.window is None else
+                     {"face": f"{face.part}.{face.side}", "window": [list(corner) for corner in face.window]}
+                     for face in members] for group, members in assembly.faces.items()}
     return parts, faces
 
 

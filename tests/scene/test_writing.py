@@ -18,7 +18,6 @@ from modalfe.scene.writing import scene_to_toml
 from modalfe.solve.api import solve_modes
 
 COARSE = {"mesh.elements_per_wavelength": 1.0, "mesh.min_layers": 1, "mesh.order": 1}
-WINDOWED = {"honeycomb_tile"}  # face groups on windows of a face (mounts, actuator pad): not in the file format
 
 
 def _round_trip(scene, tmp_path):
@@ -27,7 +26,7 @@ def _round_trip(scene, tmp_path):
     return load_scene(path)
 
 
-@pytest.mark.parametrize("name", sorted(set(BUILTIN) - WINDOWED))
+@pytest.mark.parametrize("name", sorted(BUILTIN))
 def test_builtin_round_trip(name, tmp_path):
     scene = load_scene(name)
     back = _round_trip(scene, tmp_path)
@@ -50,9 +49,66 @@ def test_box_scene_equal(tmp_path):
     assert _round_trip(scene, tmp_path) == dataclasses.replace(scene, assumptions=())
 
 
-def test_windowed_face_refused():
-    with pytest.raises(SceneError, match=r"^faces\.\w+: a window"):
-        scene_to_toml(load_scene("honeycomb_tile"))
+def test_windowed_faces_in_a_scene_file(tmp_path):
+    # the tile's mounts and actuator pad are windows of its facings: written as {face, window} tables, read back
+    # in the file's units (mm here: the window scales with them)
+    tile = load_scene("honeycomb_tile")
+    windowed = {g: fs for g, fs in tile.full_assembly().faces.items() if any(f.window for f in fs)}
+    assert windowed  # the case this test is about
+    text = scene_to_toml(tile)
+    assert '{face = "facing_bottom.zmin", window = [[' in text
+    mm = tmp_path / "pad.toml"
+    mm.write_text("""units = "mm"
+[[parts]]
+name = "plate"
+material = "CuBe"
+origin = [0, 0, 0]
+size = [40, 30, 2]
+[faces]
+pad = [{face = "plate.zmin", window = [[10, 5], [20, 15]]}]
+[masses]
+pad = 0.01
+[analysis]
+near = 1000.0
+count = 4
+""", encoding="utf-8")
+    (face,) = load_scene(mm).full_assembly().faces["pad"]
+    assert face.window == ((0.01, 0.005), (0.02, 0.015))
+    assert load_scene(mm).full_assembly().face_area("pad") == pytest.approx(1e-4, rel=1e-12)
+
+
+@pytest.mark.parametrize("ref, message", [
+    ({"face": "plate.zmin"}, r"^faces\.pad\[0\]: a windowed face needs"),
+    ({"face": "plate.zmin", "window": [[10, 5]]}, r"^faces\.pad\[0\]\.window: "),
+    ({"face": "plate.zmin", "window": [[10, 5], [50, 15]]}, r"face window on 'plate\.zmin' lies outside"),
+    ({"face": "plate.zmin", "window": [[10, 5], [20, 15]], "depth": 1}, r"^faces\.pad\[0\]\.depth: unknown key"),
+])
+def test_bad_windows_named(ref, message):
+    from modalfe.scene import scene_from_dict
+
+    data = {"units": "mm", "analysis": {"near": 1000.0, "count": 4}, "faces": {"pad": [ref]},
+            "parts": [{"name": "plate", "material": "CuBe", "origin": [0, 0, 0], "size": [40, 30, 2]}]}
+    with pytest.raises(SceneError, match=message):
+        scene_from_dict(data)
+
+
+def test_shaped_scene_round_trip(tmp_path):
+    from modalfe.scene import scene_from_dict
+
+    scene = scene_from_dict({
+        "units": "mm", "name": "disc-on-plate", "analysis": {"near": 20e3, "count": 4},
+        "parts": [{"name": "plate", "material": "CuBe", "origin": [0, 0, 0], "size": [30, 30, 1]},
+                  {"name": "disc", "shape": "cylinder", "material": "PZT-5A", "centre": [15, 15, 1], "axis": "z",
+                   "radius": 6, "height": 0.5, "poling": "+z"},
+                  {"name": "ring", "shape": "ring", "material": "PZT-4", "centre": [15, 15, 1.5], "axis": "z",
+                   "inner": 2, "outer": 4, "height": 0.5, "poling": "radial"}],
+        "faces": {"top": ["disc.top"], "bottom": ["disc.bottom"], "inner": ["ring.inner"], "outer": ["ring.outer"]},
+        "electrodes": {"top": "drive", "bottom": "ground", "inner": "drive", "outer": "ground"},
+    })
+    back = _round_trip(scene, tmp_path)
+    assert back.full_assembly() == scene.full_assembly()
+    assert back.mesh == scene.mesh and back.kind == scene.kind == "solid"
+    assert scene_to_toml(back) == scene_to_toml(scene)
 
 
 def test_odd_values_written(tmp_path):

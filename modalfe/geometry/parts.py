@@ -155,9 +155,12 @@ class Assembly:
             for f in faces:
                 if f.part not in by_name:
                     raise SceneError(f"faces.{group}: unknown part '{f.part}'")
-                by_name[f.part].face(f.side)
-                if f.window is not None:
-                    by_name[f.part].face_bounds(f.side, f.window)
+                try:
+                    by_name[f.part].face(f.side)
+                    if f.window is not None:
+                        by_name[f.part].face_bounds(f.side, f.window)
+                except SceneError as exc:
+                    raise SceneError(f"faces.{group}: {exc}") from None
         _check_overlaps(self.parts)
 
     @property

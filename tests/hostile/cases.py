@@ -715,5 +715,95 @@ INTERRUPTS_AND_CACHES = [
          files={"scene.toml": TINY}, env={"MODALFE_MAX_MEMORY": "1e6"}),
 ]
 
+# a disc on a plate (curved parts: tetrahedra), for the cases of parts beyond boxes
+DISC = """name = "disc"
+units = "mm"
+[analysis]
+near = 20000.0
+count = 2
+[mesh]
+max_size = 6
+min_layers = 1
+[[parts]]
+name = "plate"
+material = "CuBe"
+origin = [0, 0, 0]
+size = [30, 30, 1]
+[[parts]]
+name = "disc"
+shape = "cylinder"
+material = "PZT-5A"
+centre = [15, 15, 1]
+axis = "z"
+radius = 6
+height = 0.5
+poling = "+z"
+[faces]
+top = ["disc.top"]
+bottom = ["disc.bottom"]
+[electrodes]
+top = "drive"
+bottom = "ground"
+"""
+
+MEASURED = """[[mode]]
+label = "bending-z 1"
+frequency = 520.0
+sigma = 5.0
+"""
+
+
+def _disc(id: str, old: str, new: str, field: str, **kw) -> Case:
+    return _file(id, "curved parts", _edit(DISC, old, new), field, **kw)
+
+
+def _calibrate(id: str, measured: str, field: str, *args: str) -> Case:
+    return _cli(id, "calibrate", ("calibrate", "{file}", "--measured", "{tmp}/measured.toml", *args), field,
+                files={"scene.toml": TINY, "measured.toml": measured})
+
+
+DESIGN = [
+    _disc("disc-radius-negative", "radius = 6", "radius = -6", "parts[1].radius"),
+    _disc("disc-radius-word", "radius = 6", 'radius = "six"', "parts[1].radius"),
+    _disc("disc-axis-w", 'axis = "z"', 'axis = "w"', "parts[1].axis"),
+    _disc("disc-radial-poling", 'poling = "+z"', 'poling = "radial"', "part 'disc': radial poling"),
+    _disc("disc-poling-sideways", 'poling = "+z"', 'poling = "up"', "part 'disc': poling"),
+    _disc("disc-shape-sphere", 'shape = "cylinder"', 'shape = "sphere"', "parts[1].shape"),
+    _disc("disc-hex-asked", "min_layers = 1", 'min_layers = 1\nelement = "hex"', "mesh.element"),
+    _disc("disc-side-unknown", 'top = ["disc.top"]', 'top = ["disc.zmax"]', "faces.top"),
+    _disc("disc-overlaps-plate", "centre = [15, 15, 1]", "centre = [15, 15, 0.5]", "parts"),
+    _disc("ring-inner-outside", 'shape = "cylinder"\nmaterial = "PZT-5A"\ncentre = [15, 15, 1]\naxis = "z"\nradius = 6',
+          'shape = "ring"\nmaterial = "PZT-5A"\ncentre = [15, 15, 1]\naxis = "z"\ninner = 7\nouter = 6',
+          "part 'disc': inner radius"),
+    _tiny("window-outside-face", "windows", 'tip = ["beam.xmax"]',
+          'tip = [{face = "beam.zmax", window = [[0, 0], [50, 4]]}]', "faces.tip"),
+    _tiny("window-one-corner", "windows", 'tip = ["beam.xmax"]', 'tip = [{face = "beam.zmax", window = [[0, 0]]}]',
+          "faces.tip[0].window"),
+    _tiny("window-no-face", "windows", 'tip = ["beam.xmax"]', 'tip = [{window = [[0, 0], [5, 4]]}]', "faces.tip[0]"),
+    _calibrate("calibrate-sigma-missing", MEASURED.replace("sigma = 5.0\n", ""),
+               "{tmp}/measured.toml: mode[0].sigma", "--vary",
+               "materials.steel.E"),
+    _calibrate("calibrate-sigma-negative", MEASURED.replace("sigma = 5.0", "sigma = -5.0"),
+               "{tmp}/measured.toml: mode[0].sigma", "--vary",
+               "materials.steel.E"),
+    _calibrate("calibrate-no-modes", "title = 'nothing'\n", "{tmp}/measured.toml: title", "--vary",
+               "materials.steel.E"),
+    _calibrate("calibrate-frequency-word", MEASURED.replace("520.0", '"fast"'),
+               "{tmp}/measured.toml: mode[0].frequency", "--vary",
+               "materials.steel.E"),
+    _calibrate("calibrate-vary-unknown", MEASURED, "wingspan", "--vary", "wingspan"),
+    _cli("calibrate-measured-missing", "calibrate",
+         ("calibrate", "{file}", "--measured", "{tmp}/nowhere.toml", "--vary", "materials.steel.E"),
+         "{tmp}/nowhere.toml"),
+    _cli("tune-separation-word", "tune", ("tune", "{file}", "--target", "bending-z 1=900", "--vary",
+                                          "materials.steel.E", "--separation", "wide"), "--separation"),
+    _cli("tune-maximize-unknown", "tune", ("tune", "{file}", "--target", "bending-z 1=900", "--vary",
+                                           "materials.steel.E", "--maximize", "beauty"), "--maximize"),
+    _cli("tune-starts-without-bounds", "tune", ("tune", "{file}", "--target", "bending-z 1=900", "--vary",
+                                                "materials.steel.E", "--starts", "3"), "--bounds"),
+    _cli("tune-out-directory", "tune", ("tune", "{file}", "--target", "bending-z 1=900", "--vary",
+                                        "materials.steel.E", "--out", "{tmp}"), "--out"),
+]
+
 CASES: list[Case] = [*SCENE_FILES, *MATERIALS, *FLAGS, *SETS, *PATHS, *SWEEPS, *API, *ELECTRODES_AND_MODELS,
-                     *TEXT, *INTERRUPTS_AND_CACHES]
+                     *TEXT, *INTERRUPTS_AND_CACHES, *DESIGN]

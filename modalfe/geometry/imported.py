@@ -9,6 +9,11 @@ Physical Surface("clamp") = {5};``. A ``.geo`` file may as well build the geomet
 declare (OpenCASCADE's ``Geometry.OCCTargetUnit``); BREP, ``.geo`` and ``.msh`` files hold no unit and are read
 in metres.
 
+A scene naming such a file (``[geometry] file = ...``) gets an ``ImportedAssembly`` (``imported``): its parts are
+``ImportedPart``s, read from the file's physical volumes (bounding box, volume) and its face groups from its
+physical surfaces, each on the part it bounds (a poled one for a surface between two parts); the mesh step then
+calls ``read_geometry``.
+
 The mesh returned follows ``modalfe.models.mesh``: one meshio volume cell block with the cell sets
 ``part:NAME`` and one facet block (corner nodes only, as skfem matches boundary facets by their vertices) with
 ``face:NAME``.
@@ -16,12 +21,19 @@ The mesh returned follows ``modalfe.models.mesh``: one meshio volume cell block 
 
 from __future__ import annotations
 
+import contextlib
+import functools
+import hashlib
+import re
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from modalfe.errors import MeshError
+from modalfe.errors import MeshError, SceneError
+from modalfe.geometry.parts import Assembly, Face
+from modalfe.geometry.shapes import _Shape, normalized_poling
 
 CAD = (".step", ".stp", ".brep", ".brp")
 SCRIPT = (".geo",)
@@ -51,35 +63,44 @@ def read_geometry(path: str | Path, *, volumes: Mapping[str, object], faces: Seq
     MeshError when the file is missing or unreadable, a named group is not in it, a volume has no physical
     group (or is in a group that is no part), pieces touch without sharing nodes, or element types are mixed.
     """
-    import gmsh
-
     path = Path(path)
     suffix = path.suffix.lower()
-    if suffix not in CAD + SCRIPT + MESH:
-        raise MeshError(f"geometry.file: '{path.name}' is not a STEP, BREP, .geo or .msh file")
-    if not path.is_file():
-        raise MeshError(f"geometry.file: '{path}' does not exist")
     if order not in (1, 2):
         raise MeshError(f"mesh.order: an imported geometry is meshed with order 1 or 2, got {order}")
     if suffix not in MESH and not (np.isfinite(size) and size > 0):
         raise MeshError(f"mesh size must be positive and finite, got {size}")
-    if gmsh.isInitialized():
-        gmsh.finalize()
-    gmsh.initialize(interruptible=False)
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        gmsh.option.setString("Geometry.OCCTargetUnit", "M")
-        _open(path)
+    with _session(path, MeshError):
         check_groups(path.name, volumes, faces)
         if suffix in MESH:
             _prepare_file_mesh(path.name, order)
         else:
             _generate(path.name, size, order)
         mesh = physical_mesh(volumes, faces)
-    finally:
-        gmsh.finalize()
     check_conforming(mesh, path.name)
     return mesh
+
+
+@contextlib.contextmanager
+def _session(path: Path, error: type[Exception]):
+    """gmsh initialised with the geometry file ``path`` open (lengths in metres), finalised on leaving; ``error``
+    (MeshError or SceneError) when the file is of no known kind or missing, MeshError when gmsh cannot read it."""
+    import gmsh
+
+    if path.suffix.lower() not in CAD + SCRIPT + MESH:
+        raise error(f"geometry.file: '{path.name}' is not a STEP, BREP, .geo or .msh file")
+    if not path.is_file():
+        raise error(f"geometry.file: '{path}' does not exist")
+    if gmsh.isInitialized():
+        gmsh.finalize()
+    gmsh.initialize(interruptible=False)
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.option.setString("Geometry.OCCTargetUnit", "M")
+        gmsh.option.setNumber("Geometry.OCCBoundsUseStl", 1)  # OCC's own boxes are widened by its tolerance
+        _open(path)
+        yield
+    finally:
+        gmsh.finalize()
 
 
 def _open(path: Path) -> None:
@@ -155,6 +176,8 @@ def _generate(source: str, size: float, order: int) -> None:
     gmsh.option.setNumber("Mesh.MeshSizeMin", size / 20)
     gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", CURVATURE_ELEMENTS)
     gmsh.option.setNumber("Mesh.ElementOrder", order)
+    if order == 2:  # untangle curved elements whose mid-edge nodes, moved onto the surface, fold them
+        gmsh.option.setNumber("Mesh.HighOrderOptimize", 2)
     try:
         gmsh.model.mesh.generate(3)
     except Exception as exc:  # gmsh raises bare Exception
@@ -295,3 +318,180 @@ def _part_of(mesh, cell: int) -> str:
     """The part (cell set ``part:NAME``) holding volume element ``cell``."""
     return next((name[5:] for name, blocks in mesh.cell_sets.items()
                  if name.startswith("part:") and cell in blocks[0]), "?")
+
+
+_INCLUDED = re.compile(r'\b(?:Merge|Include|ShapeFromFile)\s*\(?\s*"([^"]+)"')  # files a .geo script reads
+
+
+def file_digest(path: str | Path) -> str:
+    """SHA-256 (hex, 20 digits) of a geometry file's bytes and, for a ``.geo`` script, of the files it names in
+    ``Merge "..."``, ``Include "..."`` and ``ShapeFromFile("...")`` (relative to the script; one level: files
+    those merge in turn are not followed). The mesh cache key holds it, so an edited file is meshed again."""
+    path = Path(path)
+    h = hashlib.sha256()
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        raise SceneError(f"geometry.file: cannot read '{path}': {exc.strerror or exc}") from None
+    h.update(data)
+    if path.suffix.lower() in SCRIPT:
+        for name in _INCLUDED.findall(data.decode("utf-8", errors="replace")):
+            other = path.parent / name
+            h.update(name.encode())
+            h.update(other.read_bytes() if other.is_file() else b"<missing>")
+    return h.hexdigest()[:20]
+
+
+@dataclass(frozen=True)
+class ImportedPart(_Shape):
+    """A part read from a geometry file: one physical volume. Its extent is its bounding box ``bounds`` ((lo, hi)
+    [m]), ``volume`` [m^3] the file's (CAD) or its mesh's; ``sides`` are the face groups (physical surfaces) on it,
+    ``areas`` [m^2] their areas on this part. ``inside`` tests the bounding box only (what the overlap and bond
+    checks of ``modalfe.geometry.parts`` read: the file's own conformity is checked when it is meshed). Poling
+    along an axis, or radial about ``axis`` through ``centre`` (a point [m]) when both are given."""
+
+    name: str
+    region: str
+    material: str
+    bounds: tuple[tuple[float, float, float], tuple[float, float, float]]
+    volume: float
+    sides: tuple[str, ...] = ()
+    areas: tuple[float, ...] = ()
+    poling: int | str = 0
+    axis: str = "z"
+    centre: tuple[float, float, float] | None = None
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "poling", normalized_poling(self.name, self.poling,
+                                                             radial_allowed=self.centre is not None))
+
+    def _bounds(self):
+        return self.bounds
+
+    @property
+    def thickness(self) -> float:
+        """Smallest extent of the bounding box [m]."""
+        return min(self.size)
+
+    def area(self, side: str, window=None) -> float:
+        self.face_bounds(side, window) if window is not None else self.face(side)
+        return self.areas[self.sides.index(side)]
+
+    def inside(self, points: np.ndarray, tol: float = 0.0) -> np.ndarray:
+        """Whether points (n, 3) [m] lie in the bounding box widened by ``tol`` [m]."""
+        p = np.asarray(points, dtype=float)
+        return np.all((p >= np.array(self.lo) - tol) & (p <= np.array(self.hi) + tol), axis=-1)
+
+    def planar_face(self, side: str):
+        """None: a file's faces are compared by name (``modalfe.scene.checks``)."""
+        return None
+
+    def face_bounds(self, side: str, window=None):
+        """SceneError: what needs a face's rectangle (a face group's centre or mean as an output, antinodes on a
+        face, windows) is not known for a file's surface."""
+        raise SceneError(f"face '{self.name}.{side}': a geometry file's surface has no rectangle to place points "
+                         f"on (a face group's centre or mean, antinodes); give a point output (--point NAME=X,Y,Z)")
+
+    @property
+    def poling_faces(self) -> None:
+        """None: which of the file's surfaces the poling runs between is not known."""
+        return None
+
+
+@dataclass(frozen=True)
+class ImportedAssembly(Assembly):
+    """An ``Assembly`` read from the geometry ``file`` (absolute path) whose content hashes to ``digest``."""
+
+    file: str = ""
+    digest: str = ""
+
+
+def imported(*, file: str, digest: str, parts: Sequence[Mapping]) -> ImportedAssembly:
+    """The assembly of a geometry file: ``parts`` (``modalfe.scene.part_tables.imported_parts``: group, material,
+    region, poling, axis, centre) name its physical volumes; every physical surface is a face group."""
+    volumes, surfaces = _summary(str(file), digest)
+    names = [str(p["group"]) for p in parts]
+    for i, name in enumerate(names):
+        if name not in volumes:
+            known = ", ".join(f"'{n}'" for n in sorted(volumes)) or "none"
+            raise SceneError(f"parts[{i}].group: no physical volume '{name}' in {Path(file).name}; it has {known}")
+    foreign = sorted(set(volumes) - set(names))
+    if foreign:
+        raise SceneError(f"parts: physical volume '{foreign[0]}' of {Path(file).name} is no part; add a [[parts]] "
+                         f"table with group = '{foreign[0]}' (a piece left out would change the device)")
+    poled = {str(p["group"]) for p in parts if p.get("poling", 0) not in (0, None, "", "0")}
+    on: dict[str, dict[str, float]] = {}  # part -> face group -> area
+    for group, pieces in surfaces.items():
+        for owners, area in pieces:
+            owner = next((o for o in owners if o in poled), owners[0])
+            on.setdefault(owner, {}).setdefault(group, 0.0)
+            on[owner][group] += area
+    built = []
+    for spec in parts:
+        name = str(spec["group"])
+        lo, hi, volume = volumes[name]
+        sides = on.get(name, {})
+        built.append(ImportedPart(name, str(spec.get("region", name)), str(spec["material"]), (lo, hi), volume,
+                                  tuple(sides), tuple(sides.values()), spec.get("poling", 0),
+                                  str(spec.get("axis", "z")),
+                                  None if spec.get("centre") is None else tuple(spec["centre"])))
+    faces = {g: tuple(Face(part, g) for part, sides in on.items() if g in sides) for g in surfaces}
+    return ImportedAssembly(tuple(built), faces, file=str(file), digest=digest)
+
+
+@functools.lru_cache(maxsize=16)
+def _summary(file: str, digest: str):
+    """What the scene reads of a geometry file (cached by its path and ``digest``): physical volume -> (lo, hi,
+    volume), physical surface -> [(names of the physical volumes its piece bounds, area), ...]. SceneError naming
+    ``geometry.file`` when the file cannot be read or has unnamed pieces."""
+    path = Path(file)
+    try:
+        with _session(path, SceneError):
+            return _read_summary(path.name)
+    except MeshError as exc:
+        raise SceneError(f"geometry.file: {exc}") from None
+
+
+def _read_summary(source: str):
+    """``_summary`` of the open gmsh model (MeshError for unnamed pieces)."""
+    import gmsh
+
+    names = {tag: gmsh.model.getPhysicalName(3, tag) for _, tag in gmsh.model.getPhysicalGroups(3)}
+    check_groups(source, list(names.values()), [])
+    owner = {int(e): names[int(gmsh.model.getPhysicalGroupsForEntity(3, int(e))[0])]
+             for _, e in gmsh.model.getEntities(3)}
+    volumes = {}
+    for tag, name in names.items():
+        entities = [int(e) for e in gmsh.model.getEntitiesForPhysicalGroup(3, tag)]
+        boxes = np.array([gmsh.model.getBoundingBox(3, e) for e in entities])
+        volumes[name] = (tuple(float(x) for x in boxes[:, :3].min(axis=0)),
+                         tuple(float(x) for x in boxes[:, 3:].max(axis=0)),
+                         sum(_measure(3, e) for e in entities))
+    surfaces = {}
+    for _, tag in gmsh.model.getPhysicalGroups(2):
+        name = gmsh.model.getPhysicalName(2, tag)
+        pieces = []
+        for e in gmsh.model.getEntitiesForPhysicalGroup(2, tag):
+            owners = tuple(owner[int(v)] for v in gmsh.model.getAdjacencies(2, int(e))[0] if int(v) in owner)
+            if not owners:
+                raise MeshError(f"{source}: surface {int(e)} of physical surface '{name}' bounds no named volume")
+            pieces.append((owners, _measure(2, int(e))))
+        surfaces[name] = pieces
+    return volumes, surfaces
+
+
+def _measure(dim: int, tag: int) -> float:
+    """Volume (dim 3) or area (dim 2) of a gmsh entity [m^3, m^2]: OpenCASCADE's for CAD shapes, else the sum
+    over its mesh elements of the Jacobian determinant times the Gauss weights (a .msh file's discrete entities)."""
+    import gmsh
+
+    try:
+        return float(gmsh.model.occ.getMass(dim, tag))
+    except Exception:  # not an OpenCASCADE entity (gmsh raises bare Exception)
+        pass
+    total = 0.0
+    for etype in gmsh.model.mesh.getElementTypes(dim, tag):
+        local, weights = gmsh.model.mesh.getIntegrationPoints(int(etype), "Gauss2")
+        _, det, _ = gmsh.model.mesh.getJacobians(int(etype), local, tag=tag)
+        total += float(np.sum(np.abs(det).reshape(-1, len(weights)) @ weights))
+    return total

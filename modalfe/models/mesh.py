@@ -1,5 +1,9 @@
 """Mesh a box assembly with gmsh, convert it to scikit-fem through meshio, cache it by parameters.
 
+A scene's geometry file (``modalfe.geometry.imported.ImportedAssembly``) is meshed by ``read_geometry``
+(curved quadratic tetrahedra); its cache key holds the digest of the file's bytes (and of the files a .geo
+merges), so an edited file is meshed again.
+
 Structured hexahedra (transfinite volumes on the tensor grid of the parts' coordinates) when
 ``element="hex"``, unstructured tetrahedra otherwise. A box assembly's mesh is geometrically linear
 (exact for boxes); quadratic fields come from the element chosen in the model (serendipity hex or P2
@@ -24,10 +28,11 @@ from pathlib import Path
 import numpy as np
 
 from modalfe.errors import MeshError
+from modalfe.geometry.imported import ImportedAssembly, physical_mesh, read_geometry
 
 log = logging.getLogger(__name__)
 
-MESH_FORMAT_VERSION = 3  # 3: key, element and checksum stored inside the file
+MESH_FORMAT_VERSION = 4  # 3: key, element and checksum stored inside the file; 4: nodes numbered by physical_mesh
 GRADING_RATIO = 0.4  # size ratio of neighbouring element layers toward a clamped face
 _memory_cache: dict[str, DeviceMesh] = {}
 
@@ -186,7 +191,16 @@ def build_mesh(assembly, *, size: float | Mapping[str, float], element: str = "h
         except Exception as exc:  # any damage (truncated zip, bad CRC, wrong content): rebuild and overwrite
             log.warning("mesh cache: rebuilding damaged or foreign %s (%s: %s)", path, type(exc).__name__, exc)
     start = time.perf_counter()
-    meshio_mesh = _gmsh_mesh(assembly, sizes=sizes, element=element, min_layers=min_layers, grading=grading)
+    if isinstance(assembly, ImportedAssembly):  # curved quadratic tetrahedra on the file's surfaces
+        try:
+            meshio_mesh = read_geometry(assembly.file, volumes=[p.name for p in assembly.parts],
+                                        faces=list(assembly.faces), size=tet_size(assembly, sizes, min_layers),
+                                        order=2)
+        except MeshError as exc:  # name the scene file's field at fault
+            raise MeshError(str(exc) if str(exc).startswith(("geometry.", "mesh.")) else f"geometry.file: {exc}") \
+                from None
+    else:
+        meshio_mesh = _gmsh_mesh(assembly, sizes=sizes, element=element, min_layers=min_layers, grading=grading)
     mesh, parts, faces = _to_skfem(meshio_mesh, assembly)
     result = DeviceMesh(mesh, parts, faces, element, float(size), key, time.perf_counter() - start)
     _check(result, assembly)
@@ -197,10 +211,14 @@ def build_mesh(assembly, *, size: float | Mapping[str, float], element: str = "h
     return result
 
 
+def tet_size(assembly, sizes: Mapping[str, float], min_layers: int) -> float:
+    """Largest tetrahedron [m]: the smallest part size, and at most the main part's thickness / ``min_layers``."""
+    return min(min(sizes.values()), assembly.main_part.thickness / min_layers)
+
+
 def _gmsh_mesh(assembly, *, sizes: Mapping[str, float], element: str, min_layers: int, grading=None):
     """Run gmsh on the assembly; return a meshio.Mesh with cell sets per part and face group."""
     import gmsh
-    import meshio
 
     from modalfe.geometry.gmsh_model import add_grid, add_parts, grid_breaks
 
@@ -221,7 +239,7 @@ def _gmsh_mesh(assembly, *, sizes: Mapping[str, float], element: str, min_layers
             if any(f.window is not None for faces in assembly.faces.values() for f in faces):
                 raise MeshError("mesh.element: face windows need element = 'hex'")
             add_parts(assembly)
-            size = min(min(sizes.values()), assembly.main_part.thickness / min_layers)
+            size = tet_size(assembly, sizes, min_layers)
             gmsh.option.setNumber("Mesh.MeshSizeMax", size)
             gmsh.option.setNumber("Mesh.MeshSizeMin", size / 20)
         curved = bool(assembly.shaped)
@@ -232,63 +250,11 @@ def _gmsh_mesh(assembly, *, sizes: Mapping[str, float], element: str, min_layers
             gmsh.model.mesh.generate(3)
         except Exception as exc:  # gmsh raises bare Exception
             raise MeshError(f"gmsh failed to mesh the assembly: {exc}") from exc
-        node_tags, coords, _ = gmsh.model.mesh.getNodes()
-        index = np.zeros(int(node_tags.max()) + 1, dtype=np.int64)
-        index[node_tags.astype(np.int64)] = np.arange(len(node_tags))
-        points = coords.reshape(-1, 3)
-        vtype, ftype, vname, fname, nv, nf = (
-            (5, 3, "hexahedron", "quad", 8, 4) if element == "hex"
-            else (11, 9, "tetra10", "triangle", 10, 6) if curved else (4, 2, "tetra", "triangle", 4, 3)
-        )
-        volumes, vsets = [], {}
-        facets, fsets = [], {}
-        for dim, ptag in gmsh.model.getPhysicalGroups():
-            name = gmsh.model.getPhysicalName(dim, ptag)
-            conn = []
-            for ent in gmsh.model.getEntitiesForPhysicalGroup(dim, ptag):
-                types, _, enodes = gmsh.model.mesh.getElements(dim, int(ent))
-                for t, en in zip(types, enodes):
-                    if t == (vtype if dim == 3 else ftype):
-                        conn.append(index[en.astype(np.int64)].reshape(-1, nv if dim == 3 else nf))
-            if not conn:
-                raise MeshError(f"physical group '{name}' got no {'volume' if dim == 3 else 'face'} elements")
-            conn = np.concatenate(conn)
-            target, sets = (volumes, vsets) if dim == 3 else (facets, fsets)
-            name = ("part:" if dim == 3 else "face:") + name  # a foot is a part and a face group
-            start = sum(len(c) for c in target)
-            target.append(conn)
-            sets[name] = np.arange(start, start + len(conn))
+        names = {dim: [gmsh.model.getPhysicalName(dim, tag) for _, tag in gmsh.model.getPhysicalGroups(dim)]
+                 for dim in (2, 3)}
+        return physical_mesh(names[3], names[2])  # a foot is a part and a face group: part:NAME, face:NAME
     finally:
         gmsh.finalize()
-    if not volumes:
-        raise MeshError("the mesh is empty: gmsh produced no volume elements")
-    if curved:
-        points, volumes, facets = _corners_first(points, volumes, facets)
-    # a face shared by several groups is listed once per group; skfem matches facets by nodes
-    empty = np.array([], dtype=int)
-    cells = [(vname, np.concatenate(volumes))]
-    cell_sets = {k: [v] for k, v in vsets.items()}
-    if facets:
-        cells.append((fname, np.concatenate(facets)))
-        cell_sets = {k: [v, empty] for k, v in vsets.items()}
-        cell_sets.update({k: [empty, v] for k, v in fsets.items()})
-    return meshio.Mesh(points, cells, cell_sets=cell_sets)
-
-
-def _corners_first(points: np.ndarray, volumes: list, facets: list):
-    """Quadratic tetrahedra as skfem reads them: corner nodes numbered first (so ``MeshTet2`` keeps the numbering
-    its facets are matched in), mid-edge nodes in VTK/skfem edge order (01, 12, 02, 03, 13, 23: gmsh lists
-    23 before 13), facets by their 3 corners."""
-    vol = np.concatenate(volumes)[:, [0, 1, 2, 3, 4, 5, 6, 7, 9, 8]]
-    corners = np.unique(vol[:, :4])
-    rest = np.setdiff1d(np.unique(vol), corners)
-    new = np.full(len(points), -1)
-    new[corners] = np.arange(len(corners))
-    new[rest] = len(corners) + np.arange(len(rest))
-    order = np.concatenate([corners, rest])
-    sizes = np.cumsum([0] + [len(v) for v in volumes])
-    vols = [new[vol[a:b]] for a, b in itertools.pairwise(sizes)]
-    return points[order], vols, [new[f[:, :3]] for f in facets]
 
 
 def _set_transfinite(breaks: list[np.ndarray], counts: list[np.ndarray]) -> None:

@@ -53,7 +53,7 @@ def mode_grid(mode):
     import pyvista as pv
 
     model = mode.model
-    shape = model.nodal_displacement(mode.shape)
+    shape = _at_every_node(model, mode.shape)
     points, cells, kind, fields, part_id, names = whole_device_mesh(model, {"displacement": shape})
     n = cells.shape[1]
     grid = pv.UnstructuredGrid(np.hstack([np.full((len(cells), 1), n), cells]).ravel(),
@@ -65,6 +65,18 @@ def mode_grid(mode):
     if mirror_planes(model.scene):  # merge the mirrored copies of the points on the symmetry planes
         grid = grid.clean(tolerance=1e-9 * float(np.ptp(points, axis=0).max()), produce_merge_map=False)
     return grid
+
+
+def _at_every_node(model, x: np.ndarray) -> np.ndarray:
+    """Displacement (3, n) at every point of the mesh: its vertices, and the mid-edge nodes a curved mesh (skfem
+    MeshTet2) lists after them (P2 edge values there, the edge's mean for P1); the cells drawn use the vertices."""
+    u = model.nodal_displacement(x)
+    mesh = model.mesh.mesh
+    if mesh.p.shape[1] == u.shape[1]:
+        return u
+    edge_dofs = model.u_basis.edge_dofs
+    mid = np.asarray(x[: model.n_u])[edge_dofs] if edge_dofs.size else u[:, mesh.edges].mean(axis=1)
+    return np.hstack([u, mid])
 
 
 def marker_kind(scene, group: str) -> str | None:
@@ -89,12 +101,20 @@ def marker_set(mode, surface=None) -> list[Marker]:
     centres = surface.cell_centers().points
     areas = surface.compute_cell_sizes(length=False, volume=False).cell_data["Area"]
     found: dict[tuple[str, bool, tuple[int, int]], list] = {}
+    drawn: set[str] = set()
     for group, faces in assembly.faces.items():
         kind = marker_kind(scene, group)
         if kind is None:
             continue
         for face in faces:
-            axis, c, lo, hi = assembly.part(face.part).face_bounds(face.side, face.window)
+            part = assembly.part(face.part)
+            rect = part.face_bounds(face.side, face.window) if face.window is not None else part.planar_face(face.side)
+            if rect is None:  # a curved wall or a geometry file's surface: the face group's own mesh facets
+                if group not in drawn:
+                    drawn.add(group)
+                    _facet_marker(mode, group, kind, surface, centres, tol, size, found)
+                continue
+            axis, c, lo, hi = rect
             sign = -1 if face.side.endswith("min") else 1
             inplane = [k for k in range(3) if k != axis]
             on = np.abs(centres[:, axis] - c) < tol
@@ -117,6 +137,28 @@ def marker_set(mode, surface=None) -> list[Marker]:
         poly = pieces[0][1] if len(pieces) == 1 else pieces[0][1].merge([p for _, p in pieces[1:]])
         out.append(Marker(group, kind, MARKERS[kind], poly, normal, outline))
     return out
+
+
+def _facet_marker(mode, group: str, kind: str, surface, centres: np.ndarray, tol: float, size: float,
+                  found: dict) -> None:
+    """The surface cells on the mesh facets of face group ``group`` (those of the solved model: a symmetric model
+    marks its kept half), lifted along their outward normals; a group with no facet on the surface (bonded
+    between two parts) is not drawn."""
+    from scipy.spatial import cKDTree
+
+    mesh = mode.model.mesh.mesh
+    facets = mesh.facets[:, mode.model.mesh.faces[group]]
+    at = mesh.p[:, facets].mean(axis=1).T  # facet centroids (corner nodes)
+    distance, _ = cKDTree(at).query(centres, distance_upper_bound=10 * tol)
+    on = np.flatnonzero(np.isfinite(distance))
+    if not len(on):
+        return
+    poly = surface.compute_normals(cell_normals=True, point_normals=True, split_vertices=False).extract_cells(on)
+    poly = poly.extract_surface(algorithm=None)
+    normal = poly.cell_data["Normals"].mean(axis=0)
+    axis = int(np.argmax(np.abs(normal)))
+    poly.points = poly.points + LIFT * size * poly.point_data["Normals"]
+    found.setdefault((group, False, (axis, 1 if normal[axis] > 0 else -1)), []).append((kind, poly))
 
 
 def _outline(mode, axis: int, c: float, lo, hi, *, grow: float, lift: float):

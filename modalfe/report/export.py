@@ -1,7 +1,8 @@
 """VTU export for ParaView (and anything that reads VTK): the whole device with every computed mode.
 
 The cells are the solve's own: 20-node quadratic hexahedra (VTK_QUADRATIC_HEXAHEDRON, edge mid-nodes
-included) for the serendipity solid, 10-node tetrahedra (VTK_QUADRATIC_TETRA) for P2, linear cells for
+included) for the serendipity solid, 10-node tetrahedra (VTK_QUADRATIC_TETRA) for P2 (on a curved mesh the
+mid-edge nodes are the mesh's own, on the curved surface), linear cells for
 order 1 (and, vertices only, for the Gauss-Lobatto orders 3-4). Symmetric models are unfolded to the
 whole device. Written:
 
@@ -36,6 +37,15 @@ CSV_HEADER = ("mode index", "label", "frequency [Hz]", "error estimate [relative
 def mode_array_name(mode) -> str:
     """The point-data name stem of one mode: ``mode_<index>_<label>_<frequency>Hz``."""
     return f"mode_{mode.index}_{mode.label.replace(' ', '_')}_{mode.frequency:.1f}Hz"
+
+
+def edge_nodes(mesh) -> np.ndarray:
+    """(3, n_edges) mid-edge nodes of ``mesh``'s edges: a curved mesh's own (skfem MeshTet2 stores them after
+    the vertices, in edge order, on the true surface), else the edges' midpoints."""
+    n_v = mesh.nvertices
+    if mesh.p.shape[1] > n_v:
+        return mesh.p[:, n_v:]
+    return mesh.p[:, mesh.edges].mean(axis=1)
 
 
 def _corners(model) -> np.ndarray:
@@ -76,11 +86,11 @@ def quadratic_device(model, shapes: list[np.ndarray]):
     order = scene.mesh.order
     quadratic = order == 2
     kind = dm.element
-    n_v = mesh.p.shape[1]
+    n_v = mesh.nvertices
     corners = _corners(model)
     ub = model.u_basis
     scalar = Basis(mesh, element_for(scene.mesh), intorder=1) if model.n_phi else None
-    pieces = [mesh.p.T] + ([mesh.p[:, mesh.edges].mean(axis=1).T] if quadratic else [])
+    pieces = [mesh.p[:, :n_v].T] + ([edge_nodes(mesh).T] if quadratic else [])
     u_dofs = [ub.nodal_dofs] + ([ub.edge_dofs] if quadratic else [])
     disp = [[x[: model.n_u][d].T for d in u_dofs] for x in shapes]
     pot = []
@@ -114,11 +124,18 @@ def quadratic_device(model, shapes: list[np.ndarray]):
             block += [(n_v + find(c[:, a], c[:, b]))[:, None] for a, b in pairs]
         blocks.append(np.hstack(block) + j * n_block)
     cells = np.vstack(blocks)
-    return points, cells, VTK_TYPE[(kind, quadratic)], displacements, potentials, _part_names(scene, points, cells)
+    return points, cells, VTK_TYPE[(kind, quadratic)], displacements, potentials, _part_names(model, points, cells)
 
 
-def _part_names(scene, points: np.ndarray, cells: np.ndarray) -> np.ndarray:
-    """The full assembly's part holding each cell's centroid (mirrored cells get the mirrored part's name)."""
+def _part_names(model, points: np.ndarray, cells: np.ndarray) -> np.ndarray:
+    """The full assembly's part of each cell: the mesh's own part sets for a whole model, else the part whose
+    bounding box holds the cell's centroid (mirrored cells get the mirrored part's name)."""
+    scene = model.scene
+    if not mirror_planes(scene):
+        names = np.full(len(cells), "", dtype=object)
+        for name, elements in model.mesh.parts.items():
+            names[elements] = name
+        return names
     assembly = scene.full_assembly()
     corners = cells[:, :8] if cells.shape[1] >= 8 else cells[:, :4]
     centroid = points[corners].mean(axis=1)

@@ -227,12 +227,23 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
 
 def _face_peak(mode, rom) -> tuple[float, tuple[float, float]]:
     """Largest 0-peak normal amplitude per volt [m/V] on the top face of the main part, and where:
-    modal amplitude at resonance |q| = |theta| / (2 zeta omega^2) times the mass-normalised shape."""
+    modal amplitude at resonance |q| = |theta| / (2 zeta omega^2) times the mass-normalised shape. A main part
+    that is not a box (a shape, a geometry file's piece) is read at its mesh vertices on the top plane of its
+    bounding box (all its vertices when none lies there)."""
     from modalfe.response.placement import face_field
 
     main = mode.scene.full_assembly().main_part
-    xs, ys, W = face_field(mode, part=main.name, side="zmax", spacing=max(main.size[:2]) / 200)
-    i, j = np.unravel_index(np.argmax(np.abs(W)), W.shape)
     theta = abs(rom.force_factor) / np.sqrt(rom.modal_mass)
     q = theta / (2 * rom.zeta * rom.omega**2)
-    return float(q * abs(W[i, j])), (float(xs[j]), float(ys[i]))
+    if "zmax" in main.sides:
+        xs, ys, W = face_field(mode, part=main.name, side="zmax", spacing=max(main.size[:2]) / 200)
+        i, j = np.unravel_index(np.argmax(np.abs(W)), W.shape)
+        return float(q * abs(W[i, j])), (float(xs[j]), float(ys[i]))
+    model = mode.model
+    mesh = model.mesh.mesh
+    vertices = np.unique(mesh.t[:, model.mesh.parts[main.name]])
+    top = vertices[np.abs(mesh.p[2, vertices] - main.hi[2]) <= 1e-9 * max(main.size)]
+    vertices = top if len(top) else vertices
+    w = np.abs(model.nodal_displacement(mode.shape)[2, vertices])
+    k = vertices[np.argmax(w)]
+    return float(q * w.max()), (float(mesh.p[0, k]), float(mesh.p[1, k]))

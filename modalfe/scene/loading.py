@@ -12,7 +12,7 @@ from typing import Any
 import modalfe.scene.values as v
 from modalfe.errors import SceneError
 from modalfe.scene.builtin import BUILTIN
-from modalfe.scene.part_tables import has_shapes, shaped_parts
+from modalfe.scene.part_tables import has_shapes, imported_parts, shaped_parts
 from modalfe.scene.scene import KINDS, USER_DAMPING_SOURCE, Analysis, Drive, MeshSettings, Scene, Target, WorkingMode
 
 if sys.version_info >= (3, 11):
@@ -59,27 +59,34 @@ def scene_from_toml(path: str | Path) -> Scene:
     except tomllib.TOMLDecodeError as exc:
         message = " ".join(str(exc).split())
         raise SceneError(f"{path}: not valid TOML ({message})") from None
-    return scene_from_dict(data, default_name=path.stem)
+    return scene_from_dict(data, default_name=path.stem, folder=path.parent)
 
 
-_TOP_KEYS = ("name", "units", "parts", "faces", "materials", "electrodes", "clamps", "springs",
+_TOP_KEYS = ("name", "units", "geometry", "parts", "faces", "materials", "electrodes", "clamps", "springs",
              "masses", "analysis", "mesh", "working_modes", "kind", "symmetry", "drive")
 _DRIVE_KEYS = ("damping", "damping_source", "outputs", "load", "load_source")
 _UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "um": 1e-6}
 _TARGET_KEYS = ("name", "value", "unit", "kind", "source")
 
 
-def scene_from_dict(data: Mapping[str, Any], default_name: str = "scene") -> Scene:
-    """A box-built scene from the tables of a scene file; every value is checked and named when wrong."""
+def scene_from_dict(data: Mapping[str, Any], default_name: str = "scene", folder: str | Path = ".") -> Scene:
+    """A scene from the tables of a scene file (boxes, shapes, or a ``[geometry] file`` relative to ``folder``);
+    every value is checked and named when wrong."""
     v.table("scene file", data)
     v.known_keys("", data, _TOP_KEYS)
     units = v.string("units", data.get("units", "m"), choices=tuple(_UNITS))
     scale = _UNITS[units]
     if "parts" not in data:
         raise SceneError("parts: a scene file needs at least one [[parts]] table")
-    shapes = has_shapes(data["parts"])
-    parts = shaped_parts(data["parts"], scale=scale) if shapes else v.box_parts(data["parts"], scale=scale)
-    faces = v.face_groups(data.get("faces", {}))
+    geometry = _geometry(data.get("geometry"), Path(folder)) if "geometry" in data else None
+    if geometry is not None and "faces" in data:
+        raise SceneError("faces: a geometry file's face groups are its physical surfaces; remove the [faces] table")
+    shapes = geometry is not None or has_shapes(data["parts"])
+    if geometry is not None:
+        params = {**geometry, "parts": imported_parts(data["parts"], scale=scale)}
+    else:
+        parts = shaped_parts(data["parts"], scale=scale) if shapes else v.box_parts(data["parts"], scale=scale)
+        params = {"parts": parts, "faces": v.face_groups(data.get("faces", {}), scale=scale)}
     analysis_data = v.table("analysis", data.get("analysis", {}))
     v.known_keys("analysis", analysis_data, [f.name for f in fields(Analysis)])
     analysis = Analysis(**analysis_data)
@@ -123,8 +130,8 @@ def scene_from_dict(data: Mapping[str, Any], default_name: str = "scene") -> Sce
     symmetry = v.array("symmetry", data.get("symmetry", []))
     scene = Scene(
         name=v.string("name", data.get("name", default_name)),
-        device="shaped" if shapes else "boxes",
-        params={"parts": parts, "faces": faces},
+        device="imported" if geometry is not None else "shaped" if shapes else "boxes",
+        params=params,
         electrodes=electrodes,
         clamps=_clamps(data.get("clamps", {})),
         springs=springs,
@@ -139,6 +146,21 @@ def scene_from_dict(data: Mapping[str, Any], default_name: str = "scene") -> Sce
     )
     scene.validate()
     return scene
+
+
+def _geometry(value, folder: Path) -> dict[str, str]:
+    """The ``[geometry]`` table: ``file`` (relative to the scene file's folder) -> its absolute path and the
+    digest of its content (``modalfe.geometry.imported.file_digest``: part of the mesh cache key)."""
+    from modalfe.geometry.imported import file_digest
+
+    data = v.table("geometry", value)
+    v.known_keys("geometry", data, ("file",))
+    if "file" not in data:
+        raise SceneError("geometry.file: missing (a .geo, .step, .brep or .msh file)")
+    path = (folder / v.string("geometry.file", data["file"])).resolve()
+    if not path.is_file():
+        raise SceneError(f"geometry.file: '{path}' does not exist")
+    return {"file": str(path), "digest": file_digest(path)}
 
 
 def _drive(value, scale: float) -> Drive:

@@ -6,6 +6,10 @@ One ``[[parts]]`` table per part, its ``shape`` one of ``box`` (the default: ori
 height); all take name, material, region and poling (0, 1, -1, "+x" ... "-z", and "radial" / "-radial" for
 rings). Lengths in the file's units, scaled to metres here; the shapes themselves check their geometry
 (``modalfe.geometry.shapes``).
+
+A scene whose ``[geometry] file`` names a CAD, ``.geo`` or ``.msh`` file has part tables of another form
+(``imported_parts``): ``group`` (the file's physical volume), material, region, poling, and for radial poling
+``axis`` and ``centre``; its shapes are the file's.
 """
 
 from __future__ import annotations
@@ -25,6 +29,46 @@ _KEYS = {
     "extrusion": ("outline", "holes", "circles", "axis", "base", "height"),
 }
 _OPTIONAL = {"holes", "circles"}
+
+
+_IMPORTED_KEYS = ("group", "material", "region", "poling", "axis", "centre")
+
+
+def imported_parts(parts: Any, *, scale: float = 1.0) -> list[dict]:
+    """Part tables of a scene with a geometry file, checked (``centre`` scaled to metres); groups unique."""
+    if isinstance(parts, Mapping):
+        raise SceneError("parts: must be an array of tables ([[parts]] for each part), got a single table")
+    items = v.array("parts", parts)
+    if not items:
+        raise SceneError("parts: a scene file needs at least one [[parts]] table")
+    out, names = [], set()
+    for i, p in enumerate(items):
+        where = f"parts[{i}]"
+        p = v.table(where, p)
+        v.known_keys(where, p, _IMPORTED_KEYS)
+        for key in ("group", "material"):
+            if key not in p:
+                raise SceneError(f"{where}.{key}: missing (a part of a geometry file needs group, the physical "
+                                 "volume's name, and material)")
+        group = v.string(f"{where}.group", p["group"])
+        if group in names:
+            raise SceneError(f"{where}.group: '{group}' is used by another part")
+        names.add(group)
+        q: dict[str, Any] = {"group": group, "material": v.string(f"{where}.material", p["material"])}
+        if "region" in p:
+            q["region"] = v.string(f"{where}.region", p["region"])
+        if "poling" in p:
+            poling = p["poling"]
+            q["poling"] = v.integer(f"{where}.poling", poling) if not isinstance(poling, str) else poling
+        if "axis" in p:
+            q["axis"] = v.string(f"{where}.axis", p["axis"], choices=("x", "y", "z"))
+        if "centre" in p:
+            q["centre"] = [scale * x for x in v.numbers3(f"{where}.centre", p["centre"], unit="m")]
+        if str(q.get("poling", "")).endswith("radial") and not {"axis", "centre"} <= set(q):
+            raise SceneError(f"{where}.poling: radial poling of a part from a geometry file needs its axis and "
+                             "centre (a point on the axis) in the part table")
+        out.append(q)
+    return out
 
 
 def has_shapes(parts: Any) -> bool:

@@ -207,8 +207,14 @@ class Scene:
         return {f"symmetry_{axis}": axis for axis in self.symmetry}
 
     def full_assembly(self):
-        """The device's whole box assembly (validated by its builder)."""
+        """The device's whole box assembly (validated by its builder); a geometry file's
+        (``modalfe.geometry.imported``) for device ``imported``."""
         from modalfe.geometry import BUILDERS
+
+        if self.device == "imported":
+            from modalfe.geometry.imported import imported
+
+            return imported(**self.params)
 
         try:
             builder = BUILDERS[self.device]
@@ -303,7 +309,17 @@ class Scene:
             expected = {"analysis": Analysis, "mesh": MeshSettings, "drive": Drive}[name]
             if not isinstance(getattr(self, name), expected):
                 raise SceneError(f"{name}: must be a {expected.__name__}")
-        if self.device in ("boxes", "shaped"):
+        if self.device == "imported":
+            from modalfe.scene.part_tables import imported_parts
+
+            v.known_keys("", self.params, ("file", "digest", "parts"))
+            imported_parts(self.params.get("parts", ()))
+            if self.symmetry:
+                raise SceneError("symmetry: not available for a geometry file (its mirror halves are not known)")
+            if self.mesh.element != "tet":
+                raise SceneError(f"mesh.element: a geometry file is meshed with tetrahedra; set 'tet', got "
+                                 f"'{self.mesh.element}'")
+        elif self.device in ("boxes", "shaped"):
             v.known_keys("", self.params, ("parts", "faces"))
             if self.device == "boxes":
                 v.box_parts(self.params.get("parts", ()))

@@ -19,6 +19,7 @@ from modalfe.geometry.ciliary_beam import ciliary_beam
 from modalfe.geometry.cube_plate import cube_plate
 from modalfe.geometry.glass_plate import glass_plate
 from modalfe.geometry.honeycomb_tile import honeycomb_tile
+from modalfe.geometry.imported import imported
 from modalfe.geometry.parameters import AtLeast, NonNegative, Parameter, Positive, Unit, parameters_of
 from modalfe.geometry.parts import Assembly, Box, Face
 from modalfe.geometry.shapes import shaped
@@ -30,7 +31,9 @@ BUILDERS: dict[str, Callable[..., Assembly]] = {
     "ciliary_beam": ciliary_beam,
     "boxes": boxes,
     "shaped": shaped,  # scene files with cylinders, rings or extrusions (``modalfe.geometry.shapes``)
+    "imported": imported,  # scene files naming a geometry file (``modalfe.geometry.imported``)
 }
+SCENE_FILE_DEVICES = ("boxes", "shaped", "imported")  # built from a scene file's part tables, not from parameters
 
 
 def builder_parameters(name: str) -> dict[str, Parameter]:
@@ -57,6 +60,6 @@ def check_parameters(name: str, params: Mapping[str, Any]) -> None:
         accepted[key].check(value)
 
 
-__all__ = ["BUILDERS", "Assembly", "AtLeast", "Box", "Face", "NonNegative", "Parameter", "Positive", "Unit",
-           "boxes", "builder_parameters", "check_parameters", "ciliary_beam", "cube_plate", "glass_plate",
-           "honeycomb_tile", "shaped"]
+__all__ = ["BUILDERS", "SCENE_FILE_DEVICES", "Assembly", "AtLeast", "Box", "Face", "NonNegative", "Parameter",
+           "Positive", "Unit", "boxes", "builder_parameters", "check_parameters", "ciliary_beam", "cube_plate",
+           "glass_plate", "honeycomb_tile", "imported", "shaped"]

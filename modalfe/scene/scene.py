@@ -207,14 +207,8 @@ class Scene:
         return {f"symmetry_{axis}": axis for axis in self.symmetry}
 
     def full_assembly(self):
-        """The device's whole box assembly (validated by its builder); a geometry file's
-        (``modalfe.geometry.imported``) for device ``imported``."""
+        """The device's whole assembly (validated by its builder; a geometry file's for device ``imported``)."""
         from modalfe.geometry import BUILDERS
-
-        if self.device == "imported":
-            from modalfe.geometry.imported import imported
-
-            return imported(**self.params)
 
         try:
             builder = BUILDERS[self.device]

@@ -6,7 +6,7 @@ is written: parts, faces, materials, electrodes, clamps, springs, masses, analys
 drive (damping, load, outputs, with their sources) and the working modes with their targets. What the file format
 has no place for (a built-in's assumption lines, its drive targets and reference spectra) is written as comments.
 A window of a face is written as {face = "part.side", window = [[u0, v0], [u1, v1]]}; a scene with a geometry
-file cannot be written yet.
+file names it by its absolute path.
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ from dataclasses import fields
 from typing import Any
 
 from modalfe.errors import SceneError
-from modalfe.geometry import BUILDERS
+from modalfe.geometry import BUILDERS, SCENE_FILE_DEVICES
 from modalfe.scene.scene import Analysis, MeshSettings, Scene
 
 _BARE_KEY = re.compile(r"^[A-Za-z0-9_-]+$")
@@ -29,7 +29,7 @@ _BARE_KEY = re.compile(r"^[A-Za-z0-9_-]+$")
 def scene_to_toml(scene: Scene) -> str:
     """The text of a scene file (TOML) for ``scene`` (module docstring); SceneError for a scene it cannot write."""
     out = [f"# scene '{scene.name}' written by modalfe" + (f" from the built-in device '{scene.device}'"
-                                                            if scene.device not in ("boxes", "shaped") else ""),
+                                                            if scene.device not in SCENE_FILE_DEVICES else ""),
            f"name = {_value(scene.name)}", 'units = "m"', f"kind = {_value(scene.kind)}",
            f"symmetry = {_value(list(scene.symmetry))}"]
     out += [f"# assumption: {line}" for line in scene.assumptions]
@@ -39,11 +39,14 @@ def scene_to_toml(scene: Scene) -> str:
     out += _table("mesh", {f.name: getattr(scene.mesh, f.name) for f in fields(MeshSettings)})
     for name, constants in scene.materials.items():
         out += _table(f"materials.{_key(name)}", constants)
+    if scene.device == "imported":  # the geometry file by its absolute path; its physical groups name the faces
+        out += _table("geometry", {"file": scene.params["file"]})
     parts, faces = _boxes(scene)
     for part in parts:
         out += ["", "[[parts]]"] + [f"{_key(k)} = {_value(x)}" for k, x in part.items()]
     for name in ("faces", "electrodes", "clamps", "springs", "masses"):
-        out += _table(name, faces if name == "faces" else getattr(scene, name))
+        if name != "faces" or scene.device != "imported":
+            out += _table(name, faces if name == "faces" else getattr(scene, name))
     drive = scene.drive
     load = {k: x for k, x in (("kind", drive.load.kind), ("group", drive.load.group),
                               ("value", list(drive.load.value)), ("axis", drive.load.axis)) if x not in (None, [])}
@@ -62,11 +65,10 @@ def scene_to_toml(scene: Scene) -> str:
 def _boxes(scene: Scene) -> tuple[list[dict], dict[str, list]]:
     """The part tables and face groups of the scene file: a scene file's own (boxes or shaped parts, lengths in
     metres), else its builder's assembly (boxes, and windows of their faces)."""
-    if scene.device in ("boxes", "shaped"):
-        return [dict(p) for p in scene.params["parts"]], {g: list(r) for g, r in scene.params["faces"].items()}
+    if scene.device in SCENE_FILE_DEVICES:
+        return [dict(p) for p in scene.params["parts"]], {g: list(r) for g, r in scene.params.get("faces", {}).items()}
     if scene.device not in BUILDERS:
-        raise SceneError(f"scene: a scene of device '{scene.device}' cannot be written yet (scene files of boxes or "
-                         f"shaped parts and built-in devices can)")
+        raise SceneError(f"device: unknown builder '{scene.device}'; known: {sorted(BUILDERS)}")
     assembly = scene.full_assembly()
     parts = []
     for box in assembly.parts:

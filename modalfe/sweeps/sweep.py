@@ -27,6 +27,7 @@ import itertools
 import json
 import logging
 import os
+import sys
 import tempfile
 import time
 from collections.abc import Callable, Iterator, Mapping, Sequence
@@ -65,11 +66,34 @@ def grid_values(spec: str) -> list[float]:
 
 
 def scene_identity(scene_ref) -> tuple[str, str]:
-    """(the scene as named, SHA-256 of its file's content or "" for a built-in scene)."""
+    """(the scene as named, SHA-256 of its file's content, and of the geometry file it names (with the files that
+    one merges, ``modalfe.geometry.imported.file_digest``), or "" for a built-in scene): a table resumes only for
+    the same device."""
     path = Path(scene_ref)
     if str(scene_ref).lower().endswith(".toml") and path.is_file():
-        return str(scene_ref), hashlib.sha256(path.read_bytes()).hexdigest()
+        digest = hashlib.sha256(path.read_bytes())
+        geometry = _geometry_file(path)
+        if geometry is not None:
+            from modalfe.geometry.imported import file_digest
+
+            digest.update(file_digest(geometry).encode())
+        return str(scene_ref), digest.hexdigest()
     return str(scene_ref), ""
+
+
+def _geometry_file(path: Path) -> Path | None:
+    """The ``[geometry] file`` a scene file names, if it reads and the file exists (else loading says what is wrong)."""
+    if sys.version_info >= (3, 11):
+        import tomllib
+    else:  # pragma: no cover
+        import tomli as tomllib
+
+    try:
+        name = tomllib.loads(path.read_text(encoding="utf-8")).get("geometry", {}).get("file")
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError, AttributeError):
+        return None
+    geometry = path.parent / name if isinstance(name, str) else None
+    return geometry if geometry is not None and geometry.is_file() else None
 
 
 def _canonical(value) -> str:

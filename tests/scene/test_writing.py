@@ -115,3 +115,24 @@ def test_odd_values_written(tmp_path):
     scene = load_scene("tile_eq5").with_overrides(**{"materials.eq5.source": 'a "quoted" note, \u00e9',
                                                      "mesh.max_size": 0.05, "drive.damping": "zeta=0.01"})
     assert _round_trip(scene, tmp_path) == dataclasses.replace(scene, assumptions=())
+
+
+def test_imported_scene_round_trip(tmp_path):
+    # a geometry-file scene is written with the file's absolute path and its parts by physical group; the faces
+    # are the file's physical surfaces, so no [faces] table
+    import shutil
+
+    from tests.scene.test_imported_scene import GEO, PARTS, ROLES
+
+    shutil.copy(GEO, tmp_path / "plate.geo")
+    source = tmp_path / "scene.toml"
+    source.write_text(f'name = "holed"\n[geometry]\nfile = "plate.geo"\n{PARTS}{ROLES}count = 1\n')
+    scene = load_scene(source)
+    text = scene_to_toml(scene)
+    assert f'file = "{(tmp_path / "plate.geo").resolve()}"' in text and "[faces]" not in text
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    back = _round_trip(scene, elsewhere)
+    assert back.params == scene.params
+    assert back.full_assembly() == scene.full_assembly()
+    assert scene_to_toml(back) == text

@@ -124,9 +124,13 @@ def face_mean_operator(model, group: str, *, per_element: int = 4) -> sp.csr_mat
     """(3, ndofs) area mean of the displacement over a face group of the whole device: the midpoint rule on
     cells ``per_element`` times finer than the mesh (error O((h / 4)^2) of the displacement's curvature),
     points beyond a mirror plane read their images (``Model.displacement_probes``)."""
+    from modalfe.geometry.parts import Box
+
     full = model.scene.full_assembly()
     if group not in full.faces:
         raise SceneError(f"outputs: no face group '{group}' for {MEAN_PREFIX}{group}; known: {sorted(full.faces)}")
+    if not all(isinstance(full.part(f.part), Box) for f in full.faces[group]):
+        return _facet_mean_operator(model, group)
     spacing = float(model.mesh.size) / per_element
     rows, weights = [], []
     for f in full.faces[group]:
@@ -147,6 +151,25 @@ def face_mean_operator(model, group: str, *, per_element: int = 4) -> sp.csr_mat
         weights.append(area)
     total = sum(weights)
     return sum((w / total) * R for w, R in zip(weights, rows, strict=True)).tocsr()
+
+
+def _facet_mean_operator(model, group: str) -> sp.csr_matrix:
+    """(3, ndofs) area mean of the displacement over a face group of curved or imported parts: the integral of each
+    displacement component over the group's mesh facets (the curved geometry's own quadrature) over their area."""
+    from skfem import FacetBasis, LinearForm
+
+    if model.scene.assembly().faces.get(group) != model.scene.full_assembly().faces[group]:
+        raise SceneError(f"outputs: {MEAN_PREFIX}{group} lies on a mirror plane of the half model; solve the whole "
+                         f"device (--set 'symmetry=[]')")
+    device_mesh = model.mesh
+    fb = FacetBasis(device_mesh.mesh, model.u_basis.elem, facets=device_mesh.faces[group],
+                    intorder=2 * model.scene.mesh.order)
+    rows = [LinearForm(lambda v, w, k=k: v[k]).assemble(fb) for k in range(3)]
+    area = float(fb.dx.sum())
+    if not area > 0:
+        raise SceneError(f"outputs: face group '{group}' has no area in the mesh")
+    block = sp.csr_matrix(np.vstack(rows) / area)
+    return sp.hstack([block, sp.csr_matrix((3, model.K.shape[0] - block.shape[1]))], format="csr")
 
 
 def harmonic_state(model, load: Load, frequency: float, *, damping=None, reference_omega: float | None = None

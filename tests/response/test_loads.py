@@ -110,3 +110,31 @@ def test_tile_is_driven_by_its_actuator_force():
     assert fig.amplitude_per_volt[rom.reference] == pytest.approx(abs(rom.force_factor) * 150 / rom.stiffness,
                                                                   rel=0.01)
     assert fig.to_json()["bvd"] is None
+
+
+def test_mean_over_a_curved_parts_face():
+    # mean:GROUP on a disc's top and a ring's outer wall (no rectangle: the facets' own quadrature on the curved
+    # mesh): a rigid translation averages to itself, and u_z = x - x_c to the face's centroid offset, 0 by
+    # symmetry (exact for a field the P2 element holds, up to the curved geometry's quadrature ~1e-12)
+    scene = scene_from_dict({
+        "units": "mm", "name": "disc-ring", "analysis": {"near": 20e3, "count": 2},
+        "mesh": {"max_size": 4, "min_layers": 1},
+        "parts": [{"name": "plate", "material": "CuBe", "origin": [0, 0, 0], "size": [30, 30, 1]},
+                  {"name": "disc", "shape": "cylinder", "material": "CuBe", "centre": [10, 12, 1], "axis": "z",
+                   "radius": 4, "height": 1},
+                  {"name": "ring", "shape": "ring", "material": "CuBe", "centre": [21, 18, 1], "axis": "z",
+                   "inner": 2, "outer": 4, "height": 1}],
+        "faces": {"top": ["disc.top"], "wall": ["ring.outer"]},
+    })
+    model, _ = build_model(scene)
+    ops = output_operators(model, ["mean:top", "mean:wall"])
+    n = model.K.shape[0]
+    p = model.u_basis.doflocs  # (3, n_u) DOF locations, vector DOFs 3 s + c
+    rigid, tilted = np.zeros(n), np.zeros(n)
+    for c, value in enumerate((1.0, -2.0, 3.0)):
+        rigid[c:model.n_u:3] = value
+    tilted[2:model.n_u:3] = p[0, 2::3] - 10e-3
+    for name in ("mean:top", "mean:wall"):
+        np.testing.assert_allclose(ops[name] @ rigid, [1.0, -2.0, 3.0], rtol=1e-12)
+    assert abs((ops["mean:top"] @ tilted)[2]) < 1e-12
+    assert abs((ops["mean:wall"] @ tilted)[2] - 11e-3) < 1e-9  # the ring's wall is centred on x = 21 mm

@@ -124,7 +124,20 @@ def estimate_size(scene, fidelity: str = "solid", *, size_factor: float = 1.0, m
     assembly = scene.assembly()
     sizes = {k: h * size_factor for k, h in element_sizes(scene).items()}
     layers = scene.mesh.min_layers if min_layers is None else min_layers
-    if fidelity == "solid":
+    if fidelity == "solid" and scene.mesh.element == "tet":
+        from modalfe.models.mesh import tet_size
+
+        # unstructured tetrahedra of one size everywhere (``tet_size``): each part's bounding box in cubes of that
+        # size (at least one across), six tetrahedra each, its nodes as for that block, scaled by the part's share
+        # of its box. Measured: 1.05x the real DOFs on cube_plate (139k), 0.66x on the holed plate of
+        # tests/geometry/data (gmsh refines curved edges), 0.40x on tile_eq5's coarse one-layer mesh (3.9k)
+        h = tet_size(assembly, sizes, layers)
+        blocks = {p.name: tuple(max(1.0, s / h) for s in p.size) for p in assembly.parts}
+        share = {p.name: p.volume / math.prod(p.size) for p in assembly.parts}
+        elements = sum(6 * math.prod(n) * share[name] for name, n in blocks.items())
+        nodes = {name: _nodes(n, scene.mesh) * share[name] for name, n in blocks.items()}
+        dofs = 3 * sum(nodes.values()) + sum(nodes[p.name] for p in assembly.parts if p.poling)
+    elif fidelity == "solid":
         per_part = _per_part(assembly, sizes, layers)
         elements = sum(math.prod(n) for n in per_part.values())
         nodes = {p.name: _nodes(per_part[p.name], scene.mesh) for p in assembly.parts}

@@ -64,6 +64,11 @@ def test_size_estimate_bounds_the_real_mesh_and_refuses_absurd_requests(monkeypa
     assert model.n_u <= estimate.dofs <= 1.5 * model.n_u
     with pytest.raises(SceneError, match=r"^mesh: too large for this machine: .* elements, .* DOFs"):
         check_size(load_scene("cube_plate", **{"analysis.near": 1e12}))
+    # tetrahedra of one size everywhere (the size across the thickness): a coarse one-layer mesh has more nodes
+    # on its faces than the block count assumes (measured 0.40x)
+    tets = load_scene("tile_eq5", **{"mesh.element": "tet", "mesh.min_layers": 1})
+    model, _ = build_model(tets, "solid")
+    assert 0.33 * model.n_u <= estimate_size(tets, "solid").dofs <= 2 * model.n_u
     monkeypatch.setenv("MODALFE_MAX_MEMORY", "1e6")
     with pytest.raises(SceneError, match=r"^mesh: too large"):
         build_model(load_scene("tile_eq5", **{"mesh.elements_per_wavelength": 7.0}), "solid")

@@ -26,6 +26,7 @@ every fidelity returns the same family.
 
 from __future__ import annotations
 
+import itertools
 import logging
 import math
 import time
@@ -102,6 +103,8 @@ def solid_levels(scene, analysis, size_factor: float, solver: str, frame=None) -
     """The solid's two estimate levels, each asked a little wider: orders p-1 and p-2 on the same grid
     (``uses_orders``), else elements x1.5 and x2.25 of the default. They estimate the solid's own error and are
     the reduced models' 3-D cross-check."""
+    if no_estimate_reason(scene, size_factor) == UNCOARSENED:
+        raise SolverError(f"error estimate: {UNCOARSENED[len('none: '):]}")
     levels, a = [], analysis
     for level in range(2):
         a = coarser(a)
@@ -141,17 +144,48 @@ UNVERIFIED = ("none: no verified error estimate for the cubic serendipity hexahe
               "in verification); use mesh.family = \"lagrange\" or mesh.order = 4 for a stated error")
 
 
-def states_error(scene) -> bool:
-    """Whether the solid's element has a verified error estimate (all but the cubic serendipity, ``UNVERIFIED``)."""
-    return not (scene.mesh.serendipity and scene.mesh.order == 3)
+def states_error(scene, size_factor: float = 1.0) -> bool:
+    """Whether the solid can state an error estimate: its element has a verified one (all but the cubic
+    serendipity, ``UNVERIFIED``) and its estimate levels differ from it (``no_estimate_reason``)."""
+    return no_estimate_reason(scene, size_factor) is None
 
 
-def solid_estimates(fine: Modes, levels: list[Modes], scene, step_level: Modes | None = None) -> Modes:
+UNCOARSENED = ("none: an estimate level's tetrahedra would be those of the level before it (sized by the main part's "
+               "thickness / layers, and the levels keep at least 2 then 1 layers); set mesh.min_layers >= 3 for a "
+               "stated error")
+
+
+def no_estimate_reason(scene, size_factor: float = 1.0) -> str | None:
+    """Why the solid states no error estimate (``UNVERIFIED``, ``UNCOARSENED``), None when it does. Tetrahedra are
+    one size everywhere, at most the thickness / min_layers (``modalfe.models.mesh.tet_size``): with one layer the
+    coarser levels mesh exactly as the solid (and with two, the first as the solid): Richardson would see no step
+    and state a zero error."""
+    if scene.mesh.serendipity and scene.mesh.order == 3:
+        return UNVERIFIED
+    if scene.mesh.element == "tet":
+        from modalfe.models.mesh import element_sizes, tet_size
+
+        assembly, sizes = scene.assembly(), element_sizes(scene)
+
+        def size(level: dict) -> float:
+            return tet_size(assembly, {k: h * level["size_factor"] for k, h in sizes.items()}, level["min_layers"])
+
+        levels = [{"size_factor": size_factor, "min_layers": scene.mesh.min_layers},
+                  *(coarse_level(scene, factor, size_factor) for factor in CHECK_FACTORS)]
+        steps = [size(b) / size(a) for a, b in itertools.pairwise(levels)]
+        if min(steps) < 1.1:  # a level no coarser than the one before: Richardson would see no step
+            return UNCOARSENED
+    return None
+
+
+def solid_estimates(fine: Modes, levels: list[Modes], scene, step_level: Modes | None = None,
+                    size_factor: float = 1.0) -> Modes:
     """``fine`` (the solid) with its error estimates from ``solid_levels`` (and, where ``checks_order_step``, at
-    least the step to ``step_level``, ``order_step_level``) and ``estimate_method`` saying how (infinite where
-    ``states_error`` is false)."""
-    if not states_error(scene):
-        return replace(fine.with_error_estimates({m.index: math.inf for m in fine}), estimate_method=UNVERIFIED)
+    least the step to ``step_level``, ``order_step_level``) and ``estimate_method`` saying how (infinite, with the
+    reason, where ``states_error`` is false)."""
+    reason = no_estimate_reason(scene, size_factor)
+    if reason is not None:
+        return replace(fine.with_error_estimates({m.index: math.inf for m in fine}), estimate_method=reason)
     if uses_orders(scene):
         estimates, rates = p_extrapolation(fine, *levels)
         orders = "-".join(str(m.model.scene.mesh.order) for m in (*reversed(levels), fine))
@@ -184,10 +218,10 @@ def solve_estimated(scene, analysis, fidelity: str, *, size_factor: float = 1.0,
         if not error_estimate:
             return fine
         start = time.perf_counter()
-        if not states_error(scene):
-            return solid_estimates(fine, [], scene)
+        if not states_error(scene, size_factor):
+            return solid_estimates(fine, [], scene, size_factor=size_factor)
         result = solid_estimates(fine, solid_levels(scene, analysis, size_factor, solver, frame), scene,
-                                 order_step_level(scene, analysis, size_factor, solver, frame))
+                                 order_step_level(scene, analysis, size_factor, solver, frame), size_factor)
         return replace(result, timings=dict(fine.timings, error_estimate=time.perf_counter() - start))
 
     def solve(a, **level):
@@ -236,11 +270,11 @@ def solve_auto(scene, analysis, *, tol: float, check=None, size_factor: float = 
         reasons.append(f"{fidelity} model: {why} > tol {tol:.2%}")
     fine = solve_level(scene, analysis, size_factor=size_factor, solver=solver)
     start = time.perf_counter()
-    if states_error(scene):  # the levels are reused if the cross-check solved them
+    if states_error(scene, size_factor):  # the levels are reused if the cross-check solved them
         solid = solid_estimates(fine, solid_check(), scene,
-                                order_step_level(scene, analysis, size_factor, solver))
+                                order_step_level(scene, analysis, size_factor, solver), size_factor)
     else:
-        solid = solid_estimates(fine, [], scene)
+        solid = solid_estimates(fine, [], scene, size_factor=size_factor)
     solid = replace(solid, timings=dict(fine.timings, error_estimate=time.perf_counter() - start))
     worst, why = _worst(solid, check)
     note = "auto: solid answered" + (f" ({'; '.join(reasons)})" if reasons else " (no reduced model for a "

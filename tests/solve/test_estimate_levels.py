@@ -43,3 +43,29 @@ def test_the_order_step_level_is_solved_only_for_the_solids_own_estimate(monkeyp
     assert plate.cross_check and not calls
     solid = solve_modes(scene, fidelity="solid", count=4)
     assert calls == [3] and "at least the order 2-3 step" in solid.estimate_method
+
+
+def test_tetrahedra_one_layer_thick_state_no_estimate_without_solving_levels(monkeypatch):
+    # one tetrahedron across the thickness: the estimate levels would mesh exactly as the solid (the thickness caps
+    # the size), so they are not solved and the modes say why; with two layers the levels coarsen and estimate
+    from modalfe.scene import scene_from_dict
+    from modalfe.solve import fidelity
+
+    data = {"units": "mm", "name": "disc", "analysis": {"near": 20e3, "count": 2},
+            "mesh": {"max_size": 6, "min_layers": 1},
+            "parts": [{"name": "plate", "material": "CuBe", "origin": [0, 0, 0], "size": [30, 30, 1]},
+                      {"name": "disc", "shape": "cylinder", "material": "CuBe", "centre": [15, 15, 1], "axis": "z",
+                       "radius": 6, "height": 0.5}]}
+    one = scene_from_dict(data)
+    solved = []
+    real = fidelity.solve_level
+    monkeypatch.setattr(fidelity, "solve_level", lambda *a, **k: solved.append(k) or real(*a, **k))
+    modes = solve_modes(one, fidelity="solid")
+    assert len(solved) == 1  # the solid only
+    assert modes.estimate_method == fidelity.UNCOARSENED
+    assert all(m.error_estimate == float("inf") for m in modes)
+    # two layers: the first level keeps two (``level_layers``), so it meshes as the solid and Richardson would state
+    # a zero error (it did: 0.000 % on a thin disc); three layers coarsen at every level
+    for layers, reason in ((2, fidelity.UNCOARSENED), (3, None)):
+        assert fidelity.no_estimate_reason(scene_from_dict({**data, "mesh": {"max_size": 6, "min_layers": layers}})) \
+            == reason

@@ -145,14 +145,16 @@ def face_force(model, group: str = "actuator", *, total: float = 1.0, component:
     """Full DOF load vector [N] of a force ``total`` [N] along axis ``component`` spread uniformly
     over face group ``group``: f_i = int_face (total / A) v_i ds (seed 002 sec. 4.2.3 models the
     actuator force as F(t) phi(r) with phi a narrow patch at the tile's centre)."""
-    from skfem import FacetBasis, LinearForm
+    from skfem import LinearForm
+
+    from modalfe.models.facets import facet_basis
 
     dm = model.mesh
     if group not in dm.faces:
         raise SceneError(f"force: no face group '{group}'; known: {sorted(dm.faces)}")
     if model.scene.symmetry:
         raise SceneError("force: the tile study needs the whole device (scene.symmetry must be empty)")
-    fb = FacetBasis(dm.mesh, model.u_basis.elem, facets=dm.faces[group], intorder=2 * model.scene.mesh.order)
+    fb = facet_basis(dm.mesh, model.u_basis.elem, dm.faces[group], intorder=2 * model.scene.mesh.order)
     area = model.scene.full_assembly().face_area(group)
 
     @LinearForm

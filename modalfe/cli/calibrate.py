@@ -8,8 +8,7 @@ import json
 import math
 import sys
 
-from modalfe.cli.options import parse_overrides, positive_int
-from modalfe.cli.tune import _bound
+from modalfe.cli.options import parse_bound, parse_names, parse_overrides, positive_int, scene_options
 from modalfe.errors import ModalfeError, SceneError
 
 
@@ -31,19 +30,15 @@ def register(sub) -> None:
                    "runs the starts one after another in this process")
     p.add_argument("--workers", type=positive_int, help="LocalCluster worker processes (default: one per start, at "
                    "most the CPU count)")
-    p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene parameter first")
-    p.add_argument("--json", action="store_true")
-    p.set_defaults(func=_calibrate)
+    scene_options(p, _calibrate)
 
 
 def _calibrate(args) -> int:
     from modalfe.response.calibration import calibrate, read_measurements
     from modalfe.scene import load_scene
 
-    names = [name.strip() for name in args.vary.split(",") if name.strip()]
-    if not names or len(set(names)) != len(names):
-        raise SceneError(f"--vary: give distinct parameter names separated by commas, got '{args.vary}'")
-    bounds = dict(_bound(text) for text in args.bounds or [])
+    names = parse_names(args.vary)
+    bounds = dict(parse_bound(text) for text in args.bounds or [])
     measured = read_measurements(args.measured)
     scene = load_scene(args.scene, **parse_overrides(args.set))
     waves = sum(not math.isnan(m.wavelength) for m in measured)

@@ -183,3 +183,57 @@ def fidelity_options(p: argparse.ArgumentParser) -> None:
                    help="model: 1-D beam, 2-D plate, 3-D solid, or auto: the cheapest meeting --tol (default)")
     p.add_argument("--tol", type=positive_float, default=DEFAULT_TOL,
                    help=f"relative frequency error asked of --fidelity auto (default {DEFAULT_TOL:g})")
+
+
+def parse_names(text: str, flag: str = "--vary") -> list[str]:
+    """``P1,P2,...`` -> distinct names; SceneError naming ``flag`` if none or repeated."""
+    names = [name.strip() for name in text.split(",") if name.strip()]
+    if not names or len(set(names)) != len(names):
+        raise SceneError(f"{flag}: give distinct parameter names separated by commas, got '{text}'")
+    return names
+
+
+def parse_target(text: str) -> tuple[str, float]:
+    """``LABEL=HZ`` (``(0,6)=40.7e3``) -> (label, frequency [Hz])."""
+    label, sep, value = text.rpartition("=")
+    try:
+        hz = float(value)
+    except ValueError:
+        hz = math.nan
+    if not sep or not label.strip() or not (math.isfinite(hz) and hz > 0):
+        raise SceneError(f"--target: expected LABEL=HZ with a positive frequency, e.g. \"(0,6)=40.7e3\", got '{text}'")
+    return label.strip(), hz
+
+
+def parse_fraction(flag: str, text: str) -> float:
+    """``3%`` or ``0.03`` -> 0.03, in (0, 1); SceneError naming ``flag`` otherwise."""
+    body = text.strip()
+    percent = body.endswith("%")
+    try:
+        value = float(body[:-1] if percent else body) / (100 if percent else 1)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and 0 < value < 1):
+        raise SceneError(f"{flag}: expected a fraction in (0, 1) or a percentage, e.g. 3%, got '{text}'")
+    return value
+
+
+def parse_bound(text: str) -> tuple[str, tuple[float, float]]:
+    """``NAME=LOW:HIGH`` -> (name, (low, high)) with LOW < HIGH."""
+    name, sep, span = text.partition("=")
+    low, colon, high = span.partition(":")
+    try:
+        lo, hi = float(low), float(high)
+    except ValueError:
+        lo = hi = math.nan
+    if not sep or not colon or not name.strip() or not (lo < hi):
+        raise SceneError(f"--bounds: expected NAME=LOW:HIGH with LOW < HIGH, got '{text}'")
+    return name.strip(), (lo, hi)
+
+
+def scene_options(p: argparse.ArgumentParser, func) -> None:
+    """The tail every scene-fitting subcommand shares (tune, calibrate, sensitivity): ``--set`` overrides, ``--json``
+    output, and the handler ``func``."""
+    p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene parameter first")
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=func)

@@ -6,7 +6,7 @@ from __future__ import annotations
 import json
 import math
 
-from modalfe.cli.options import frequency_or_zero, parse_overrides, positive_int
+from modalfe.cli.options import frequency_or_zero, parse_names, parse_overrides, positive_int, scene_options
 from modalfe.errors import SceneError
 
 
@@ -27,9 +27,7 @@ def register(sub) -> None:
     p.add_argument("--damping", help="with --amplitude: zeta=Z, Q=Q or rayleigh=ALPHA,BETA (default: the scene's)")
     p.add_argument("--outputs", help="with --amplitude: comma-separated face groups or mean:GROUP (default: the "
                    "scene's)")
-    p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene parameter")
-    p.add_argument("--json", action="store_true")
-    p.set_defaults(func=_sensitivity)
+    scene_options(p, _sensitivity)
 
 
 def _sensitivity(args) -> int:
@@ -38,9 +36,7 @@ def _sensitivity(args) -> int:
     from modalfe.scene import load_scene
     from modalfe.solve.api import solve_modes
 
-    names = [name.strip() for name in args.vary.split(",") if name.strip()]
-    if not names or len(set(names)) != len(names):
-        raise SceneError(f"--vary: give distinct parameter names separated by commas, got '{args.vary}'")
+    names = parse_names(args.vary)
     scene = load_scene(args.scene, **parse_overrides(args.set))
     check_parameters(scene, names)  # before any solve
     for flag in ("mode", "damping", "outputs"):

@@ -10,7 +10,15 @@ import math
 import sys
 from pathlib import Path
 
-from modalfe.cli.options import parse_overrides, positive_int
+from modalfe.cli.options import (
+    parse_bound,
+    parse_fraction,
+    parse_names,
+    parse_overrides,
+    parse_target,
+    positive_int,
+    scene_options,
+)
 from modalfe.errors import SceneError
 
 
@@ -40,17 +48,15 @@ def register(sub) -> None:
     p.add_argument("--workers", type=positive_int, help="with --starts: LocalCluster worker processes "
                                                         "(default: one per start, at most the CPU count)")
     p.add_argument("--out", metavar="DESIGN.toml", help="write the final design as a scene file")
-    p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene parameter first")
-    p.add_argument("--json", action="store_true")
-    p.set_defaults(func=_tune)
+    scene_options(p, _tune)
 
 
 def _tune(args) -> int:
-    from modalfe.response.sensitivity import check_parameters
     from modalfe.response.tuning import (
         FrequencyTarget,
         TuneTask,
         best_result,
+        check_variables,
         feet_text,
         has_feet,
         latin_hypercube,
@@ -59,12 +65,12 @@ def _tune(args) -> int:
     from modalfe.scene import load_scene
     from modalfe.scene.writing import scene_to_toml
 
-    targets = [_target(text) for text in args.target]
-    names = [name.strip() for name in args.vary.split(",") if name.strip()]
-    bounds = dict(_bound(text) for text in args.bounds or [])
-    separation = _separation(args.separation) if args.separation is not None else None
+    targets = [parse_target(text) for text in args.target]
+    names = parse_names(args.vary)
+    bounds = dict(parse_bound(text) for text in args.bounds or [])
+    separation = parse_fraction("--separation", args.separation) if args.separation is not None else None
     scene = load_scene(args.scene, **parse_overrides(args.set))
-    check_parameters(scene, names)  # before the header and any solve
+    check_variables(scene, names)  # before the header and any solve
     replace_feet = has_feet(scene) if args.replace_feet is None else args.replace_feet
     if args.out is not None:
         if Path(args.out).suffix.lower() != ".toml":
@@ -186,39 +192,3 @@ def _iterate_json(it) -> dict:
 
 def _number(x: float) -> float | None:
     return x if math.isfinite(x) else None
-
-
-def _target(text: str) -> tuple[str, float]:
-    label, sep, value = text.rpartition("=")
-    try:
-        hz = float(value)
-    except ValueError:
-        hz = math.nan
-    if not sep or not label.strip() or not (math.isfinite(hz) and hz > 0):
-        raise SceneError(f"--target: expected LABEL=HZ with a positive frequency, e.g. \"(0,6)=40.7e3\", got '{text}'")
-    return label.strip(), hz
-
-
-def _separation(text: str) -> float:
-    """``3%`` or ``0.03`` -> 0.03."""
-    body = text.strip()
-    percent = body.endswith("%")
-    try:
-        value = float(body[:-1] if percent else body) / (100 if percent else 1)
-    except ValueError:
-        value = math.nan
-    if not (math.isfinite(value) and 0 < value < 1):
-        raise SceneError(f"--separation: expected a fraction in (0, 1) or a percentage, e.g. 3%, got '{text}'")
-    return value
-
-
-def _bound(text: str) -> tuple[str, tuple[float, float]]:
-    name, sep, span = text.partition("=")
-    low, colon, high = span.partition(":")
-    try:
-        lo, hi = float(low), float(high)
-    except ValueError:
-        lo = hi = math.nan
-    if not sep or not colon or not name.strip() or not (lo < hi):
-        raise SceneError(f"--bounds: expected NAME=LOW:HIGH with LOW < HIGH, got '{text}'")
-    return name.strip(), (lo, hi)

@@ -33,7 +33,13 @@ from pathlib import Path
 import numpy as np
 
 from modalfe.errors import SceneError, SolverError
-from modalfe.response.sensitivity import check_parameters, frequency_sensitivities, perturbed_model, with_values
+from modalfe.response.sensitivity import (
+    frequency_sensitivities,
+    parameter_value,
+    perturbed_model,
+    with_values,
+)
+from modalfe.response.tuning import check_variables
 from modalfe.results.modes import select
 from modalfe.solve.api import solve_modes
 from modalfe.solve.estimates import partner
@@ -243,20 +249,16 @@ def calibrate(scene, measurements: Sequence[Measurement], parameters: Sequence[s
     while True:
         r = (point.predicted - measured) / sigma
         J = point.jacobian / sigma[:, None]
-        free = _free(point.x, J.T @ r, low, high)
-        if chi2 == 0 or np.max(np.abs(_step(J, r, math.inf, free)), initial=0.0) <= tol:
-            held = [s.name for s, f in zip(specs, free) if not f]
+        step, held = _bounded_step(J, r, math.inf, point.x, low, high)
+        if chi2 == 0 or np.max(np.abs(step), initial=0.0) <= tol:
+            names = [s.name for s, h in zip(specs, held) if h]
             converged, reason = True, "the Gauss-Newton step is below tol" + (
-                f"; held on their bounds (the data pull them beyond): {', '.join(held)}" if held else "")
+                f"; held on their bounds (the data pull them beyond): {', '.join(names)}" if names else "")
             break
         if len(iterates) >= max_iterations:
             break
-        step = _step(J, r, radius, free)
-        x = np.clip(point.x + step, low, high)
-        step = x - point.x
-        if np.max(np.abs(step)) <= tol:
-            reason = "the parameters sit on their bounds"
-            break
+        step, _ = _bounded_step(J, r, radius, point.x, low, high)
+        x = point.x + step
         predicted_chi2 = float(np.sum((r + J @ step) ** 2))
         near = _near(point, measurements, step)
         trial = _evaluate(scene, specs, measurements, x, near, jacobian=False, previous=point.modes)
@@ -321,7 +323,7 @@ def _parameters(scene, names: Sequence[str], bounds: dict) -> list[_Parameter]:
     specs = []
     for name in names:
         members = _members(scene, name)
-        check_parameters(scene, members)
+        check_variables(scene, members)
         value = _values(scene, [_Parameter(name, members, 1.0, 0.0, 0.0)])[0]
         if value == 0:
             raise SceneError(f"{name}: is 0; a calibration works in ln |p|, start it from a non-zero value")
@@ -353,11 +355,9 @@ def _members(scene, name: str) -> tuple[str, ...]:
 
 def _values(scene, specs: Sequence[_Parameter]) -> np.ndarray:
     """The common value of each parameter's members [its unit]; SceneError if tied members differ."""
-    from modalfe.response.sensitivity import _parameter
-
     out = []
     for spec in specs:
-        found = [_parameter(scene, member).value for member in spec.members]
+        found = [parameter_value(scene, member) for member in spec.members]
         if not all(math.isclose(v, found[0], rel_tol=1e-9) for v in found):
             raise SceneError(f"{spec.name}: the tied parameters {list(spec.members)} must start equal, got {found}")
         out.append(found[0])
@@ -467,11 +467,20 @@ def _wavelengths(model, waved) -> np.ndarray:
     return np.array(out)
 
 
-def _free(x: np.ndarray, gradient: np.ndarray, low: np.ndarray, high: np.ndarray) -> np.ndarray:
-    """Parameters free to move: not on a bound that the descent direction -gradient pushes against."""
-    on_low = (x <= low + 1e-12) & (gradient > 0)
-    on_high = (x >= high - 1e-12) & (gradient < 0)
-    return ~(on_low | on_high)
+def _bounded_step(J: np.ndarray, r: np.ndarray, radius: float, x: np.ndarray, low: np.ndarray,
+                  high: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The step of ``_step`` within the bounds and which parameters it holds on them (module docstring): a
+    parameter on a bound that the descent direction -J^T r or the step pushes outward is held and the step of the
+    others recomputed (an active set: Nocedal & Wright 2006, sec. 16.5), then the step clipped to the bounds."""
+    gradient = J.T @ r
+    on_low, on_high = x <= low + 1e-12, x >= high - 1e-12
+    held = (on_low & (gradient > 0)) | (on_high & (gradient < 0))
+    while True:
+        step = _step(J, r, radius, ~held)
+        outward = ~held & ((on_low & (step < 0)) | (on_high & (step > 0)))
+        if not outward.any():
+            return np.clip(x + step, low, high) - x, held
+        held = held | outward
 
 
 def _step(J: np.ndarray, r: np.ndarray, radius: float, free: np.ndarray) -> np.ndarray:

@@ -78,12 +78,14 @@ def rigid_translation(model, axis: str) -> np.ndarray:
 def face_traction_load(model, load: Load) -> np.ndarray:
     """u DOF load (n_u,) of a force (total over the whole device's face group, spread by area) or a normal
     pressure on a face group; the half (quarter) model takes the part of the group it keeps."""
-    from skfem import FacetBasis, LinearForm
+    from skfem import LinearForm
+
+    from modalfe.models.facets import facet_basis
 
     dm = model.mesh
     if load.group not in dm.faces:  # the mirror image of a face kept by the symmetric model
         return np.zeros(model.n_u)
-    fb = FacetBasis(dm.mesh, model.u_basis.elem, facets=dm.faces[load.group], intorder=2 * model.scene.mesh.order)
+    fb = facet_basis(dm.mesh, model.u_basis.elem, dm.faces[load.group], intorder=2 * model.scene.mesh.order)
     if load.kind == "force":
         t = np.asarray(load.value) / model.scene.full_assembly().face_area(load.group)
 
@@ -156,14 +158,16 @@ def face_mean_operator(model, group: str, *, per_element: int = 4) -> sp.csr_mat
 def _facet_mean_operator(model, group: str) -> sp.csr_matrix:
     """(3, ndofs) area mean of the displacement over a face group of curved or imported parts: the integral of each
     displacement component over the group's mesh facets (the curved geometry's own quadrature) over their area."""
-    from skfem import FacetBasis, LinearForm
+    from skfem import LinearForm
+
+    from modalfe.models.facets import facet_basis
 
     if model.scene.assembly().faces.get(group) != model.scene.full_assembly().faces[group]:
         raise SceneError(f"outputs: {MEAN_PREFIX}{group} lies on a mirror plane of the half model; solve the whole "
                          f"device (--set 'symmetry=[]')")
     device_mesh = model.mesh
-    fb = FacetBasis(device_mesh.mesh, model.u_basis.elem, facets=device_mesh.faces[group],
-                    intorder=2 * model.scene.mesh.order)
+    fb = facet_basis(device_mesh.mesh, model.u_basis.elem, device_mesh.faces[group],
+                     intorder=2 * model.scene.mesh.order)
     rows = [LinearForm(lambda v, w, k=k: v[k]).assemble(fb) for k in range(3)]
     area = float(fb.dx.sum())
     if not area > 0:

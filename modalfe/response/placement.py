@@ -1,8 +1,9 @@
 """Antinodes of a mode on a face, and feet placed on them (seeds 000, 001: feet at antinodes).
 
-``place_feet`` moves each foot of the Cu-Be plate to the nearest antinode of the working mode that
-is in phase with the others, keeps it inside the plate, re-solves with the feet, and reports the
-frequency shift caused by the feet and by their contact stiffness against the substrate.
+``feet_on_antinodes`` moves each foot to the nearest antinode of a mode that is in phase with the others and
+keeps it inside the plate (the one rule ``place_feet`` and ``modalfe.response.tuning`` use); ``place_feet`` does
+it for the working mode of the Cu-Be plate, re-solves with the feet, and reports the frequency shift caused by
+the feet and by their contact stiffness against the substrate.
 """
 
 from __future__ import annotations
@@ -41,25 +42,93 @@ def face_field(mode: Mode, *, part: str, side: str = "zmin", spacing: float = 0.
     return xs, ys, w.reshape(X.shape)
 
 
-def antinodes(mode: Mode, *, part: str, side: str = "zmin", threshold: float = 0.5,
-              spacing: float = 0.5e-3) -> list[Antinode]:
-    """Local maxima of |w| above ``threshold`` x the face's peak, strongest first.
+def ridge_axis(label: str) -> int | None:
+    """For a mode with nodal lines in one direction only, the axis its antinode ridges are sought along: 0 (x)
+    for ``(0,n)``, whose ridges run across the plate along y; 1 (y) for ``(m,0)``; None for other modes."""
+    if label.startswith("(0,") and not label.startswith("(0,0"):
+        return 0
+    if label.endswith(",0)") and not label.startswith("(0,"):
+        return 1
+    return None
 
-    For a mode with nodal lines in one direction only, ``(0,n)`` or ``(m,0)``, the antinodes are
-    ridges across the face: maxima are sought along x (or y) only, so every point of a ridge counts.
-    """
+
+def peaks(xs: np.ndarray, ys: np.ndarray, W: np.ndarray, *, along: int | None = None,
+          threshold: float = 0.5) -> list[Antinode]:
+    """Local maxima of |W| (rows: ``ys``, columns: ``xs``), strongest first, each refined between grid points by
+    the parabola through it and its two neighbours along each searched axis.
+
+    ``along`` None: 2-D maxima (5 x 5 window) above ``threshold`` x the face's peak. ``along`` 0 (1): maxima
+    along x (y) only, each row (column) of the grid against ``threshold`` x its own peak: a ridge's strength
+    varies along it (measured on the whole Cu-Be plate, 36.8 mm wide: the (0,6) ridge near x = 20 mm falls to
+    0.44 of the face's peak, which sits at the free ends, on the row y = 32 mm, yet stays at >= 0.58 of each
+    row's peak), so a single threshold over the face cut the ridge where a foot sits."""
     from scipy.ndimage import maximum_filter
 
-    xs, ys, W = face_field(mode, part=part, side=side, spacing=spacing)
     A = np.abs(W)
-    window = (5, 5)
-    if mode.label.startswith("(0,") and not mode.label.startswith("(0,0"):
-        window = (1, 5)  # nodal lines across x only: maxima along x
-    elif mode.label.endswith(",0)") and not mode.label.startswith("(0,"):
-        window = (5, 1)
-    peaks = (maximum_filter(A, size=window, mode="nearest") == A) & (threshold * A.max() <= A)
-    found = [Antinode(float(xs[j]), float(ys[i]), float(W[i, j])) for i, j in zip(*np.nonzero(peaks))]
-    return sorted(found, key=lambda a: -abs(a.w))
+    window = {None: (5, 5), 0: (1, 5), 1: (5, 1)}[along]
+    top = A.max() if along is None else A.max(axis=1 - along, keepdims=True)  # the face's, or each line's, peak
+    found = (maximum_filter(A, size=window, mode="nearest") == A) & (threshold * top <= A) & (A > 0)
+    out = []
+    for i, j in zip(*np.nonzero(found)):
+        x = _vertex(xs, A[i, :], j) if along in (None, 0) else float(xs[j])
+        y = _vertex(ys, A[:, j], i) if along in (None, 1) else float(ys[i])
+        out.append(Antinode(x, y, float(W[i, j])))
+    return sorted(out, key=lambda a: -abs(a.w))
+
+
+def _vertex(grid: np.ndarray, values: np.ndarray, k: int) -> float:
+    """The abscissa of the maximum of the parabola through ``values`` at k - 1, k, k + 1 (uniform ``grid``),
+    kept within half a grid step of grid[k]; grid[k] itself at the grid's ends."""
+    if k == 0 or k == len(grid) - 1:
+        return float(grid[k])
+    a, b, c = values[k - 1], values[k], values[k + 1]
+    curvature = a - 2 * b + c
+    shift = 0.0 if curvature >= 0 else float(np.clip(0.5 * (a - c) / curvature, -0.5, 0.5))
+    return float(grid[k] + shift * (grid[1] - grid[0]))
+
+
+def antinodes(mode: Mode, *, part: str, side: str = "zmin", threshold: float = 0.5,
+              spacing: float = 0.5e-3) -> list[Antinode]:
+    """Antinodes of ``mode`` on a face (``peaks`` of its ``face_field``), strongest first: for a mode with nodal
+    lines in one direction only, ``(0,n)`` or ``(m,0)``, ridges across the face (``ridge_axis``), a point on each
+    row (column) of the grid."""
+    xs, ys, W = face_field(mode, part=part, side=side, spacing=spacing)
+    return peaks(xs, ys, W, along=ridge_axis(mode.label), threshold=threshold)
+
+
+def feet_on_antinodes(mode: Mode, feet, *, part: str, foot_size: float) -> tuple[tuple[float, float], ...]:
+    """Each foot (x, y) [m] moved to the nearest antinode of ``mode`` on ``part``'s underside in phase with the
+    one nearest the first foot, its footprint (``foot_size`` [m] square) kept inside the part. On a ridge mode
+    (``ridge_axis``) every point of a ridge is an antinode: a foot moves across the ridges only, to the nearest
+    ridge point of its own grid row (column), keeping its y (x)."""
+    along = ridge_axis(mode.label)
+    found = antinodes(mode, part=part)
+    if not found:
+        raise SolverError(f"antinodes: mode {mode.label} has none on '{part}'")
+
+    def nearest(candidates, foot: tuple[float, float]) -> tuple[float, float, float]:
+        """(x, y, w) of the antinode the foot goes to."""
+        if along is None:
+            a = min(candidates, key=lambda a: np.hypot(a.x - foot[0], a.y - foot[1]))
+            return a.x, a.y, a.w
+        keep = 1 - along  # the coordinate along the ridges, kept
+        line = min({(a.x, a.y)[keep] for a in candidates}, key=lambda c: abs(c - foot[keep]))
+        a = min((a for a in candidates if (a.x, a.y)[keep] == line),
+                key=lambda a: abs((a.x, a.y)[along] - foot[along]))
+        to = [a.x, a.y]
+        to[keep] = foot[keep]
+        return to[0], to[1], a.w
+
+    feet = [(float(x), float(y)) for x, y in feet]
+    sign = np.sign(nearest(found, feet[0])[2])
+    in_phase = [a for a in found if np.sign(a.w) == sign]
+    box = mode.model.scene.full_assembly().part(part)
+    placed = []
+    for foot in feet:
+        px, py, _ = nearest(in_phase, foot)
+        placed.append((float(np.clip(px, box.lo[0] + foot_size / 2, box.hi[0] - foot_size / 2)),
+                       float(np.clip(py, box.lo[1] + foot_size / 2, box.hi[1] - foot_size / 2))))
+    return tuple(placed)
 
 
 @dataclass(frozen=True)
@@ -96,17 +165,8 @@ def place_feet(scene, *, selector: str, near: float, contact_stiffness: float,
     bare = scene.with_overrides(feet=())
     modes = solve_modes(bare, near=near, count=8, error_estimate=False)
     mode = select(modes, selector, near)
-    candidates = antinodes(mode, part=part)
-    box = scene.full_assembly().part(part)
-    sign = np.sign(min(candidates, key=lambda a: np.hypot(a.x - feet[0][0], a.y - feet[0][1])).w)
-    in_phase = [a for a in candidates if np.sign(a.w) == sign]
-    placed, moved = [], []
-    for x, y in feet:
-        best = min(in_phase, key=lambda a: np.hypot(a.x - x, a.y - y))
-        px = float(np.clip(best.x, box.lo[0] + size / 2, box.hi[0] - size / 2))
-        py = float(np.clip(best.y, box.lo[1] + size / 2, box.hi[1] - size / 2))
-        placed.append((px, py))
-        moved.append(float(np.hypot(px - x, py - y)))
+    placed = feet_on_antinodes(mode, feet, part=part, foot_size=size)
+    moved = [float(np.hypot(px - x, py - y)) for (px, py), (x, y) in zip(placed, feet)]
     with_feet = scene.with_overrides(feet=tuple(placed))
     f_feet = select(solve_modes(with_feet, near=near, count=8, error_estimate=False), selector, near).frequency
     springs = {f"springs.foot_{i}": [0.0, 0.0, contact_stiffness] for i in range(1, len(placed) + 1)}

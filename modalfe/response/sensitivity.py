@@ -325,6 +325,11 @@ def check_parameters(scene, parameters: Sequence[str]) -> None:
         _parameter(scene, name)
 
 
+def parameter_value(scene, name: str) -> float:
+    """The value [its unit] of the parameter ``name`` (as for ``frequency_sensitivities``) in ``scene``."""
+    return _parameter(scene, name).value
+
+
 def with_values(scene, values: Mapping[str, float]):
     """``scene`` with each parameter of ``values`` (names as for ``frequency_sensitivities``) set [its unit]."""
     for name, value in values.items():

@@ -24,8 +24,9 @@ Unknowns are x = ln |p| (a relative change of each parameter; signs are kept). A
 * the device holds together: a step whose scene the builder or the scene checks refuse (a ceramic or foot off
   the plate, parts apart) is halved until it is accepted, up to ``MAX_HALVINGS`` times, and the reason is logged.
 * feet (``replace_feet``): after each solve the feet are moved to the in-phase antinodes nearest to them of the
-  first target's mode of the device without feet (``modalfe.response.placement.antinodes``, as ``place_feet``
-  does), kept inside the plate; the run converges only once no foot moves by more than ``FOOT_TOL``.
+  first target's mode of the device without feet (``modalfe.response.placement.feet_on_antinodes``, as
+  ``place_feet`` does: across a (0,n) mode's ridges only), kept inside the plate; the run converges only once no
+  foot moves by more than ``FOOT_TOL``.
 """
 
 from __future__ import annotations
@@ -38,12 +39,17 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from modalfe.errors import SceneError, SolverError
-from modalfe.response.sensitivity import check_parameters, frequency_sensitivities, with_values
+from modalfe.response.sensitivity import check_parameters, frequency_sensitivities, parameter_value, with_values
 from modalfe.results.modes import select
 from modalfe.solve.api import solve_modes
 
 MAX_RELATIVE_STEP = 0.2  # trust region: no parameter moves by more than this fraction of itself in one iterate
 TUNE_COUNT = 6  # modes asked of each solve around a target (enough to find it by label when neighbours move)
+# a varied parameter must survive this relative change both ways, before any solve and at every design (
+# ``check_variables``): the sensitivities perturb it by sensitivity.RELATIVE_STEP (3e-5), and a part edge closer to
+# another's than this meshes as a sliver (a ceramic 11.7 um from the plate's end, 2e-4 of the length, made one that
+# stalled the point probes' inverse map and then could not be perturbed: docs/tuning.md)
+PROBE_STEP = 1e-3
 MAX_HALVINGS = 6  # a step the scene refuses is halved at most this often (down to 1/64)
 # maximising k_eff: stop when the projected gradient promises less than 0.1 % of k_eff over the trust radius, or
 # the radius has shrunk below 0.5 % of each parameter (the modal sensitivities' own error is ~1e-4 relative,
@@ -53,14 +59,9 @@ MIN_RADIUS = math.log(1.005)
 # first trust radius of the k_eff ascent (a fraction of each parameter): a step of the full 20 % along the projected
 # gradient lost the Cu-Be plate's (0,6) mode from the solve's window (docs/tuning.md)
 ASCENT_RADIUS = 0.05
-# feet are placed on the antinode grid of ``placement.antinodes`` (0.5 mm spacing): a foot that would move by less
-# than half a grid step is left where it is
+# feet are placed on the antinodes of ``placement.antinodes`` (0.5 mm grid, each peak refined by a parabola): a foot
+# that would move by less than half a grid step is left where it is
 FOOT_TOL = 0.25e-3
-# a (0,n) mode's antinodes are ridges across the plate: a foot moves to the nearest ridge point counting a move along
-# the ridge this many times a move across it, so it stays near its row (the plain nearest point of a ridge may lie
-# rows away: a foot at y = 32 mm went to 34.8 mm, one at x = 20 mm to the plate's end on a row where the inner ridge
-# fell below antinodes' threshold)
-RIDGE_WEIGHT = 4.0
 
 
 @dataclass(frozen=True)
@@ -265,7 +266,7 @@ def _check(scene, targets, names, tol, bounds, maximize, separation, replace_fee
         raise SceneError("vary: give one or more distinct parameters")
     if not (math.isfinite(tol) and 0 < tol < 0.5):
         raise SceneError(f"tol: must lie in (0, 0.5), got {tol}")
-    check_parameters(scene, names)
+    check_variables(scene, names)
     unknown = sorted(set(bounds or {}) - set(names))
     if unknown:
         raise SceneError(f"bounds: {unknown[0]} is not among the parameters varied {names}")
@@ -278,6 +279,22 @@ def _check(scene, targets, names, tol, bounds, maximize, separation, replace_fee
     if replace_feet and "feet" not in _builder_parameters(scene):
         raise SceneError(f"replace_feet: the scene '{scene.name}' has no feet to place (its device takes no "
                          f"'feet')")
+
+
+def check_variables(scene, names: Sequence[str]) -> None:
+    """SceneError naming the first of ``names`` that ``frequency_sensitivities`` cannot take or whose small change
+    (``PROBE_STEP`` of itself, up and down) the scene refuses, before any solve: cube_plate's ``width`` in its half
+    model moves the y mid-plane while the ceramic rows stay at their y, so the ceramics lose their mirror images;
+    the message then suggests solving the whole device."""
+    check_parameters(scene, names)
+    for name in names:
+        value = parameter_value(scene, name)
+        try:
+            for sign in (1, -1):  # the sensitivities' central differences move it both ways
+                with_values(scene, {name: value * (1 + sign * PROBE_STEP) if value else sign * PROBE_STEP})
+        except SceneError as exc:
+            hint = "; solve the whole device: --set 'symmetry=[]'" if str(exc).startswith("symmetry") else ""
+            raise SceneError(f"vary: {name} cannot change in '{scene.name}' ({exc}){hint}") from None
 
 
 def has_feet(scene) -> bool:
@@ -396,27 +413,29 @@ def _step(point: _Point, separation, radius: float, x, low, high) -> tuple[np.nd
 
 
 def _feasible(scene, names, x, proposed) -> tuple[object | None, float, str]:
-    """The scene at ``proposed`` (values of ``names``), or, where the builder or the scene checks refuse it (a
-    part off its support, parts apart), at the step from ``x`` halved until accepted (``MAX_HALVINGS``):
+    """The scene at ``proposed`` (values of ``names``), or, where the builder or the scene checks refuse it or a
+    change of a parameter by ``PROBE_STEP`` (``check_variables``: a part off its support, parts apart), at the step
+    from ``x`` halved until accepted (``MAX_HALVINGS``):
     (scene or None, fraction of the step taken, the last refusal)."""
     why = ""
     for halvings in range(MAX_HALVINGS + 1):
         fraction = 0.5**halvings
         values = proposed if halvings == 0 else x * (proposed / x) ** fraction  # exactly on a bound when clipped
         try:
-            return with_values(scene, dict(zip(names, values.tolist()))), fraction, why
+            moved = with_values(scene, dict(zip(names, values.tolist())))
+            check_variables(moved, names)  # its sensitivities can be taken (no part at the edge of its support)
+            return moved, fraction, why
         except SceneError as exc:
             why = str(exc)
     return None, 0.0, why
 
 
 def _feet_on_antinodes(scene, label: str, near: float) -> tuple[tuple[float, float], ...] | None:
-    """Each foot moved to the nearest antinode, on the plate's underside, of the mode ``label`` of the device
-    without feet (solved near ``near`` [Hz]) in phase with the one nearest the first foot, kept inside the
-    plate, as ``placement.place_feet`` does (without its re-solves with the feet; the antinodes of the mode
-    with feet are pulled off each foot by the foot itself), a move along a (0,n) or (m,0) mode's ridges counted
-    ``RIDGE_WEIGHT`` times; None when no foot would move by more than ``FOOT_TOL``."""
-    from modalfe.response.placement import antinodes
+    """The feet moved to the antinodes of the mode ``label`` of the device without feet (solved near ``near``
+    [Hz]; ``placement.feet_on_antinodes``, without ``place_feet``'s re-solves with the feet: the antinodes of the
+    mode with feet are pulled off each foot by the foot itself); None when no foot would move by more than
+    ``FOOT_TOL``."""
+    from modalfe.response.placement import feet_on_antinodes
 
     feet = _feet(scene)
     size = float(scene.params.get("foot_size", _builder_parameters(scene)["foot_size"].default))
@@ -426,27 +445,9 @@ def _feet_on_antinodes(scene, label: str, near: float) -> tuple[tuple[float, flo
     except SolverError as exc:
         raise SolverError(f"tune: the mode {label} of the device without feet is not found near {near:.6g} Hz "
                           f"({exc})") from None
-    found = antinodes(mode, part="plate")
-
-    def distance(a, x: float, y: float) -> float:
-        """(0,n): the antinodes are ridges across the plate (``antinodes``), so a move across the ridges (along
-        x) is preferred ``RIDGE_WEIGHT`` to 1 to one along them; (m,0) likewise along y; other modes: Euclidean."""
-        if mode.label.startswith("(0,") and not mode.label.startswith("(0,0"):
-            return math.hypot(a.x - x, RIDGE_WEIGHT * (a.y - y))
-        if mode.label.endswith(",0)"):
-            return math.hypot(RIDGE_WEIGHT * (a.x - x), a.y - y)
-        return math.hypot(a.x - x, a.y - y)
-
-    first = min(found, key=lambda a: distance(a, *feet[0]))
-    in_phase = [a for a in found if np.sign(a.w) == np.sign(first.w)]
-    plate = scene.full_assembly().part("plate")
-    placed = []
-    for x, y in feet:
-        nearest = min(in_phase, key=lambda a, x=x, y=y: distance(a, x, y))
-        placed.append((float(np.clip(nearest.x, plate.lo[0] + size / 2, plate.hi[0] - size / 2)),
-                       float(np.clip(nearest.y, plate.lo[1] + size / 2, plate.hi[1] - size / 2))))
+    placed = feet_on_antinodes(mode, feet, part="plate", foot_size=size)
     moved = max(math.hypot(a - x, b - y) for (a, b), (x, y) in zip(placed, feet))
-    return tuple(placed) if moved > FOOT_TOL else None
+    return placed if moved > FOOT_TOL else None
 
 
 @dataclass(frozen=True)

@@ -36,10 +36,19 @@ def dask_client(scheduler: str | None, workers: int) -> Iterator:
     single-threaded processes when ``scheduler`` is None; closed (with its cluster) on exit."""
     from dask.distributed import Client, LocalCluster
 
-    cluster = None if scheduler else LocalCluster(n_workers=check_workers(workers), threads_per_worker=1,
-                                                  processes=True, dashboard_address=None,
-                                                  silence_logs=logging.WARNING)
+    # importing distributed sets its logger to INFO (its logging config), undoing the CLI's WARNING
+    # (cli.main.configure_logging); LocalCluster's silence_logs only quiets distributed's own stderr handler, which
+    # it does not add when the root logger has one: the scheduler's and nannies' INFO lines (this process) then
+    # reached stderr through the root handler. Held at WARNING here, restored on exit.
+    quiet = logging.getLogger("distributed")
+    level = quiet.level
+    quiet.setLevel(max(level, logging.WARNING))
+    cluster = None
     try:
+        if not scheduler:
+            cluster = LocalCluster(n_workers=check_workers(workers), threads_per_worker=1, processes=True,
+                                   dashboard_address=None, scheduler_kwargs={"dashboard": False},
+                                   silence_logs=logging.WARNING)
         client = Client(scheduler or cluster)
         try:
             yield client
@@ -48,6 +57,7 @@ def dask_client(scheduler: str | None, workers: int) -> Iterator:
     finally:
         if cluster is not None:
             cluster.close()
+        quiet.setLevel(level)
 
 
 def submit_all(client, fn: Callable, calls: Sequence[tuple[int, tuple]]) -> dict:

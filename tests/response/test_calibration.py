@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from modalfe.errors import SceneError
+from modalfe.errors import SceneError, SolverError
 from modalfe.response.calibration import (
     Measurement,
     calibrate,
@@ -175,3 +175,73 @@ def test_refusals_name_the_field():
         with pytest.raises(SceneError) as info:
             calibrate(strip, measured, names, bounds=bounds)
         assert message in str(info.value)
+    from modalfe.scene import load_scene
+
+    with pytest.raises(SceneError, match=r"^vary: width cannot change in 'cube_plate' \(symmetry: .*; solve the "
+                                         r"whole device: --set 'symmetry=\[\]'$"):
+        calibrate(load_scene("cube_plate"), measured, ["width"])
+
+
+def test_the_step_holds_a_parameter_its_gauss_newton_step_pushes_off_its_bound():
+    """One rule for bounds (_bounded_step, no solve): with J = [[1, 1], [0, 0.1]] and r = [-2, -0.3] the
+    unconstrained Gauss-Newton step is -J^-1 r = (-1, 3); parameter 0 sits on its lower bound and the descent
+    direction -J^T r = (2, 2.03) pulls it inward, yet the step pushes it outward: it is held and the step of
+    parameter 1 alone is the one-column least squares -(J_1 . r) / |J_1|^2 = 2.03 / 1.01 (clipping (-1, 3)
+    instead would keep parameter 1's 3, the wrong step for the held design)."""
+    from modalfe.response.calibration import _bounded_step
+
+    J, r = np.array([[1.0, 1.0], [0.0, 0.1]]), np.array([-2.0, -0.3])
+    x, low, high = np.zeros(2), np.array([0.0, -5.0]), np.array([5.0, 5.0])
+    step, held = _bounded_step(J, r, math.inf, x, low, high)
+    assert held.tolist() == [True, False]
+    assert step == pytest.approx([0.0, 2.03 / 1.01], rel=1e-12)
+    step, held = _bounded_step(J, r, math.inf, np.array([1.0, 0.0]), low, high)  # off the bound: free
+    assert not held.any() and step == pytest.approx([-1.0, 3.0], rel=1e-12)
+    step, held = _bounded_step(J, r, math.inf, np.array([1.0, 0.0]), np.array([0.5, -5.0]), high)
+    assert step[0] == pytest.approx(-0.5) and not held.any()  # a free step onto a bound is clipped there
+
+
+def _strip_on_springs(k1: float, k2: float):
+    """The strip with z springs [N/m] on its two end faces, groups foot_1 and foot_2."""
+    return scene_from_dict({
+        "name": "strip", "units": "mm", "kind": "plate",
+        "materials": {"steel": {"E": E, "nu": NU, "rho": RHO}},
+        "parts": [{"name": "strip", "material": "steel", "origin": [0, 0, 0], "size": [1e3 * LENGTH, 10, 1]}],
+        "faces": {"foot_1": ["strip.xmin"], "foot_2": ["strip.xmax"]},
+        "springs": {"foot_1": [0.0, 0.0, k1], "foot_2": [0.0, 0.0, k2]},
+        "mesh": {"max_size": 3e-3, "elements_per_wavelength": 1, "min_layers": 1},
+        "analysis": {"near": 3000.0, "count": 6},
+    })
+
+
+def test_a_pattern_ties_the_springs_to_one_value():
+    """``springs.foot_*.z`` is one unknown for both end springs: the (0,2) frequency of the strip on 2e4 N/m
+    springs (exact data, same mesh) gives 2e4 back from 1.5e4 on both, to the Gauss-Newton tolerance (1e-4
+    relative, as the free strip's E), and the fitted scene carries the same value on both; springs that do not
+    start equal are refused, naming the pattern."""
+    truth = solve_modes(_strip_on_springs(2e4, 2e4), near=1500.0, count=8, fidelity="solid", error_estimate=False)
+    mode = truth.labelled("(0,2)")
+    measured = [Measurement("(0,2)", mode.frequency, 1e-3 * mode.frequency)]
+    result = calibrate(_strip_on_springs(1.5e4, 1.5e4), measured, ["springs.foot_*.z"])
+    assert result.converged, result.reason
+    assert result.parameters == ("springs.foot_*.z",) and result.values[0] == pytest.approx(2e4, rel=1e-4)
+    assert result.scene.springs["foot_1"] == result.scene.springs["foot_2"]
+    with pytest.raises(SceneError, match=r"^springs\.foot_\*\.z: the tied parameters"):
+        calibrate(_strip_on_springs(1.5e4, 1.6e4), measured, ["springs.foot_*.z"])
+
+
+def test_a_mode_whose_label_vanishes_is_found_by_its_shape():
+    """_solve's fallback: a measured label the solve does not hold (here "(5,5)", near the (0,2) mode) takes the
+    mode most alike in shape (MAC) to the last point's mode, so a relabelled mode is still followed; without a last
+    point the measurement is refused, naming it."""
+    from modalfe.response.calibration import _solve
+
+    scene = _strip()
+    modes = solve_modes(scene, near=1500.0, count=6, fidelity="solid", error_estimate=False)
+    previous = modes.labelled("(0,2)")
+    lost = [Measurement("(5,5)", previous.frequency, 1.0)]
+    point = _solve(scene, lost, [previous.frequency], np.zeros(1), previous=(previous,))
+    assert point.modes[0].label == "(0,2)"
+    assert point.modes[0].frequency == pytest.approx(previous.frequency, rel=1e-9)  # the same scene and mesh
+    with pytest.raises(SolverError, match=r"^calibrate: the measured mode \(5,5\) is not found"):
+        _solve(scene, lost, [previous.frequency], np.zeros(1))

@@ -4,6 +4,7 @@ scheduler (in process, a LocalCluster it starts, an existing scheduler's address
 The task is ``operator.itemgetter("x")`` (picklable by reference, so worker processes need no test module):
 a start without "x" raises KeyError, which must come back as that start's result."""
 
+import logging
 import operator
 
 import pytest
@@ -28,8 +29,17 @@ def test_inline_order_errors_and_progress():
     assert run_starts(TASK, [], scheduler=INLINE) == []
 
 
-def test_local_cluster():
-    _check(run_starts(TASK, STARTS, workers=2))
+def test_local_cluster(caplog):
+    """Results as inline, and none of dask's INFO chatter (scheduler, nanny) from this process: importing
+    distributed sets its logger to INFO, and its records reached stderr through the root handler."""
+    import distributed  # noqa: F401  (its logging config first, as in the CLI)
+
+    before = logging.getLogger("distributed").level
+    with caplog.at_level(logging.INFO):
+        _check(run_starts(TASK, STARTS, workers=2))
+    chatter = [r.getMessage() for r in caplog.records if r.name.startswith("distributed") and r.levelno < 30]
+    assert chatter == []
+    assert logging.getLogger("distributed").level == before  # restored
 
 
 def test_scheduler_address():

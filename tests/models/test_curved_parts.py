@@ -10,14 +10,14 @@ from modalfe.geometry.shapes import Ring
 from modalfe.scene.loading import scene_from_dict
 from modalfe.scene.materials import material, poled_tensors, poling_frames
 from modalfe.solve.api import solve_modes
-
-
-def _compliances(name: str):
-    """s^E, d, eps^T of a library material from its e-form constants: s = c^-1, d = e s, eps^T = eps^S + d e^T."""
-    mat = material(name)
-    s = np.linalg.inv(mat.C)
-    d = mat.e @ s
-    return s, d, mat.eps_S + d @ mat.e.T, mat.rho
+from tests.oracles.discs import (
+    axisymmetric,
+    compliances,
+    in_plane,
+    ring_inplane_frequency,
+    thin_disc,
+    thin_ring_breathing,
+)
 
 
 def _scene(part: dict, faces: dict, near: float):
@@ -25,20 +25,6 @@ def _scene(part: dict, faces: dict, near: float):
         "units": "mm", "parts": [part], "faces": faces,
         "electrodes": {"electrode_a": "drive", "electrode_b": "ground"},
         "analysis": {"near": near, "count": 8}, "mesh": {"element": "tet", "order": 2, "min_layers": 1}})
-
-
-def _axisymmetric(modes, radius: float, z: float):
-    """The mode whose rim moves most uniformly outward (the planar / breathing mode)."""
-    th = np.linspace(0, 2 * np.pi, 24, endpoint=False)
-    pts = np.stack([radius * np.cos(th), radius * np.sin(th), np.full_like(th, z)], axis=1)
-
-    def share(m):
-        u = m.displacement(pts).T
-        return abs(np.mean(u[0] * np.cos(th) + u[1] * np.sin(th))) / np.sqrt(np.mean(np.sum(u**2, axis=0)))
-
-    best = max(modes.modes, key=share)
-    assert share(best) > 0.99
-    return best.frequency
 
 
 def _planar(x, sigma):
@@ -57,19 +43,17 @@ def test_thin_pzt5a_disc_planar_mode_fr_fa_kp_against_ieee176():
     rotary and shear terms, is of order (t/D)^2 ~ 0.25 %), and P2 on 6 elements per wavelength has an error of
     the same order (measured together: fr -0.11 %, fa -0.07 %, docs/studies.md "Curved parts"); k_p within 0.02
     absolute (it amplifies the frequency errors by ~ fr / (2 (fa - fr)) ~ 3)."""
-    s, d, eps_T, rho = _compliances("PZT-5A")
+    s, d, eps_T, _ = compliances("PZT-5A")
     sigma = -s[0, 1] / s[0, 0]
     eta = so.brentq(_planar, 1.5, 2.5, args=(sigma,))
-    a = 0.01
-    fr_theory = eta / (2 * np.pi * a) / np.sqrt(rho * s[0, 0] * (1 - sigma**2))
     kp2 = 2 * d[2, 0] ** 2 / (eps_T[2, 2] * (s[0, 0] + s[0, 1]))
-    eta_a = so.brentq(lambda x: _planar(x, sigma) / ((1 + sigma) * ss.j1(x)) - kp2 / (1 - kp2), eta * 1.0001, 3.5)
-    fa_theory = fr_theory * eta_a / eta
+    fr_theory, fa_theory = thin_disc("PZT-5A", 0.01)
     disc = {"name": "disc", "shape": "cylinder", "material": "PZT-5A", "centre": [0, 0, 0], "axis": "z",
             "radius": 10, "height": 1, "poling": 1}
     scene = _scene(disc, {"electrode_a": ["disc.top"], "electrode_b": ["disc.bottom"]}, fr_theory)
-    fr = _axisymmetric(solve_modes(scene, near=fr_theory, error_estimate=False), 0.0098, 0.0005)
-    fa = _axisymmetric(solve_modes(scene, near=fa_theory, error_estimate=False, circuit="open"), 0.0098, 0.0005)
+    fr = axisymmetric(solve_modes(scene, near=fr_theory, error_estimate=False), 0.0098, 0.0005).frequency
+    opened = solve_modes(scene, near=fa_theory, error_estimate=False, circuit="open")
+    fa = axisymmetric(opened, 0.0098, 0.0005).frequency
     assert fr == pytest.approx(fr_theory, rel=5e-3)
     assert fa == pytest.approx(fa_theory, rel=5e-3)
     ratio = _planar(eta * fa / fr, sigma) / ((1 + sigma) * ss.j1(eta * fa / fr))
@@ -85,16 +69,16 @@ def test_radially_poled_ring_breathing_mode_and_its_k31_coupling():
     the thin-ring formula neglects the wall's curvature (t/R)^2 / 12 ~ 2e-4 and the height's Poisson coupling
     (free faces: plane stress, none to first order); measured fr +0.02 %, fa +0.01 %. Axis poling instead of radial
     would leave the walls uncoupled (fa = fr): the check fails by k31^2 / 2 ~ 6 %."""
-    s, d, eps_T, rho = _compliances("PZT-4")
+    s, d, eps_T, _ = compliances("PZT-4")
     R = 0.01
-    fr_theory = np.sqrt(1 / (rho * s[0, 0])) / (2 * np.pi * R)
+    fr_theory = thin_ring_breathing("PZT-4", R)
     k31 = np.sqrt(d[2, 0] ** 2 / (s[0, 0] * eps_T[2, 2]))
     ring = {"name": "ring", "shape": "ring", "material": "PZT-4", "centre": [0, 0, 0], "axis": "z",
             "inner": 9.75, "outer": 10.25, "height": 1, "poling": "radial"}
     scene = _scene(ring, {"electrode_a": ["ring.outer"], "electrode_b": ["ring.inner"]}, fr_theory)
-    fr = _axisymmetric(solve_modes(scene, near=fr_theory, error_estimate=False), R, 0.0005)
-    fa = _axisymmetric(solve_modes(scene, near=fr_theory / np.sqrt(1 - k31**2), error_estimate=False,
-                                   circuit="open"), R, 0.0005)
+    fr = axisymmetric(solve_modes(scene, near=fr_theory, error_estimate=False), R, 0.0005).frequency
+    fa = axisymmetric(solve_modes(scene, near=fr_theory / np.sqrt(1 - k31**2), error_estimate=False,
+                                  circuit="open"), R, 0.0005).frequency
     assert fr == pytest.approx(fr_theory, rel=0.01)
     assert fa == pytest.approx(fr_theory / np.sqrt(1 - k31**2), rel=0.01)
 
@@ -131,25 +115,17 @@ def test_free_thin_ring_in_plane_flexural_modes_against_hoppe():
     the theory; modes picked by shape (u_z < 10 % of u_r, n from the Fourier harmonics of u_r on the mid-circle)."""
     E, nu, rho = 200e9, 0.3, 7850.0
     R, t, h = 0.02, 0.001, 0.002
-    stiffness = np.sqrt(E * h * t**3 / 12 / (rho * h * t * R**4))
-    fn = {n: stiffness * n * (n * n - 1) / np.sqrt(n * n + 1) / (2 * np.pi) for n in (2, 3)}
+    fn = {n: ring_inplane_frequency(n, radius=R, E=E, rho=rho, area=h * t, inertia=h * t**3 / 12) for n in (2, 3)}
     scene = scene_from_dict({
         "units": "mm", "materials": {"steel": {"E": E, "nu": nu, "rho": rho}},
         "parts": [{"name": "ring", "shape": "ring", "material": "steel", "centre": [0, 0, 0], "axis": "z",
                    "inner": 19.5, "outer": 20.5, "height": 2}],
         "analysis": {"near": fn[3], "count": 12}, "mesh": {"element": "tet", "min_layers": 1}})
     modes = solve_modes(scene, near=0.5 * (fn[2] + fn[3]), count=12, error_estimate=False)
-    th = np.linspace(0, 2 * np.pi, 48, endpoint=False)
-    pts = np.stack([R * np.cos(th), R * np.sin(th), np.full_like(th, h / 2)], axis=1)
-    found: dict[int, list[float]] = {}
-    for m in modes.modes:
-        u = m.displacement(pts).T
-        ur = u[0] * np.cos(th) + u[1] * np.sin(th)
-        if np.abs(u[2]).max() < 0.1 * np.abs(ur).max():
-            found.setdefault(int(np.argmax(np.abs(np.fft.rfft(ur))[:6])), []).append(m.frequency)
     for n in (2, 3):
-        assert len(found.get(n, [])) == 2, f"n = {n}: expected a pair of in-plane modes, got {found}"
-        assert np.allclose(found[n], fn[n], rtol=0.01), (n, found[n], fn[n])
+        pair = in_plane(modes, n, R, h / 2, every=True)
+        assert len(pair) == 2, f"n = {n}: expected a pair of in-plane modes, got {[m.frequency for m in pair]}"
+        assert np.allclose([m.frequency for m in pair], fn[n], rtol=0.01), (n, pair, fn[n])
 
 
 @pytest.mark.slow

@@ -7,7 +7,9 @@ E. P. EerNisse, "Variational evaluation of admittances of multielectroded three-
 structures" / M. Onoe, "Contour vibrations of isotropic circular plates", J. Acoust. Soc. Am. 28 (1956) 1158
 (the free disc's radial modes: x J0(x) = (1 - nu) J1(x), x = k a); R. Hoppe, "Vibrationen eines Ringes in seiner
 Ebene", J. reine angew. Math. 73 (1871) 158, as given by Blevins, "Formulas for Natural Frequency and Mode Shape"
-(1979), Table 9-1 (thin ring: in-plane inextensional modes and the breathing mode).
+(1979), Table 9-1 (thin ring: in-plane inextensional modes and the breathing mode); piezoelectric discs and rings:
+IEEE Std 176-1987 (planar mode of a thin disc, Meitzler et al. 1961) and Berlincourt, Curran & Jaffe 1964 (thin
+radially poled ring), with the pickers of those modes from a solve by shape.
 
 Disc modes are ``(n, s)``: n nodal diameters, s nodal circles (the boundary not counted), as in Leissa. Radii are
 dimensionless (rho = r / a) in the shape functions; frequencies in Hz.
@@ -19,8 +21,12 @@ import math
 from collections.abc import Callable
 
 import numpy as np
+import scipy.optimize as so
+import scipy.special as ss
 from scipy.special import ive, jv, jvp
 
+from modalfe.results.modes import Modes
+from modalfe.scene.materials import material
 from tests.oracles.analytic import _bracketed_roots
 
 _GRID = np.arange(0.5, 40.0, 0.01)  # lambda = k a scanned for sign changes: roots are > 0.5 apart
@@ -110,3 +116,70 @@ def ring_inplane_frequency(n: int, *, radius: float, E: float, rho: float, area:
 def ring_breathing_frequency(*, radius: float, E: float, rho: float) -> float:
     """f = sqrt(E / rho) / (2 pi R) [Hz]: the thin ring's uniform radial (breathing) mode (Blevins 1979, Table 9-1)."""
     return math.sqrt(E / rho) / (2 * math.pi * radius)
+
+
+def compliances(name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+    """s^E, d, eps^T, rho of a library material from its e-form constants: s = c^-1, d = e s, eps^T = eps^S + d e^T."""
+    mat = material(name)
+    s = np.linalg.inv(mat.C)
+    d = mat.e @ s
+    return s, d, mat.eps_S + d @ mat.e.T, mat.rho
+
+
+def thin_disc(name: str, radius: float) -> tuple[float, float]:
+    """(fr, fa) [Hz] of a thin disc's planar mode (IEEE Std 176-1987): eta J0(eta) = (1 - sigma) J1(eta),
+    sigma = -s12/s11, fr = eta / (2 pi a) / sqrt(rho s11 (1 - sigma^2)); fa from k_p^2 / (1 - k_p^2) =
+    ((1 - sigma) J1(eta_a) - eta_a J0(eta_a)) / ((1 + sigma) J1(eta_a)), k_p^2 = 2 d31^2 / (eps33^T (s11 + s12))."""
+    s, d, eps_t, rho = compliances(name)
+    sigma = -s[0, 1] / s[0, 0]
+
+    def planar(x: float) -> float:
+        return (1 - sigma) * ss.j1(x) - x * ss.j0(x)
+
+    eta = so.brentq(planar, 1.5, 2.5)
+    kp2 = 2 * d[2, 0] ** 2 / (eps_t[2, 2] * (s[0, 0] + s[0, 1]))
+    eta_a = so.brentq(lambda x: planar(x) / ((1 + sigma) * ss.j1(x)) - kp2 / (1 - kp2), eta * 1.0001, 3.5)
+    fr = eta / (2 * np.pi * radius) / np.sqrt(rho * s[0, 0] * (1 - sigma**2))
+    return fr, fr * eta_a / eta
+
+
+def thin_ring_breathing(name: str, radius: float) -> float:
+    """Breathing mode [Hz] of a thin ring poled along its radius: fr = sqrt(1 / (rho s11^E)) / (2 pi R)."""
+    s, _, _, rho = compliances(name)
+    return float(np.sqrt(1 / (rho * s[0, 0])) / (2 * np.pi * radius))
+
+
+def _rim(radius: float, z: float, count: int) -> tuple[np.ndarray, np.ndarray]:
+    th = np.linspace(0, 2 * np.pi, count, endpoint=False)
+    return th, np.stack([radius * np.cos(th), radius * np.sin(th), np.full_like(th, z)], axis=1)
+
+
+def axisymmetric(modes: Modes, radius: float, z: float):
+    """The mode whose rim at ``radius``, height ``z`` moves most uniformly outward (planar / breathing mode)."""
+    th, pts = _rim(radius, z, 24)
+
+    def share(m) -> float:
+        u = m.displacement(pts).T
+        return abs(np.mean(u[0] * np.cos(th) + u[1] * np.sin(th))) / np.sqrt(np.mean(np.sum(u**2, axis=0)))
+
+    best = max(modes.modes, key=share)
+    if share(best) < 0.99:
+        raise RuntimeError(f"no axisymmetric mode among {modes.frequencies}")
+    return best
+
+
+def in_plane(modes: Modes, n: int, radius: float, z: float, *, every: bool = False):
+    """The lower of the pair of in-plane flexural modes with n waves round the ring (u_z < 10 % of u_r, n the
+    strongest Fourier harmonic of u_r on the mid-circle), or with ``every`` all such modes."""
+    th, pts = _rim(radius, z, 48)
+    found = []
+    for m in modes.modes:
+        u = m.displacement(pts).T
+        ur = u[0] * np.cos(th) + u[1] * np.sin(th)
+        if np.abs(u[2]).max() < 0.1 * np.abs(ur).max() and int(np.argmax(np.abs(np.fft.rfft(ur))[:6])) == n:
+            found.append(m)
+    if every:
+        return found
+    if not found:
+        raise RuntimeError(f"no in-plane n = {n} mode among {modes.frequencies}")
+    return min(found, key=lambda m: m.frequency)

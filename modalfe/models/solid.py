@@ -18,6 +18,7 @@ from __future__ import annotations
 import logging
 import time
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 
 import numpy as np
 import scipy.sparse as sp
@@ -150,19 +151,28 @@ class Model(PiezoUnknowns):
         """(3 n, ndofs) matrix giving (ux, uy, uz) [m] at ``points`` (n, 3) [m] of the whole device from a full
         DOF vector, rows component-major (all ux, then uy, then uz); a symmetric model reads mirror images."""
         p, flip = fold(self.scene, np.asarray(points, dtype=float).reshape(-1, 3).T)
-        P = sp.diags(flip.ravel()) @ _probing(self.u_basis).probes(self._inside(p))
+        P = sp.diags(flip.ravel()) @ self._displacement_probing.probes(self._inside(p))
         return sp.hstack([P, sp.csr_matrix((P.shape[0], self.n_phi))], format="csr")
 
     def potential_probes(self, points: np.ndarray) -> sp.csr_matrix:
         """(n, ndofs) matrix giving the electric potential [V] at ``points`` (n, 3) [m] from a full DOF vector
         (zero outside the poled parts, which carry no potential unknowns)."""
+        p, _ = fold(self.scene, np.asarray(points, dtype=float).reshape(-1, 3).T)
+        P = self._potential_probing.probes(self._inside(p)).tocsc()[:, self.phi_dofs]
+        return sp.hstack([sp.csr_matrix((P.shape[0], self.n_u)), P], format="csr")
+
+    @cached_property
+    def _displacement_probing(self):
+        """The vector basis that locates probe points (``_probing``), built once per model: a whole-mesh basis."""
+        return _probing(self.u_basis)
+
+    @cached_property
+    def _potential_probing(self):
+        """The scalar basis for potential probes, built once per model (one quadrature point: probes need the
+        element and its DOF numbering only)."""
         from skfem import Basis
 
-        p, _ = fold(self.scene, np.asarray(points, dtype=float).reshape(-1, 3).T)
-        # probes need the element and its DOF numbering only: one quadrature point keeps the basis cheap
-        scalar = _probing(Basis(self.u_basis.mesh, element_for(self.scene.mesh), intorder=1))
-        P = scalar.probes(self._inside(p)).tocsc()[:, self.phi_dofs]
-        return sp.hstack([sp.csr_matrix((P.shape[0], self.n_u)), P], format="csr")
+        return _probing(Basis(self.u_basis.mesh, element_for(self.scene.mesh), intorder=1))
 
     def _inside(self, p: np.ndarray) -> np.ndarray:
         """Points (3, n) moved by 1e-9 of the device's size toward the centre of a part that holds them, so that

@@ -21,6 +21,7 @@ from typing import Any
 
 from modalfe.errors import SceneError
 from modalfe.geometry import BUILDERS, SCENE_FILE_DEVICES
+from modalfe.geometry.parts import Box
 from modalfe.scene.scene import Analysis, MeshSettings, Scene
 
 _BARE_KEY = re.compile(r"^[A-Za-z0-9_-]+$")
@@ -71,10 +72,14 @@ def _boxes(scene: Scene) -> tuple[list[dict], dict[str, list]]:
         raise SceneError(f"device: unknown builder '{scene.device}'; known: {sorted(BUILDERS)}")
     assembly = scene.full_assembly()
     parts = []
-    for box in assembly.parts:
-        part = {"name": box.name, "region": box.region, "material": box.material, "origin": list(box.lo),
-                "size": [_size(a, b) for a, b in zip(box.lo, box.hi)]}
-        parts.append({**part, "poling": box.poling} if box.poling else part)
+    for part in assembly.parts:
+        if isinstance(part, Box):
+            table = {"name": part.name, "region": part.region, "material": part.material, "origin": list(part.lo),
+                     "size": [_size(a, b) for a, b in zip(part.lo, part.hi)]}
+        else:  # a cylinder, ring or extrusion of a built-in (cube_plate's round feet): its shape table
+            table = {"name": part.name, "shape": type(part).__name__.lower(),
+                     **{f.name: getattr(part, f.name) for f in fields(part) if f.name not in ("name", "poling")}}
+        parts.append({**table, "poling": part.poling} if part.poling else table)
     faces = {group: [f"{face.part}.{face.side}" if face.window is None else
                      {"face": f"{face.part}.{face.side}", "window": [list(corner) for corner in face.window]}
                      for face in members] for group, members in assembly.faces.items()}

@@ -92,6 +92,14 @@ def test_bad_windows_named(ref, message):
         scene_from_dict(data)
 
 
+def test_builtin_with_round_parts_round_trip(tmp_path):
+    # cube_plate's round feet and measurement ceramic are cylinders: written as shape tables, read back equal
+    scene = load_scene("cube_plate", foot_shape="round", sensor=(0.032, 0.0345), sensor_shape="round", symmetry=[])
+    back = _round_trip(scene, tmp_path)
+    assert back.full_assembly() == scene.full_assembly()
+    assert back.mesh == scene.mesh and back.kind == scene.kind == "solid"
+
+
 def test_shaped_scene_round_trip(tmp_path):
     from modalfe.scene import scene_from_dict
 

@@ -99,11 +99,6 @@ def disc_radial_roots(nu: float, count: int) -> np.ndarray:
     return np.array(_bracketed_roots(lambda x: float(x * jv(0, x) - (1 - nu) * jv(1, x)), _GRID)[:count])
 
 
-def disc_radial_frequency(x: float, *, radius: float, E: float, nu: float, rho: float) -> float:
-    """f = x / (2 pi a) sqrt(E / (rho (1 - nu^2))) [Hz]: plane-stress radial mode of a thin free disc (Onoe 1956)."""
-    return x / (2 * math.pi * radius) * math.sqrt(E / (rho * (1 - nu**2)))
-
-
 def ring_inplane_frequency(n: int, *, radius: float, E: float, rho: float, area: float, inertia: float) -> float:
     """f_n = 1 / (2 pi) sqrt(E I / (rho A R^4)) n (n^2 - 1) / sqrt(n^2 + 1) [Hz], n >= 2: in-plane inextensional
     bending of a thin circular ring of mean radius R (Hoppe 1871; Blevins 1979, Table 9-1); I is the second
@@ -111,11 +106,6 @@ def ring_inplane_frequency(n: int, *, radius: float, E: float, rho: float, area:
     if n < 2:
         raise ValueError(f"n must be >= 2 (n = 0, 1 are the breathing mode and a rigid motion), got {n}")
     return n * (n * n - 1) / math.sqrt(n * n + 1) * math.sqrt(E * inertia / (rho * area * radius**4)) / (2 * math.pi)
-
-
-def ring_breathing_frequency(*, radius: float, E: float, rho: float) -> float:
-    """f = sqrt(E / rho) / (2 pi R) [Hz]: the thin ring's uniform radial (breathing) mode (Blevins 1979, Table 9-1)."""
-    return math.sqrt(E / rho) / (2 * math.pi * radius)
 
 
 def compliances(name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:

@@ -72,7 +72,7 @@ class Measurement:
 def read_measurements(path: str | Path) -> tuple[Measurement, ...]:
     """Measurements from a TOML file of ``[[mode]]`` tables (``measurements_from_dict``); SceneError naming the
     file and field at fault."""
-    import tomllib
+    from modalfe.scene.loading import tomllib  # the standard library's, or tomli before Python 3.11
 
     try:
         with open(path, "rb") as handle:

@@ -27,7 +27,6 @@ import itertools
 import json
 import logging
 import os
-import sys
 import tempfile
 import time
 from collections.abc import Callable, Iterator, Mapping, Sequence
@@ -65,35 +64,17 @@ def grid_values(spec: str) -> list[float]:
     return [float(v) for v in values]
 
 
-def scene_identity(scene_ref) -> tuple[str, str]:
-    """(the scene as named, SHA-256 of its file's content, and of the geometry file it names (with the files that
-    one merges, ``modalfe.geometry.imported.file_digest``), or "" for a built-in scene): a table resumes only for
-    the same device."""
+def scene_identity(scene_ref, scene=None) -> tuple[str, str]:
+    """(the scene as named, SHA-256 of its file's content, and of the geometry file the loaded ``scene`` names (its
+    digest, with the files that one merges: ``modalfe.geometry.imported.file_digest``), or "" for a built-in
+    scene): a table resumes only for the same device."""
     path = Path(scene_ref)
     if str(scene_ref).lower().endswith(".toml") and path.is_file():
         digest = hashlib.sha256(path.read_bytes())
-        geometry = _geometry_file(path)
-        if geometry is not None:
-            from modalfe.geometry.imported import file_digest
-
-            digest.update(file_digest(geometry).encode())
+        if scene is not None and scene.device == "imported":
+            digest.update(scene.params["digest"].encode())
         return str(scene_ref), digest.hexdigest()
     return str(scene_ref), ""
-
-
-def _geometry_file(path: Path) -> Path | None:
-    """The ``[geometry] file`` a scene file names, if it reads and the file exists (else loading says what is wrong)."""
-    if sys.version_info >= (3, 11):
-        import tomllib
-    else:  # pragma: no cover
-        import tomli as tomllib
-
-    try:
-        name = tomllib.loads(path.read_text(encoding="utf-8")).get("geometry", {}).get("file")
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError, AttributeError):
-        return None
-    geometry = path.parent / name if isinstance(name, str) else None
-    return geometry if geometry is not None and geometry.is_file() else None
 
 
 def _canonical(value) -> str:
@@ -101,9 +82,10 @@ def _canonical(value) -> str:
 
 
 def definition(scene_ref, base: Mapping | None, selector: str, near: float, count: int,
-               extra: Callable | None = None) -> dict:
-    """What defines every row of a sweep besides its point's parameters."""
-    name, digest = scene_identity(scene_ref)
+               extra: Callable | None = None, scene=None) -> dict:
+    """What defines every row of a sweep besides its point's parameters (``scene``: the loaded scene, whose
+    geometry file counts too)."""
+    name, digest = scene_identity(scene_ref, scene)
     return {"scene": name, "scene_sha256": digest, "overrides": json.loads(_canonical(dict(base or {}))),
             "selector": str(selector), "near_hz": float(near), "count": int(count),
             "extra_fn": f"{extra.__module__}.{extra.__qualname__}" if extra is not None else ""}
@@ -359,7 +341,7 @@ def sweep(scene_ref: str, params: Mapping[str, Sequence], *, out: str | Path, se
     for p in (points[0], points[-1]):  # bad parameter names or values fail here, in one line
         scene = load_scene(scene_ref, **{**base, **p})
     columns = [parameter_column(scene, n) for n in names]
-    context = definition(scene_ref, base, selector, near, count, extra)
+    context = definition(scene_ref, base, selector, near, count, extra, scene)
     keys = [point_id(p, context) for p in points]
     try:
         out.parent.mkdir(parents=True, exist_ok=True)

@@ -144,3 +144,19 @@ def test_imported_scene_round_trip(tmp_path):
     assert back.params == scene.params
     assert back.full_assembly() == scene.full_assembly()
     assert scene_to_toml(back) == text
+
+
+def test_a_sweep_table_knows_its_geometry_file(tmp_path):
+    # a sweep resumes a table only for the same device: editing the geometry file changes the scene's identity
+    import shutil
+
+    from modalfe.sweeps.sweep import scene_identity
+    from tests.scene.test_imported_scene import GEO, PARTS, ROLES
+
+    shutil.copy(GEO, tmp_path / "plate.geo")
+    source = tmp_path / "scene.toml"
+    source.write_text(f'name = "holed"\n[geometry]\nfile = "plate.geo"\n{PARTS}{ROLES}count = 1\n')
+    before = scene_identity(str(source), load_scene(source))
+    with open(tmp_path / "plate.geo", "a") as geo:
+        geo.write("\n// edited\n")
+    assert scene_identity(str(source), load_scene(source)) != before

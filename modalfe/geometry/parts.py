@@ -188,6 +188,12 @@ class Assembly:
             out.setdefault(p.region, []).append(p.name)
         return {k: tuple(v) for k, v in out.items()}
 
+    def face_rect(self, face: Face) -> tuple | None:
+        """(normal axis, coordinate, lo, hi) of a face's rectangle (a window's, or the bounding rectangle of a shape's
+        planar end), None for a curved or many-sided wall."""
+        part = self.part(face.part)
+        return part.face_bounds(face.side, face.window) if face.window is not None else part.planar_face(face.side)
+
     def face_area(self, group: str) -> float:
         """Area [m^2] of a face group, from the parts' exact shapes (windows included)."""
         return sum(self.part(f.part).area(f.side, f.window) for f in self.faces[group])

@@ -107,8 +107,7 @@ def marker_set(mode, surface=None) -> list[Marker]:
         if kind is None:
             continue
         for face in faces:
-            part = assembly.part(face.part)
-            rect = part.face_bounds(face.side, face.window) if face.window is not None else part.planar_face(face.side)
+            rect = assembly.face_rect(face)
             if rect is None:  # a curved wall or a geometry file's surface: the face group's own mesh facets
                 if group not in drawn:
                     drawn.add(group)

@@ -141,8 +141,7 @@ def _part_names(model, points: np.ndarray, cells: np.ndarray) -> np.ndarray:
     centroid = points[corners].mean(axis=1)
     names = np.full(len(cells), "", dtype=object)
     for part in assembly.parts:
-        inside = np.all((centroid >= np.asarray(part.lo) - 1e-12) & (centroid <= np.asarray(part.hi) + 1e-12), axis=1)
-        names[inside & (names == "")] = part.name
+        names[part.inside(centroid, 1e-12) & (names == "")] = part.name
     if np.any(names == ""):
         raise SolverError("export: a cell lies outside every part of the device")
     return names

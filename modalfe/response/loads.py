@@ -132,7 +132,7 @@ def face_mean_operator(model, group: str, *, per_element: int = 4) -> sp.csr_mat
     if group not in full.faces:
         raise SceneError(f"outputs: no face group '{group}' for {MEAN_PREFIX}{group}; known: {sorted(full.faces)}")
     if not all(isinstance(full.part(f.part), Box) for f in full.faces[group]):
-        return _facet_mean_operator(model, group)
+        return _facet_mean_operator(model, group, full)
     spacing = float(model.mesh.size) / per_element
     rows, weights = [], []
     for f in full.faces[group]:
@@ -155,14 +155,14 @@ def face_mean_operator(model, group: str, *, per_element: int = 4) -> sp.csr_mat
     return sum((w / total) * R for w, R in zip(weights, rows, strict=True)).tocsr()
 
 
-def _facet_mean_operator(model, group: str) -> sp.csr_matrix:
+def _facet_mean_operator(model, group: str, full) -> sp.csr_matrix:
     """(3, ndofs) area mean of the displacement over a face group of curved or imported parts: the integral of each
     displacement component over the group's mesh facets (the curved geometry's own quadrature) over their area."""
     from skfem import LinearForm
 
     from modalfe.models.facets import facet_basis
 
-    if model.scene.assembly().faces.get(group) != model.scene.full_assembly().faces[group]:
+    if model.scene.assembly().faces.get(group) != full.faces[group]:  # ``full``: the whole device's assembly
         raise SceneError(f"outputs: {MEAN_PREFIX}{group} lies on a mirror plane of the half model; solve the whole "
                          f"device (--set 'symmetry=[]')")
     device_mesh = model.mesh

@@ -33,7 +33,7 @@ def check_electrodes(assembly, roles: dict[str, str]) -> None:
     electrode counts as overlapping where their rectangles do)."""
     tol = assembly.tolerance
     poled = [p for p in assembly.parts if p.poling]
-    faces = {g: [(f"{f.part}.{f.side}", (f.part, f.side), _rect(assembly, f)) for f in assembly.faces.get(g, ())]
+    faces = {g: [(f"{f.part}.{f.side}", (f.part, f.side), assembly.face_rect(f)) for f in assembly.faces.get(g, ())]
              for g in roles}
     for group in roles:
         for name, key, r in faces[group]:
@@ -62,12 +62,6 @@ def check_electrodes(assembly, roles: dict[str, str]) -> None:
             g = sorted(shorted)[0]
             raise SceneError(f"electrodes.{g}: covers both {' and '.join(p.poling_faces)} faces of the poled part "
                              f"'{p.name}' (it shorts the part: no field through it)")
-
-
-def _rect(assembly, face) -> _Rect | None:
-    """The face's rectangle (its bounding rectangle for a shape's planar end), None for a curved or many-sided wall."""
-    part = assembly.part(face.part)
-    return part.face_bounds(face.side, face.window) if face.window is not None else part.planar_face(face.side)
 
 
 def _same(key, r: _Rect | None, key2, s: _Rect | None, tol: float) -> bool:

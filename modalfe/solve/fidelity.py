@@ -144,12 +144,6 @@ UNVERIFIED = ("none: no verified error estimate for the cubic serendipity hexahe
               "in verification); use mesh.family = \"lagrange\" or mesh.order = 4 for a stated error")
 
 
-def states_error(scene, size_factor: float = 1.0) -> bool:
-    """Whether the solid can state an error estimate: its element has a verified one (all but the cubic
-    serendipity, ``UNVERIFIED``) and its estimate levels differ from it (``no_estimate_reason``)."""
-    return no_estimate_reason(scene, size_factor) is None
-
-
 UNCOARSENED = ("none: an estimate level's tetrahedra would be those of the level before it (sized by the main part's "
                "thickness / layers, and the levels keep at least 2 then 1 layers); set mesh.min_layers >= 3 for a "
                "stated error")
@@ -178,14 +172,15 @@ def no_estimate_reason(scene, size_factor: float = 1.0) -> str | None:
     return None
 
 
-def solid_estimates(fine: Modes, levels: list[Modes], scene, step_level: Modes | None = None,
-                    size_factor: float = 1.0) -> Modes:
+def without_estimates(fine: Modes, reason: str) -> Modes:
+    """``fine`` stating no error estimate (infinite), ``reason`` (``no_estimate_reason``) as its method."""
+    return replace(fine.with_error_estimates({m.index: math.inf for m in fine}), estimate_method=reason)
+
+
+def solid_estimates(fine: Modes, levels: list[Modes], scene, step_level: Modes | None = None) -> Modes:
     """``fine`` (the solid) with its error estimates from ``solid_levels`` (and, where ``checks_order_step``, at
-    least the step to ``step_level``, ``order_step_level``) and ``estimate_method`` saying how (infinite, with the
-    reason, where ``states_error`` is false)."""
-    reason = no_estimate_reason(scene, size_factor)
-    if reason is not None:
-        return replace(fine.with_error_estimates({m.index: math.inf for m in fine}), estimate_method=reason)
+    least the step to ``step_level``, ``order_step_level``) and ``estimate_method`` saying how; for a solid whose
+    ``no_estimate_reason`` is None (else ``without_estimates``)."""
     if uses_orders(scene):
         estimates, rates = p_extrapolation(fine, *levels)
         orders = "-".join(str(m.model.scene.mesh.order) for m in (*reversed(levels), fine))
@@ -218,10 +213,11 @@ def solve_estimated(scene, analysis, fidelity: str, *, size_factor: float = 1.0,
         if not error_estimate:
             return fine
         start = time.perf_counter()
-        if not states_error(scene, size_factor):
-            return solid_estimates(fine, [], scene, size_factor=size_factor)
+        reason = no_estimate_reason(scene, size_factor)
+        if reason is not None:
+            return without_estimates(fine, reason)
         result = solid_estimates(fine, solid_levels(scene, analysis, size_factor, solver, frame), scene,
-                                 order_step_level(scene, analysis, size_factor, solver, frame), size_factor)
+                                 order_step_level(scene, analysis, size_factor, solver, frame))
         return replace(result, timings=dict(fine.timings, error_estimate=time.perf_counter() - start))
 
     def solve(a, **level):
@@ -270,11 +266,11 @@ def solve_auto(scene, analysis, *, tol: float, check=None, size_factor: float = 
         reasons.append(f"{fidelity} model: {why} > tol {tol:.2%}")
     fine = solve_level(scene, analysis, size_factor=size_factor, solver=solver)
     start = time.perf_counter()
-    if states_error(scene, size_factor):  # the levels are reused if the cross-check solved them
-        solid = solid_estimates(fine, solid_check(), scene,
-                                order_step_level(scene, analysis, size_factor, solver), size_factor)
+    reason = no_estimate_reason(scene, size_factor)
+    if reason is None:  # the levels are reused if the cross-check solved them
+        solid = solid_estimates(fine, solid_check(), scene, order_step_level(scene, analysis, size_factor, solver))
     else:
-        solid = solid_estimates(fine, [], scene, size_factor=size_factor)
+        solid = without_estimates(fine, reason)
     solid = replace(solid, timings=dict(fine.timings, error_estimate=time.perf_counter() - start))
     worst, why = _worst(solid, check)
     note = "auto: solid answered" + (f" ({'; '.join(reasons)})" if reasons else " (no reduced model for a "

@@ -56,8 +56,9 @@ MAX_HALVINGS = 6  # a step the scene refuses is halved at most this often (down 
 # sensitivity.RELATIVE_STEP, and a 0.1 % coupling gain is below what a prototype's scatter resolves)
 K_GAIN_TOL = 1e-3
 MIN_RADIUS = math.log(1.005)
-# first trust radius of the k_eff ascent (a fraction of each parameter): a step of the full 20 % along the projected
-# gradient lost the Cu-Be plate's (0,6) mode from the solve's window (docs/tuning.md)
+# first trust radius of the k_eff ascent (a fraction of each parameter): an empirical choice, no independent source;
+# a step of the full 20 % along the projected gradient lost the Cu-Be plate's (0,6) mode from the solve's window
+# (docs/tuning.md), and the radius halves from here whenever a step loses k_eff or the targets
 ASCENT_RADIUS = 0.05
 # feet are placed on the antinodes of ``placement.antinodes`` (0.5 mm grid, each peak refined by a parabola): a foot
 # that would move by less than half a grid step is left where it is
@@ -190,10 +191,6 @@ def tune(scene, targets: Sequence[FrequencyTarget], parameters: Sequence[str], *
             continue
         notes = []
         x = np.array(list(point.iterate.values.values()))
-        for name, value, lo, hi in zip(names, x, low, high):
-            if value == 0 or not lo <= value <= hi:
-                raise SceneError(f"{name}: {value:g} cannot be tuned (must be non-zero and within its bounds "
-                                 f"{lo:g}-{hi:g})")
         met = _met(point, tol, separation)
         if maximize and met and best is not None and point.iterate.k_eff < best.iterate.k_eff:
             record(replace(point.iterate, accepted=False, notes=(
@@ -270,6 +267,12 @@ def _check(scene, targets, names, tol, bounds, maximize, separation, replace_fee
     unknown = sorted(set(bounds or {}) - set(names))
     if unknown:
         raise SceneError(f"bounds: {unknown[0]} is not among the parameters varied {names}")
+    for name in names:  # the steps are relative (in ln |p|): a start at 0 or outside its bounds cannot move in
+        value = parameter_value(scene, name)
+        lo, hi = (bounds or {}).get(name, (-math.inf, math.inf))
+        if value == 0 or not lo <= value <= hi:
+            raise SceneError(f"{name}: {value:g} cannot be tuned (must be non-zero and within its bounds "
+                             f"{lo:g}-{hi:g})")
     if maximize not in (None, "k_eff"):
         raise SceneError(f"maximize: only k_eff can be maximized, got {maximize!r}")
     if maximize and "drive" not in scene.electrodes.values():

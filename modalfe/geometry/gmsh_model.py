@@ -129,29 +129,43 @@ def _occ_solid(occ, part) -> int:
         cut, _ = occ.cut([(3, outer)], [(3, bore)])
         return cut[0][1]
     if isinstance(part, Extrusion):
-        u, v = part.uv
-
-        def loop(points) -> int:
-            corners = []
-            for a, b in points:
-                xyz = [0.0, 0.0, 0.0]
-                xyz[part.k], xyz[u], xyz[v] = part.base, a, b
-                corners.append(occ.addPoint(*xyz))
-            lines = [occ.addLine(p, q) for p, q in zip(corners, corners[1:] + corners[:1])]
-            return occ.addCurveLoop(lines)
-
-        normal = [float(k == part.k) for k in range(3)]
-
-        def circle(u0: float, v0: float, r: float) -> int:
-            xyz = [0.0, 0.0, 0.0]
-            xyz[part.k], xyz[u], xyz[v] = part.base, u0, v0
-            return occ.addCurveLoop([occ.addCircle(*xyz, r, zAxis=normal)])
-
-        surface = occ.addPlaneSurface([loop(part.outline)] + [loop(h) for h in part.holes]
-                                      + [circle(*c) for c in part.circles])
-        out = occ.extrude([(2, surface)], *along)
+        out = occ.extrude([(2, section_surface(occ, part, part.k, part.base))], *along)
         return next(t for d, t in out if d == 3)
     raise MeshError(f"part '{part.name}': unknown part type {type(part).__name__}")
+
+
+def section_surface(occ, part, axis: int, level: float) -> int:
+    """The OCC plane surface of a part's cross-section normal to ``axis`` (a shape's own axis; any axis for a box),
+    placed at coordinate ``level`` along it: a rectangle, a disc, an annulus or an outline with its holes."""
+    from modalfe.geometry.shapes import Cylinder, Extrusion, Ring
+
+    u, v = (axis + 1) % 3, (axis + 2) % 3
+    normal = [float(k == axis) for k in range(3)]
+
+    def at(a: float, b: float) -> list[float]:
+        xyz = [0.0, 0.0, 0.0]
+        xyz[axis], xyz[u], xyz[v] = level, a, b
+        return xyz
+
+    def loop(points) -> int:
+        corners = [occ.addPoint(*at(a, b)) for a, b in points]
+        return occ.addCurveLoop([occ.addLine(p, q) for p, q in zip(corners, corners[1:] + corners[:1])])
+
+    def circle(a: float, b: float, r: float) -> int:
+        return occ.addCurveLoop([occ.addCircle(*at(a, b), r, zAxis=normal)])
+
+    if isinstance(part, Box):
+        (u0, v0), (u1, v1) = (part.lo[u], part.lo[v]), (part.hi[u], part.hi[v])
+        loops = [loop([(u0, v0), (u1, v0), (u1, v1), (u0, v1)])]
+    elif isinstance(part, Cylinder):
+        loops = [circle(part.centre[u], part.centre[v], part.radius)]
+    elif isinstance(part, Ring):
+        loops = [circle(part.centre[u], part.centre[v], part.outer), circle(part.centre[u], part.centre[v], part.inner)]
+    elif isinstance(part, Extrusion):
+        loops = [loop(part.outline)] + [loop(h) for h in part.holes] + [circle(*c) for c in part.circles]
+    else:
+        raise MeshError(f"part '{part.name}': unknown part type {type(part).__name__}")
+    return occ.addPlaneSurface(loops)
 
 
 def add_physical_groups(assembly: Assembly, volumes: dict[str, list[int]]) -> None:

@@ -168,6 +168,14 @@ class Assembly:
         """Names of the parts that are not boxes (cylinders, rings, extrusions): they need tetrahedra."""
         return tuple(p.name for p in self.parts if not isinstance(p, Box))
 
+    @property
+    def sweep_axis(self) -> int | None:
+        """Index of the axis every cylinder, ring and extrusion stands on (boxes stand on any): the assembly is then
+        a union of prisms along it (``modalfe.models.swept``); None when they stand on different axes or when every
+        part is a box."""
+        axes = {p.k for p in self.parts if not isinstance(p, Box)}
+        return axes.pop() if len(axes) == 1 else None
+
     def part(self, name: str) -> Box:
         for p in self.parts:
             if p.name == name:

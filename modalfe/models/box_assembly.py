@@ -54,7 +54,8 @@ def find_boxes(mesh, scalar, element_dofs: np.ndarray, elements: np.ndarray) -> 
     from skfem.refdom import RefHex
 
     grid = _grid(scalar)
-    if grid is None or len(elements) == 0:
+    curved = mesh.doflocs.shape[1] > mesh.nvertices  # MeshHex2 (swept): a box's corners need not make it a box
+    if grid is None or len(elements) == 0 or curved:
         return Boxes(np.zeros((element_dofs.shape[0], 0), dtype=int), np.zeros((3, 0))), elements
     q, ref, oriented = grid
     P = mesh.p[:, mesh.t[:, elements]]  # (3, 8, nel)

@@ -29,6 +29,7 @@ import numpy as np
 
 from modalfe.errors import MeshError
 from modalfe.geometry.imported import ImportedAssembly, physical_mesh, read_geometry
+from modalfe.models.swept import swept_mesh
 
 log = logging.getLogger(__name__)
 
@@ -41,7 +42,8 @@ _memory_cache: dict[str, DeviceMesh] = {}
 class DeviceMesh:
     """A scikit-fem mesh with its named parts, regions and faces.
 
-    mesh : skfem MeshHex1, MeshTet1, or MeshTet2 (curved) for assemblies with non-box parts (coordinates in m)
+    mesh : skfem MeshHex1 (boxes), MeshTet1, or for assemblies with non-box parts MeshTet2 or MeshHex2 (swept,
+           ``modalfe.models.swept``), curved (coordinates in m)
     parts : part name -> element indices
     faces : face group name -> facet indices
     key : content hash of the parameters that built it
@@ -161,9 +163,9 @@ def build_mesh(assembly, *, size: float | Mapping[str, float], element: str = "h
     toward the face groups ``graded_faces`` (see ``graded_breaks``)."""
     if element not in ("hex", "tet"):
         raise MeshError(f"mesh.element must be 'hex' or 'tet', got '{element}'")
-    if element == "hex" and assembly.shaped:
-        raise MeshError(f"mesh.element: part '{assembly.shaped[0]}' is not a box; structured hexahedra mesh boxes "
-                        f"only: set mesh.element = 'tet'")
+    if element == "hex" and assembly.shaped and assembly.sweep_axis is None:
+        raise MeshError(f"mesh.element: the cylinders, rings and extrusions stand on different axes (part "
+                        f"'{assembly.shaped[0]}'); swept hexahedra need one axis: set mesh.element = 'tet'")
     sizes = size if isinstance(size, Mapping) else {p.name: size for p in assembly.parts}
     for name, h in sizes.items():
         if not (np.isfinite(h) and h > 0):
@@ -199,9 +201,12 @@ def build_mesh(assembly, *, size: float | Mapping[str, float], element: str = "h
         except MeshError as exc:  # name the scene file's field at fault
             raise MeshError(str(exc) if str(exc).startswith(("geometry.", "mesh.")) else f"geometry.file: {exc}") \
                 from None
+    elif element == "hex" and assembly.shaped:
+        mesh, parts, faces = _swept(assembly, sizes, min_layers)
     else:
         meshio_mesh = _gmsh_mesh(assembly, sizes=sizes, element=element, min_layers=min_layers, grading=grading)
-    mesh, parts, faces = _to_skfem(meshio_mesh, assembly)
+    if element == "tet" or not assembly.shaped:
+        mesh, parts, faces = _to_skfem(meshio_mesh, assembly)
     result = DeviceMesh(mesh, parts, faces, element, float(size), key, time.perf_counter() - start)
     _check(result, assembly)
     if use_cache:
@@ -214,6 +219,15 @@ def build_mesh(assembly, *, size: float | Mapping[str, float], element: str = "h
 def tet_size(assembly, sizes: Mapping[str, float], min_layers: int) -> float:
     """Largest tetrahedron [m]: the smallest part size, and at most the main part's thickness / ``min_layers``."""
     return min(min(sizes.values()), assembly.main_part.thickness / min_layers)
+
+
+def _swept(assembly, sizes: Mapping[str, float], min_layers: int):
+    """``modalfe.models.swept.swept_mesh`` with the structured grid's layers along the sweep axis (``divisions``)."""
+    from modalfe.geometry.gmsh_model import grid_breaks
+
+    axis = assembly.sweep_axis
+    breaks = grid_breaks(assembly)[axis]
+    return swept_mesh(assembly, dict(sizes), divisions(assembly, axis, breaks, sizes, min_layers), breaks)
 
 
 def _gmsh_mesh(assembly, *, sizes: Mapping[str, float], element: str, min_layers: int, grading=None):
@@ -343,7 +357,7 @@ def _save(path: Path, result: DeviceMesh) -> None:
 def _load(path: Path, key: str, element: str, size: float) -> DeviceMesh:
     """Read a cached mesh; ValueError unless the file holds ``key``, ``element``, this format version and
     content matching its checksum."""
-    from skfem import MeshHex1, MeshTet1, MeshTet2
+    from skfem import MeshHex1, MeshHex2, MeshTet1, MeshTet2
 
     with np.load(path, allow_pickle=False) as data:
         files = set(data.files)
@@ -360,8 +374,9 @@ def _load(path: Path, key: str, element: str, size: float) -> DeviceMesh:
     p, t = arrays["p"], arrays["t"]
     if p.ndim != 2 or p.shape[0] != 3 or t.ndim != 2 or t.shape[0] != (8 if element == "hex" else 4):
         raise ValueError(f"arrays of shapes p {p.shape}, t {t.shape} are not a {element} mesh")
-    curved = element == "tet" and p.shape[1] > t.max() + 1  # MeshTet2: mid-edge nodes after the vertices
-    mesh = (MeshHex1 if element == "hex" else MeshTet2 if curved else MeshTet1)(p, t)
+    curved = p.shape[1] > t.max() + 1  # MeshTet2, MeshHex2: the higher-order nodes after the vertices
+    mesh = {("hex", False): MeshHex1, ("hex", True): MeshHex2, ("tet", False): MeshTet1,
+            ("tet", True): MeshTet2}[element, curved](p, t)
     parts = {k[5:]: v for k, v in arrays.items() if k.startswith("part:")}
     faces = {k[5:]: v for k, v in arrays.items() if k.startswith("face:")}
     return DeviceMesh(mesh, parts, faces, element, size, key, 0.0)

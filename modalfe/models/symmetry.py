@@ -69,7 +69,8 @@ def whole_device_mesh(model, fields: dict[str, np.ndarray]):
     (3, n_vertices) each, per-cell part ids, part names) of a solid model's whole device: a symmetric model is
     mirrored, normal components of vector fields negated, mirrored cells reordered to keep a positive volume."""
     scene = model.scene
-    points = model.mesh.mesh.p.T.copy()
+    mesh = model.mesh.mesh
+    points = mesh.p[:, : mesh.nvertices].T.copy()  # a curved mesh's higher-order nodes follow its vertices
     cells, kind = _cells(model)
     part_id = np.zeros(len(cells), dtype=int)
     names = list(model.mesh.parts)

@@ -53,7 +53,7 @@ def mode_grid(mode):
     import pyvista as pv
 
     model = mode.model
-    shape = _at_every_node(model, mode.shape)
+    shape = model.nodal_displacement(mode.shape)  # at the vertices, which the cells drawn use
     points, cells, kind, fields, part_id, names = whole_device_mesh(model, {"displacement": shape})
     n = cells.shape[1]
     grid = pv.UnstructuredGrid(np.hstack([np.full((len(cells), 1), n), cells]).ravel(),
@@ -65,18 +65,6 @@ def mode_grid(mode):
     if mirror_planes(model.scene):  # merge the mirrored copies of the points on the symmetry planes
         grid = grid.clean(tolerance=1e-9 * float(np.ptp(points, axis=0).max()), produce_merge_map=False)
     return grid
-
-
-def _at_every_node(model, x: np.ndarray) -> np.ndarray:
-    """Displacement (3, n) at every point of the mesh: its vertices, and the mid-edge nodes a curved mesh (skfem
-    MeshTet2) lists after them (P2 edge values there, the edge's mean for P1); the cells drawn use the vertices."""
-    u = model.nodal_displacement(x)
-    mesh = model.mesh.mesh
-    if mesh.p.shape[1] == u.shape[1]:
-        return u
-    edge_dofs = model.u_basis.edge_dofs
-    mid = np.asarray(x[: model.n_u])[edge_dofs] if edge_dofs.size else u[:, mesh.edges].mean(axis=1)
-    return np.hstack([u, mid])
 
 
 def marker_kind(scene, group: str) -> str | None:

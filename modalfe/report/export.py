@@ -40,11 +40,11 @@ def mode_array_name(mode) -> str:
 
 
 def edge_nodes(mesh) -> np.ndarray:
-    """(3, n_edges) mid-edge nodes of ``mesh``'s edges: a curved mesh's own (skfem MeshTet2 stores them after
-    the vertices, in edge order, on the true surface), else the edges' midpoints."""
+    """(3, n_edges) mid-edge nodes of ``mesh``'s edges: a curved mesh's own (skfem MeshTet2 and MeshHex2 store
+    them right after the vertices, in edge order, on the true surface), else the edges' midpoints."""
     n_v = mesh.nvertices
     if mesh.p.shape[1] > n_v:
-        return mesh.p[:, n_v:]
+        return mesh.p[:, n_v:n_v + mesh.edges.shape[1]]
     return mesh.p[:, mesh.edges].mean(axis=1)
 
 

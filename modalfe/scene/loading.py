@@ -92,7 +92,9 @@ def scene_from_dict(data: Mapping[str, Any], default_name: str = "scene", folder
     analysis = Analysis(**analysis_data)
     mesh_data = v.table("mesh", data.get("mesh", {}))
     v.known_keys("mesh", mesh_data, [f.name for f in fields(MeshSettings)])
-    if shapes:  # curved parts mesh with tetrahedra only: the default then, as kind = "solid" is
+    if shapes and (geometry is not None or len({p["axis"] for p in params["parts"] if p["shape"] != "box"}) != 1):
+        # a geometry file, or curved parts on different axes, mesh with tetrahedra only: the default then (parts on
+        # one axis keep swept hexahedra, modalfe.models.swept), as kind = "solid" is
         mesh_data = {"element": "tet", **mesh_data}
     mesh = MeshSettings(**mesh_data)
     materials = {str(k): dict(v.table(f"materials.{k}", m)) for k, m in v.table("materials",

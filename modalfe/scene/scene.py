@@ -283,10 +283,10 @@ class Scene:
                 params[key] = value
         scene = replace(scene, params=params)
         if scene.params != self.params and _has_shapes(scene):
-            # a built-in given round parts: no reduced model describes them, and only tetrahedra mesh them
-            # (unless mesh.element = "hex" is asked here, which the mesher refuses naming the part)
+            # a built-in given round parts: no reduced model describes them; swept hexahedra mesh them when they
+            # all stand on one axis, else tetrahedra (unless mesh.element = "hex" is asked here: the mesher refuses)
             scene = replace(scene, kind="solid")
-            if scene.mesh.element == "hex" and "mesh.element" not in overrides:
+            if scene.mesh.element == "hex" and "mesh.element" not in overrides and scene.assembly().sweep_axis is None:
                 scene = replace(scene, mesh=replace(scene.mesh, element="tet"))
         scene.validate()
         if self.assumption_writer is not None and (scene.params != self.params or scene.materials != self.materials):

@@ -78,9 +78,12 @@ def test_extrusion_with_holes_meshes_its_hole_walls():
         assert area == pytest.approx(assembly.face_area(group), rel=1e-9), group
 
 
-def test_hexahedra_asked_with_a_cylinder_name_mesh_element():
-    with pytest.raises(MeshError, match=r"mesh\.element"):
-        build_mesh(Assembly((PLATE, DISC)), size=0.003, element="hex", use_cache=False)
+def test_hexahedra_asked_with_cylinders_on_two_axes_name_mesh_element():
+    """Swept hexahedra need every curved part on one axis (modalfe.models.swept); a pin on the side does not."""
+    pin = Cylinder("pin", "pin", "steel", (0.04, 0.015, 0.001), "x", 0.0005, 0.004)  # on the plate's xmax face
+    assert Assembly((PLATE, DISC)).sweep_axis == 2 and Assembly((PLATE, DISC, pin)).sweep_axis is None
+    with pytest.raises(MeshError, match=r"^mesh\.element: .*different axes .*set mesh\.element = 'tet'"):
+        build_mesh(Assembly((PLATE, DISC, pin)), size=0.003, element="hex", use_cache=False)
 
 
 def test_scene_file_with_a_disc_loads_in_file_units_and_is_solid_only():
@@ -104,13 +107,13 @@ def test_scene_file_with_a_disc_loads_in_file_units_and_is_solid_only():
                          "electrodes": {"electrode_top": "drive"}})
 
 
-def test_cube_plate_round_feet_and_sensor_become_cylinders_on_a_solid_tet_scene():
+def test_cube_plate_round_feet_and_sensor_become_cylinders_on_a_solid_swept_hex_scene():
     from modalfe.scene import load_scene
 
     scene = load_scene("cube_plate", foot_shape="round", sensor=(32e-3, 34.5e-3), sensor_shape="round",
                        symmetry=[])
     full = scene.full_assembly()
-    assert scene.kind == "solid" and scene.mesh.element == "tet"
+    assert scene.kind == "solid" and scene.mesh.element == "hex"  # every cylinder stands on z: swept hexahedra
     assert isinstance(full.part("foot_1"), Cylinder) and full.part("foot_1").radius == pytest.approx(1.5e-3)
     assert full.face_area("foot_1") == pytest.approx(math.pi * 1.5e-3**2)
     assert full.face_area("sensor_top") == pytest.approx(math.pi * 2.5e-3**2)

@@ -769,7 +769,9 @@ DESIGN = [
     _disc("disc-radial-poling", 'poling = "+z"', 'poling = "radial"', "part 'disc': radial poling"),
     _disc("disc-poling-sideways", 'poling = "+z"', 'poling = "up"', "part 'disc': poling"),
     _disc("disc-shape-sphere", 'shape = "cylinder"', 'shape = "sphere"', "parts[1].shape"),
-    _disc("disc-hex-asked", "min_layers = 1", 'min_layers = 1\nelement = "hex"', "mesh.element"),
+    _disc("disc-hex-two-axes", "[faces]", '[[parts]]\nname = "pin"\nshape = "cylinder"\nmaterial = "CuBe"\n'
+          'centre = [30, 15, 0.5]\naxis = "x"\nradius = 0.4\nheight = 3\n[faces]', "mesh.element",
+          extra=("--set", "mesh.element=hex")),
     _disc("disc-side-unknown", 'top = ["disc.top"]', 'top = ["disc.zmax"]', "faces.top"),
     _disc("disc-overlaps-plate", "centre = [15, 15, 1]", "centre = [15, 15, 0.5]", "parts"),
     _disc("ring-inner-outside", 'shape = "cylinder"\nmaterial = "PZT-5A"\ncentre = [15, 15, 1]\naxis = "z"\nradius = 6',

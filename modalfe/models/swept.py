@@ -1,0 +1,172 @@
+"""Swept hexahedral meshes of assemblies whose parts all stand on one axis.
+
+Discs, rings, extruded outlines and boxes are prisms: a cross-section swept along an axis. When every cylinder,
+ring and extrusion of an assembly stands on the same axis (boxes stand on any), the device is the union of
+prisms between the parts' ends, and it is meshed as such: the parts' cross-sections, fragmented together by gmsh
+(OCC), are meshed with curved quadratic quadrilaterals (9 nodes, mid-side nodes on the circles), and each is swept
+through element layers between the parts' end planes into 27-node hexahedra (skfem ``MeshHex2``); a prism cell
+inside no part is left out. Elements are thin through the thickness and wide in the plane, like the structured
+grid of box devices, where tetrahedra must be equilateral: a thin disc needs a few layers, not a few hundred
+thousand tetrahedra, and the Gauss-Lobatto hexahedra of any order (``modalfe.models.hex_elements``) apply, so the
+solid's error is estimated from orders on one grid (``modalfe.solve.fidelity.uses_orders``).
+
+Each hexahedron's geometry is the tensor product of its quadrilateral's quadratic map and a linear one along the
+axis: exact on the end planes and walls parallel to the axis, a circle met at every node of the section mesh.
+Face groups are found geometrically: a facet is on a part's named face when it borders an element of the part and
+its centre node lies on that face (``Box.face_bounds``, ``side_of`` of the shapes).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from modalfe.errors import MeshError
+from modalfe.geometry.parts import Box
+
+# (xi, eta) of the nine nodes of gmsh's quadratic quadrilateral (element type 10): corners counter-clockwise,
+# the mid-sides of edges 0-1, 1-2, 2-3, 3-0, the centre (gmsh reference manual, "Node ordering")
+_QUAD9 = np.array([[0, 0], [1, 0], [1, 1], [0, 1], [0.5, 0], [1, 0.5], [0.5, 1], [0, 0.5], [0.5, 0.5]])
+_REVERSED = np.array([0, 3, 2, 1, 7, 6, 5, 4, 8])  # the same quadrilateral traversed clockwise
+CIRCLE_ELEMENTS = 16  # at least this many elements round a full circle (gmsh Mesh.MeshSizeFromCurvature)
+
+
+def swept_mesh(assembly, sizes: dict[str, float], layers: np.ndarray, breaks: np.ndarray):
+    """(skfem MeshHex2, part name -> element indices, face group -> facet indices) of ``assembly`` swept along
+    ``Assembly.sweep_axis``: the section meshed at the parts' sizes [m] (the smallest where parts overlap in
+    section), the intervals between ``breaks`` (ascending axial coordinates of the parts' ends) split into
+    ``layers`` each."""
+    from skfem import MeshHex1, MeshHex2
+
+    axis = assembly.sweep_axis
+    if axis is None:
+        raise MeshError("mesh: the parts do not all stand on one axis; a swept hexahedral mesh needs them to")
+    u, v = (axis + 1) % 3, (axis + 2) % 3
+    nodes, quads = section_mesh(assembly, axis, sizes)
+    levels = np.concatenate([np.linspace(a, b, n + 1)[:-1] for a, b, n in zip(breaks[:-1], breaks[1:], layers)]
+                            + [breaks[-1:]])
+    n_slabs = len(levels) - 1
+    # the prism cell (quad q, slab s) belongs to the part containing its centre
+    centre = np.zeros((quads.shape[1], n_slabs, 3))
+    centre[..., u] = nodes[0, quads[8]][:, None]
+    centre[..., v] = nodes[1, quads[8]][:, None]
+    centre[..., axis] = (0.5 * (levels[:-1] + levels[1:]))[None, :]
+    owner = np.full((quads.shape[1], n_slabs), -1)
+    for i, part in reversed(list(enumerate(assembly.parts))):
+        owner[part.inside(centre.reshape(-1, 3)).reshape(owner.shape)] = i
+    q, s = np.nonzero(owner >= 0)
+    corners = np.unique(quads[:4])
+    corner_id = np.full(nodes.shape[1], -1)
+    corner_id[corners] = np.arange(len(corners))
+    from skfem.refdom import RefHex
+
+    X = RefHex.p.T  # (8, 3) reference vertices
+    local = [int(np.flatnonzero((x[:2] == _QUAD9).all(axis=1))[0]) for x in X]
+    t = np.stack([(s + int(x[2])) * len(corners) + corner_id[quads[j, q]] for j, x in zip(local, X)])
+    used, t = np.unique(t, return_inverse=True)
+    t = t.reshape(8, -1)
+    level_of, node_of = np.divmod(used, len(corners))
+    p = np.zeros((3, len(used)))
+    p[axis], p[u], p[v] = levels[level_of], nodes[0, corners[node_of]], nodes[1, corners[node_of]]
+    straight = MeshHex2.from_mesh(MeshHex1(p, t))
+    doflocs = straight.doflocs.copy()
+    for j, x in enumerate(MeshHex2.elem.doflocs):  # each of the 27 nodes from its quadrilateral's own node
+        k = int(np.flatnonzero((x[:2] == _QUAD9).all(axis=1))[0])
+        at = np.zeros((3, len(q)))
+        at[u], at[v] = nodes[0, quads[k, q]], nodes[1, quads[k, q]]
+        at[axis] = levels[s] + x[2] * (levels[s + 1] - levels[s])
+        doflocs[:, straight.dofs.element_dofs[j]] = at
+    mesh = MeshHex2(doflocs, t)
+    parts = {part.name: np.flatnonzero(owner[q, s] == i) for i, part in enumerate(assembly.parts)}
+    return mesh, parts, _face_groups(mesh, assembly, parts)
+
+
+def section_mesh(assembly, axis: int, sizes: dict[str, float]) -> tuple[np.ndarray, np.ndarray]:
+    """(in-plane coordinates (2, n) [m], quadratic quadrilaterals (9, nq), counter-clockwise) of the parts'
+    cross-sections normal to ``axis``, fragmented together and meshed by gmsh with quadrilaterals (Blossom
+    recombination; subdivided when a triangle is left), each part's boundary points at its size."""
+    import gmsh
+
+    from modalfe.geometry.gmsh_model import section_surface
+
+    u, v = (axis + 1) % 3, (axis + 2) % 3
+    if gmsh.isInitialized():
+        gmsh.finalize()
+    gmsh.initialize(interruptible=False)
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.model.add("modalfe-section")
+        occ = gmsh.model.occ
+        tags = [(2, section_surface(occ, p, axis, 0.0)) for p in assembly.parts]
+        children = occ.fragment(tags, [])[1] if len(tags) > 1 else [tags]
+        occ.synchronize()
+        point_size: dict[int, float] = {}
+        for part, child in zip(assembly.parts, children):
+            faces = [(d, t) for d, t in child if d == 2]
+            for d, t in gmsh.model.getBoundary(faces, combined=False, oriented=False, recursive=True):
+                if d == 0:
+                    point_size[t] = min(point_size.get(t, np.inf), sizes[part.name])
+        for t, h in point_size.items():
+            gmsh.model.mesh.setSize([(0, t)], h)
+        gmsh.option.setNumber("Mesh.MeshSizeMax", max(sizes.values()))
+        gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", CIRCLE_ELEMENTS)
+        gmsh.option.setNumber("Mesh.Algorithm", 8)  # frontal-Delaunay for quadrilaterals
+        gmsh.option.setNumber("Mesh.RecombineAll", 1)
+        gmsh.option.setNumber("Mesh.ElementOrder", 2)
+        gmsh.option.setNumber("Mesh.SecondOrderIncomplete", 0)
+        for subdivide in (0, 1):
+            if subdivide:  # every triangle into three quadrilaterals (and every quadrilateral into four)
+                gmsh.model.mesh.clear()
+                for t, h in point_size.items():
+                    gmsh.model.mesh.setSize([(0, t)], 2 * h)
+                gmsh.option.setNumber("Mesh.SubdivisionAlgorithm", 1)
+            try:
+                gmsh.model.mesh.generate(2)
+            except Exception as exc:  # gmsh raises bare Exception
+                raise MeshError(f"gmsh failed to mesh the parts' cross-section: {exc}") from exc
+            types = set(gmsh.model.mesh.getElementTypes(2))
+            if types == {10}:
+                break
+        else:
+            raise MeshError(f"gmsh left elements of types {sorted(types - {10})} in the quadrilateral section mesh")
+        tags_n, coords, _ = gmsh.model.mesh.getNodes()
+        _, nodes_of = gmsh.model.mesh.getElementsByType(10)
+    finally:
+        gmsh.finalize()
+    index = np.full(int(tags_n.max()) + 1, -1)
+    index[tags_n.astype(int)] = np.arange(len(tags_n))
+    xyz = coords.reshape(-1, 3).T
+    quads = index[np.asarray(nodes_of, dtype=int)].reshape(-1, 9).T
+    uv = xyz[[u, v]]
+    c = uv[:, quads[:4]]  # (2, 4, nq)
+    area = 0.5 * np.sum(c[0] * np.roll(c[1], -1, axis=0) - np.roll(c[0], -1, axis=0) * c[1], axis=0)
+    quads[:, area < 0] = quads[_REVERSED][:, area < 0]
+    return uv, quads
+
+
+def _face_groups(mesh, assembly, parts: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """Face group -> facets: those bordering an element of the face's part whose centre node lies on the face."""
+    lo, hi = assembly.bounds
+    tol = 1e-6 * max(b - a for a, b in zip(lo, hi))
+    centres = mesh.doflocs[:, mesh.dofs.facet_dofs[0]]  # (3, nfacets): on the true (curved) face
+    out = {}
+    for group, faces in assembly.faces.items():
+        found = []
+        for face in faces:
+            part = assembly.part(face.part)
+            mine = np.zeros(mesh.t.shape[1], dtype=bool)
+            mine[parts[face.part]] = True
+            f2t = mesh.f2t
+            borders = mine[f2t[0]] | ((f2t[1] >= 0) & mine[np.maximum(f2t[1], 0)])
+            candidates = np.flatnonzero(borders)
+            x = centres[:, candidates]
+            if isinstance(part, Box):
+                k, c, flo, fhi = part.face_bounds(face.side, face.window)
+                on = np.abs(x[k] - c) <= tol
+                for j in range(3):
+                    if j != k:
+                        on &= (x[j] >= flo[j] - tol) & (x[j] <= fhi[j] + tol)
+            else:
+                on = np.array([part.side_of(point, tol) == face.side for point in x.T], dtype=bool)
+            found.append(candidates[on])
+        out[group] = np.unique(np.concatenate(found)) if found else np.zeros(0, dtype=int)
+    return out

@@ -142,11 +142,11 @@ def test_free_thin_ring_in_plane_flexural_modes_against_hoppe(element):
 def test_plate_with_a_square_hole_equals_the_same_plate_of_four_boxes(element):
     """A free 40 x 30 x 2 mm Cu-Be plate with a 10 x 10 mm square hole in its middle, as one extruded outline and as
     four bonded boxes (the same solid): two different tetrahedral (or swept hexahedral) meshes of it, P2, elements
-    ~2 mm. Measured on tetrahedra: the
+    ~2 mm. Measured on tetrahedra (on swept hexahedra against the structured grid: within 0.05 %): the
     first four elastic modes (3.69, 4.40, 8.29, 9.31 kHz) agree within 0.16 %; tolerance 0.5 %, the two meshes'
     own errors (each a few 0.1 % at one layer through the thickness, of one sign: conforming P2 is stiff) differ by
     less than either."""
-    mesh = {"element": element, "min_layers": 1}
+    mesh = {"element": element, "min_layers": 1, "max_size": 0.002}  # metres; the tetrahedra's thickness cap too
     outline = [[0, 0], [40, 0], [40, 30], [0, 30]]
     hole = [[15, 10], [25, 10], [25, 20], [15, 20]]
     extruded = scene_from_dict({"units": "mm", "mesh": mesh, "analysis": {"near": 1.0}, "parts": [

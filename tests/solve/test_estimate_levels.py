@@ -52,7 +52,7 @@ def test_tetrahedra_one_layer_thick_state_no_estimate_without_solving_levels(mon
     from modalfe.solve import fidelity
 
     data = {"units": "mm", "name": "disc", "analysis": {"near": 20e3, "count": 2},
-            "mesh": {"max_size": 6, "min_layers": 1},
+            "mesh": {"element": "tet", "max_size": 6, "min_layers": 1},
             "parts": [{"name": "plate", "material": "CuBe", "origin": [0, 0, 0], "size": [30, 30, 1]},
                       {"name": "disc", "shape": "cylinder", "material": "CuBe", "centre": [15, 15, 1], "axis": "z",
                        "radius": 6, "height": 0.5}]}
@@ -67,5 +67,6 @@ def test_tetrahedra_one_layer_thick_state_no_estimate_without_solving_levels(mon
     # two layers: the first level keeps two (``level_layers``), so it meshes as the solid and Richardson would state
     # a zero error (it did: 0.000 % on a thin disc); three layers coarsen at every level
     for layers, reason in ((2, fidelity.UNCOARSENED), (3, None)):
-        assert fidelity.no_estimate_reason(scene_from_dict({**data, "mesh": {"max_size": 6, "min_layers": layers}})) \
+        assert fidelity.no_estimate_reason(scene_from_dict({**data, "mesh": {"element": "tet", "max_size": 6,
+                                                                             "min_layers": layers}})) \
             == reason

@@ -234,6 +234,10 @@ def _swept(assembly, sizes: Mapping[str, float], min_layers: int):
     """``modalfe.models.swept.swept_mesh`` with the structured grid's layers along the sweep axis (``divisions``)."""
     from modalfe.geometry.gmsh_model import grid_breaks
 
+    if any(f.window is not None for faces in assembly.faces.values() for f in faces):
+        # the section mesh has no edges along a window's border: its facets would only approximate the window
+        raise MeshError("mesh.element: face windows need a scene of boxes only (the structured grid puts element edges "
+                        "on their borders); use whole faces with cylinders, rings or extrusions")
     axis = assembly.sweep_axis
     breaks = grid_breaks(assembly)[axis]
     return swept_mesh(assembly, dict(sizes), divisions(assembly, axis, breaks, sizes, min_layers), breaks)
@@ -260,7 +264,8 @@ def _gmsh_mesh(assembly, *, sizes: Mapping[str, float], element: str, min_layers
             _set_transfinite(breaks, counts)
         else:
             if any(f.window is not None for faces in assembly.faces.values() for f in faces):
-                raise MeshError("mesh.element: face windows need element = 'hex'")
+                raise MeshError("mesh.element: face windows need a scene of boxes only, on hexahedra (the structured "
+                                "grid puts element edges on their borders)")
             add_parts(assembly)
             size = tet_size(assembly, sizes, min_layers)
             gmsh.option.setNumber("Mesh.MeshSizeMax", size)

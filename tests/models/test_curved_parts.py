@@ -19,7 +19,6 @@ from tests.oracles.discs import (
     thin_ring_breathing,
 )
 
-
 ELEMENTS = ["hex", "tet"]  # swept hexahedra (modalfe.models.swept, the default for parts on one axis), tetrahedra
 
 

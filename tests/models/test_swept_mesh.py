@@ -346,3 +346,14 @@ def test_error_estimate_covers_the_error_of_a_swept_mesh():
         assert mode.error_estimate is not None and np.isfinite(mode.error_estimate)
         assert error > 1e-4  # a real error to cover (the order-2 mesh is coarse enough)
         assert mode.error_estimate >= error, (mode.frequency, ref.frequency, mode.error_estimate)
+
+
+def test_a_face_window_with_a_round_part_is_refused_naming_mesh_element():
+    """The section mesh has no edges along a window's border (its facets would only approximate the window): refused,
+    as on tetrahedra, rather than integrated over the facets whose centres fall inside."""
+    plate = Box("plate", "plate", "steel", (0.0, 0.0, 0.0), (0.04, 0.03, 0.002))
+    disc = Cylinder("disc", "piezo", "PZT-5A", (0.02, 0.015, 0.002), "z", 0.005, 0.001)
+    windowed = Assembly((plate, disc), {"pad": (Face("plate", "zmin", ((0.005, 0.005), (0.012, 0.011))),)})
+    for element in ("hex", "tet"):
+        with pytest.raises(MeshError, match=r"^mesh\.element: face windows need a scene of boxes only"):
+            build_mesh(windowed, size=0.004, element=element, min_layers=1, use_cache=False)

@@ -130,9 +130,18 @@ def evaluate_point(scene_ref: str, params: dict, base: dict, selector: str, near
         U, V = np.meshgrid(np.linspace(0.02, 0.98, GRID[0]), np.linspace(0.05, 0.95, GRID[1]))
         points = np.vstack([lo[0] + U.ravel() * (hi[0] - lo[0]), lo[1] + V.ravel() * (hi[1] - lo[1]),
                             np.full(U.size, main.hi[2])])  # a grid fixed relative to the device
-        P = modes.model.displacement_probes(points.T)[2 * U.size:]
+        # a round or holed main part leaves some of the grid outside: those samples stay 0 (no motion to compare),
+        # so every point's shapes keep one length
+        inside = main.inside(points.T, tol=full.tolerance)
+        P = modes.model.displacement_probes(points[:, inside].T)[2 * int(inside.sum()):]
+
+        def sampled(shape: np.ndarray) -> list[float]:
+            values = np.zeros(U.size)
+            values[inside] = P @ shape
+            return _sampled(values)
+
         row["candidates"] = [{"index": m.index, "label": m.label, "frequency_hz": m.frequency,
-                              "shape": _sampled(P @ m.shape)} for m in modes]
+                              "shape": sampled(m.shape)} for m in modes]
         row["dofs"] = modes.dofs
         try:
             working = select(modes, selector, near)

@@ -8,11 +8,12 @@ Two ways to build it:
   tile devices);
 - ``add_parts`` (tetrahedra): the parts as OCC solids (boxes, cylinders, rings, extruded outlines),
   fragmented so that touching parts share faces; a fragment claimed by two parts is an overlap.
-The caller owns ``gmsh.initialize``/``finalize``.
+The caller owns the gmsh session (``gmsh_session``).
 """
 
 from __future__ import annotations
 
+import contextlib
 import itertools
 
 import numpy as np
@@ -21,6 +22,23 @@ from modalfe.errors import MeshError
 from modalfe.geometry.parts import Assembly, Box
 
 TOL = 1e-9
+
+
+@contextlib.contextmanager
+def gmsh_session(name: str = "modalfe"):
+    """A fresh gmsh session (any left open is closed first) with a model ``name``, quiet and not installing its own
+    Ctrl-C handler (modalfe's stays in charge), finalised on leaving."""
+    import gmsh
+
+    if gmsh.isInitialized():
+        gmsh.finalize()
+    gmsh.initialize(interruptible=False)
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.model.add(name)
+        yield
+    finally:
+        gmsh.finalize()
 
 
 def grid_breaks(assembly: Assembly) -> list[np.ndarray]:

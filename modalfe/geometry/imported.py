@@ -32,6 +32,7 @@ from pathlib import Path
 import numpy as np
 
 from modalfe.errors import MeshError, SceneError
+from modalfe.geometry.gmsh_model import gmsh_session
 from modalfe.geometry.parts import Assembly, Face
 from modalfe.geometry.shapes import _Shape, normalized_poling
 
@@ -90,17 +91,11 @@ def _session(path: Path, error: type[Exception]):
         raise error(f"geometry.file: '{path.name}' is not a STEP, BREP, .geo or .msh file")
     if not path.is_file():
         raise error(f"geometry.file: '{path}' does not exist")
-    if gmsh.isInitialized():
-        gmsh.finalize()
-    gmsh.initialize(interruptible=False)
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
+    with gmsh_session():
         gmsh.option.setString("Geometry.OCCTargetUnit", "M")
         gmsh.option.setNumber("Geometry.OCCBoundsUseStl", 1)  # OCC's own boxes are widened by its tolerance
         _open(path)
         yield
-    finally:
-        gmsh.finalize()
 
 
 def _open(path: Path) -> None:

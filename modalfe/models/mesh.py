@@ -247,14 +247,9 @@ def _gmsh_mesh(assembly, *, sizes: Mapping[str, float], element: str, min_layers
     """Run gmsh on the assembly; return a meshio.Mesh with cell sets per part and face group."""
     import gmsh
 
-    from modalfe.geometry.gmsh_model import add_grid, add_parts, grid_breaks
+    from modalfe.geometry.gmsh_model import add_grid, add_parts, gmsh_session, grid_breaks
 
-    if gmsh.isInitialized():
-        gmsh.finalize()
-    gmsh.initialize(interruptible=False)
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        gmsh.model.add("modalfe")
+    with gmsh_session():
         if element == "hex":
             breaks = grid_breaks(assembly)
             if grading is not None:
@@ -281,8 +276,6 @@ def _gmsh_mesh(assembly, *, sizes: Mapping[str, float], element: str, min_layers
         names = {dim: [gmsh.model.getPhysicalName(dim, tag) for _, tag in gmsh.model.getPhysicalGroups(dim)]
                  for dim in (2, 3)}
         return physical_mesh(names[3], names[2])  # a foot is a part and a face group: part:NAME, face:NAME
-    finally:
-        gmsh.finalize()
 
 
 def _set_transfinite(breaks: list[np.ndarray], counts: list[np.ndarray]) -> None:

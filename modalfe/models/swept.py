@@ -86,15 +86,10 @@ def section_mesh(assembly, axis: int, sizes: dict[str, float]) -> tuple[np.ndarr
     recombination; subdivided when a triangle is left), each part's boundary points at its size."""
     import gmsh
 
-    from modalfe.geometry.gmsh_model import section_surface
+    from modalfe.geometry.gmsh_model import gmsh_session, section_surface
 
     u, v = (axis + 1) % 3, (axis + 2) % 3
-    if gmsh.isInitialized():
-        gmsh.finalize()
-    gmsh.initialize(interruptible=False)
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        gmsh.model.add("modalfe-section")
+    with gmsh_session("modalfe-section"):
         occ = gmsh.model.occ
         tags = [(2, section_surface(occ, p, axis, 0.0)) for p in assembly.parts]
         children = occ.fragment(tags, [])[1] if len(tags) > 1 else [tags]
@@ -130,8 +125,6 @@ def section_mesh(assembly, axis: int, sizes: dict[str, float]) -> tuple[np.ndarr
             raise MeshError(f"gmsh left elements of types {sorted(types - {10})} in the quadrilateral section mesh")
         tags_n, coords, _ = gmsh.model.mesh.getNodes()
         _, nodes_of = gmsh.model.mesh.getElementsByType(10)
-    finally:
-        gmsh.finalize()
     index = np.full(int(tags_n.max()) + 1, -1)
     index[tags_n.astype(int)] = np.arange(len(tags_n))
     xyz = coords.reshape(-1, 3).T

@@ -210,8 +210,12 @@ def modalfe_subprocess(args: list[str], *, interrupt_after: float | None = None,
                        env: dict | None = None) -> tuple[int | str, str, str]:
     """Run ``python -m modalfe.cli.main ARGS``; with ``interrupt_after`` send SIGINT after that many seconds."""
     command = [sys.executable, "-m", "modalfe.cli.main", *args]
+    # a test run started in the background of a non-interactive shell (``(bash .ci/run &)``) ignores SIGINT, and the
+    # child inherits that (Python then installs no KeyboardInterrupt handler and the interrupt cases see status 0):
+    # the default is restored in the child
     process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                               env={**os.environ, **(env or {})})
+                               env={**os.environ, **(env or {})},
+                               preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     try:
         if interrupt_after is not None:
             try:

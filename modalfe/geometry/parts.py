@@ -165,7 +165,8 @@ class Assembly:
 
     @property
     def shaped(self) -> tuple[str, ...]:
-        """Names of the parts that are not boxes (cylinders, rings, extrusions): they need tetrahedra."""
+        """Names of the parts that are not boxes (cylinders, rings, extrusions): swept hexahedra (``sweep_axis``) or
+        tetrahedra mesh them."""
         return tuple(p.name for p in self.parts if not isinstance(p, Box))
 
     @property

@@ -131,6 +131,7 @@ def estimate_size(scene, fidelity: str = "solid", *, size_factor: float = 1.0, m
     assembly = scene.assembly()
     sizes = {k: h * size_factor for k, h in element_sizes(scene).items()}
     layers = scene.mesh.min_layers if min_layers is None else min_layers
+    share = {p.name: p.volume / math.prod(p.size) for p in assembly.parts}  # a part's share of its bounding box
     if fidelity == "solid" and scene.mesh.element == "tet":
         from modalfe.models.mesh import tet_size
 
@@ -139,7 +140,6 @@ def estimate_size(scene, fidelity: str = "solid", *, size_factor: float = 1.0, m
         # of its box (within ``TET_ESTIMATE_RANGE`` of gmsh's meshes)
         h = tet_size(assembly, sizes, layers)
         blocks = {p.name: tuple(max(1.0, s / h) for s in p.size) for p in assembly.parts}
-        share = {p.name: p.volume / math.prod(p.size) for p in assembly.parts}
         elements = sum(6 * math.prod(n) * share[name] for name, n in blocks.items())
         nodes = {name: _nodes(n, scene.mesh) * share[name] for name, n in blocks.items()}
         dofs = 3 * sum(nodes.values()) + sum(nodes[p.name] for p in assembly.parts if p.poling)
@@ -149,7 +149,6 @@ def estimate_size(scene, fidelity: str = "solid", *, size_factor: float = 1.0, m
         # of its bounding box, as for tetrahedra. The section mesher refines round small circles (16 elements a turn)
         # and narrow gaps between parts, which this does not see: estimate / real DOFs 1.11 on the 20 x 1 mm disc
         # of docs/studies.md, 0.17 on the Cu-Be plate with round feet (0.4 mm gaps between its ceramics)
-        share = {p.name: p.volume / math.prod(p.size) if assembly.shaped else 1.0 for p in assembly.parts}
         elements = sum(math.prod(n) * share[name] for name, n in per_part.items())
         nodes = {p.name: _nodes(per_part[p.name], scene.mesh) * share[p.name] for p in assembly.parts}
         dofs = 3 * sum(nodes.values()) + sum(nodes[p.name] for p in assembly.parts if p.poling)

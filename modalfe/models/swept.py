@@ -7,8 +7,9 @@ prisms between the parts' ends, and it is meshed as such: the parts' cross-secti
 through element layers between the parts' end planes into 27-node hexahedra (skfem ``MeshHex2``); a prism cell
 inside no part is left out. Elements are thin through the thickness and wide in the plane, like the structured
 grid of box devices, where tetrahedra must be equilateral: a thin disc needs a few layers, not a few hundred
-thousand tetrahedra, and the Gauss-Lobatto hexahedra of any order (``modalfe.models.hex_elements``) apply, so the
-solid's error is estimated from orders on one grid (``modalfe.solve.fidelity.uses_orders``).
+thousand tetrahedra, and the Gauss-Lobatto hexahedra of any order (``modalfe.models.hex_elements``) apply. Their
+error is estimated from coarser grids, not from orders on one grid: the orders share this mesh's geometry
+(``modalfe.solve.fidelity.uses_orders``).
 
 Each hexahedron's geometry is the tensor product of its quadrilateral's quadratic map and a linear one along the
 axis: exact on the end planes and walls parallel to the axis, a circle met at every node of the section mesh.
@@ -27,7 +28,14 @@ from modalfe.geometry.parts import Box
 # the mid-sides of edges 0-1, 1-2, 2-3, 3-0, the centre (gmsh reference manual, "Node ordering")
 _QUAD9 = np.array([[0, 0], [1, 0], [1, 1], [0, 1], [0.5, 0], [1, 0.5], [0.5, 1], [0, 0.5], [0.5, 0.5]])
 _REVERSED = np.array([0, 3, 2, 1, 7, 6, 5, 4, 8])  # the same quadrilateral traversed clockwise
-CIRCLE_ELEMENTS = 16  # at least this many elements round a full circle (gmsh Mesh.MeshSizeFromCurvature)
+# at least this many elements round a full circle (gmsh Mesh.MeshSizeFromCurvature): quadratic arcs of 22.5 degrees,
+# measured within 2.2e-6 of a disc's and a ring's exact volumes (tests/models/test_swept_mesh.py)
+CIRCLE_ELEMENTS = 16
+
+
+def _quad_node(x: np.ndarray) -> int:
+    """The node of gmsh's quadratic quadrilateral at reference (xi, eta) = ``x[:2]`` (0, 1/2 or 1 each)."""
+    return int(np.flatnonzero((x[:2] == _QUAD9).all(axis=1))[0])
 
 
 def swept_mesh(assembly, sizes: dict[str, float], layers: np.ndarray, breaks: np.ndarray):
@@ -36,6 +44,7 @@ def swept_mesh(assembly, sizes: dict[str, float], layers: np.ndarray, breaks: np
     section), the intervals between ``breaks`` (ascending axial coordinates of the parts' ends) split into
     ``layers`` each."""
     from skfem import MeshHex1, MeshHex2
+    from skfem.refdom import RefHex
 
     axis = assembly.sweep_axis
     if axis is None:
@@ -57,11 +66,7 @@ def swept_mesh(assembly, sizes: dict[str, float], layers: np.ndarray, breaks: np
     corners = np.unique(quads[:4])
     corner_id = np.full(nodes.shape[1], -1)
     corner_id[corners] = np.arange(len(corners))
-    from skfem.refdom import RefHex
-
-    X = RefHex.p.T  # (8, 3) reference vertices
-    local = [int(np.flatnonzero((x[:2] == _QUAD9).all(axis=1))[0]) for x in X]
-    t = np.stack([(s + int(x[2])) * len(corners) + corner_id[quads[j, q]] for j, x in zip(local, X)])
+    t = np.stack([(s + int(x[2])) * len(corners) + corner_id[quads[_quad_node(x), q]] for x in RefHex.p.T])
     used, t = np.unique(t, return_inverse=True)
     t = t.reshape(8, -1)
     level_of, node_of = np.divmod(used, len(corners))
@@ -70,7 +75,7 @@ def swept_mesh(assembly, sizes: dict[str, float], layers: np.ndarray, breaks: np
     straight = MeshHex2.from_mesh(MeshHex1(p, t))
     doflocs = straight.doflocs.copy()
     for j, x in enumerate(MeshHex2.elem.doflocs):  # each of the 27 nodes from its quadrilateral's own node
-        k = int(np.flatnonzero((x[:2] == _QUAD9).all(axis=1))[0])
+        k = _quad_node(x)
         at = np.zeros((3, len(q)))
         at[u], at[v] = nodes[0, quads[k, q]], nodes[1, quads[k, q]]
         at[axis] = levels[s] + x[2] * (levels[s + 1] - levels[s])
@@ -141,6 +146,7 @@ def _face_groups(mesh, assembly, parts: dict[str, np.ndarray]) -> dict[str, np.n
     lo, hi = assembly.bounds
     tol = 1e-6 * max(b - a for a, b in zip(lo, hi))
     centres = mesh.doflocs[:, mesh.dofs.facet_dofs[0]]  # (3, nfacets): on the true (curved) face
+    f2t = mesh.f2t
     out = {}
     for group, faces in assembly.faces.items():
         found = []
@@ -148,7 +154,6 @@ def _face_groups(mesh, assembly, parts: dict[str, np.ndarray]) -> dict[str, np.n
             part = assembly.part(face.part)
             mine = np.zeros(mesh.t.shape[1], dtype=bool)
             mine[parts[face.part]] = True
-            f2t = mesh.f2t
             borders = mine[f2t[0]] | ((f2t[1] >= 0) & mine[np.maximum(f2t[1], 0)])
             candidates = np.flatnonzero(borders)
             x = centres[:, candidates]

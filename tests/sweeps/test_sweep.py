@@ -5,6 +5,7 @@ import signal
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -76,36 +77,16 @@ def test_mac_and_grid_values():
             grid_values(bad)
 
 
-DISC = """units = "mm"
-[[parts]]
-name = "disc"
-shape = "cylinder"
-material = "PZT-5A"
-centre = [0, 0, 0]
-axis = "z"
-radius = 10
-height = 1
-poling = 1
-[faces]
-electrode_a = ["disc.top"]
-electrode_b = ["disc.bottom"]
-[electrodes]
-electrode_a = "drive"
-electrode_b = "ground"
-[analysis]
-near = 99e3
-"""
+DISC = Path(__file__).resolve().parents[2] / "studies" / "scenes" / "pzt5a_disc.toml"  # a free 20 x 1 mm disc
 
 
-def test_a_sweep_point_of_a_disc_samples_its_shapes_inside_it(tmp_path):
+def test_a_sweep_point_of_a_disc_samples_its_shapes_inside_it():
     """The shapes are sampled on a grid over the device's bounding box; a round main part leaves its corners outside
     the device: those samples are 0, the others the disc's motion (the probe of a corner point was refused before,
     and every point of a disc sweep failed)."""
     from modalfe.sweeps.sweep import GRID, evaluate_point
 
-    path = tmp_path / "disc.toml"
-    path.write_text(DISC)
-    row = evaluate_point(str(path), {}, {"mesh.elements_per_wavelength": 4.0}, "R1", 99e3)
+    row = evaluate_point(str(DISC), {}, {"mesh.elements_per_wavelength": 4.0}, "R1", 99e3)
     assert row["status"] == "ok" and row["label"] == "R1"
     shape = np.array(next(c for c in row["candidates"] if c["label"] == "R1")["shape"])
     U, V = np.meshgrid(np.linspace(0.02, 0.98, GRID[0]), np.linspace(0.05, 0.95, GRID[1]))

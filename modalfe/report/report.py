@@ -58,7 +58,7 @@ def device_report(scene, *, error_estimate: bool = True, fidelity: str = "auto",
     answered, else from the solid's fa / fr at the cross-check level (``coupling_check_level``). With
     ``fidelity="auto"`` the working modes of the window must meet ``tol``."""
     from modalfe.results.coupling import antiresonance, k_eff
-    from modalfe.solve.api import solve_modes
+    from modalfe.solve.api import open_circuit_modes, solve_modes
     from modalfe.solve.fidelity import coupling_check_level
 
     rows = []
@@ -93,9 +93,8 @@ def device_report(scene, *, error_estimate: bool = True, fidelity: str = "auto",
         fa = coupling = None
         notes = device_notes(scene, modes, mode)
         if "drive" in scene.electrodes.values() and modes.fidelity == "solid":
-            # at the short circuit's shift its factorization is reused (``modalfe.solve.levels.open_circuit_solve``)
-            open_modes = solve_modes(scene, near=mode.frequency if band is not None else wm.near,
-                                     count=6 if band is not None else count, circuit="open", error_estimate=False)
+            open_modes = open_circuit_modes(modes, near=mode.frequency if band is not None else wm.near,
+                                            count=6 if band is not None else count)
             fa = antiresonance(mode, open_modes).frequency
             coupling = k_eff(mode.frequency, fa)
         elif "drive" in scene.electrodes.values():

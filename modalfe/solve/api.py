@@ -80,6 +80,17 @@ def solve_modes(
     return modes
 
 
+def open_circuit_modes(short: Modes, *, near: float, count: int, solver: str = "auto") -> Modes:
+    """The open-circuit modes, ``count`` nearest ``near`` [Hz], of the very model that solved ``short`` (its mesh,
+    even where ``fidelity="auto"`` refined it past the scene's; at ``short``'s shift the factorization is reused,
+    ``modalfe.solve.levels.open_circuit_solve``)."""
+    from modalfe.solve.levels import modes_of
+
+    with single_threaded_blas():
+        return modes_of(short.model, Analysis(near=near, count=count, circuit="open"), fidelity=short.fidelity,
+                        solver=solver)
+
+
 def single_threaded_blas():
     """Context with one BLAS thread. numpy's OpenBLAS threads spin while they wait; on a small machine shared
     with MKL PARDISO's threads and other processes, the small dense operations of a solve (the labels'

@@ -182,7 +182,8 @@ def fidelity_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--fidelity", choices=FIDELITIES, default="auto",
                    help="model: 1-D beam, 2-D plate, 3-D solid, or auto: the cheapest meeting --tol (default)")
     p.add_argument("--tol", type=positive_float, default=DEFAULT_TOL,
-                   help=f"relative frequency error asked of --fidelity auto (default {DEFAULT_TOL:g})")
+                   help=f"relative frequency error asked of --fidelity auto, which refines the solid's mesh until its "
+                        f"estimate meets it (default {DEFAULT_TOL:g})")
 
 
 def parse_names(text: str, flag: str = "--vary") -> list[str]:

@@ -168,8 +168,8 @@ def run_report(names: list[str] | None = None, *, progress: bool = True, error_e
     if jobs is not None and not (isinstance(jobs, int) and jobs >= 1):
         raise SceneError(f"jobs: must be a positive integer, got {jobs!r}")
     names = names or list(BUILTIN)
-    for name in names:
-        load_scene(name, **(overrides or {}))  # a bad name or override fails here, before any solve
+    # a bad name or override fails here, before any solve
+    scenes = {name: load_scene(name, **(overrides or {})) for name in names}
     jobs = min(jobs or os.cpu_count() or 1, len(names))
     task = functools.partial(device_rows, overrides=overrides or {}, error_estimate=error_estimate,
                              fidelity=fidelity, tol=tol)
@@ -186,11 +186,20 @@ def run_report(names: list[str] | None = None, *, progress: bool = True, error_e
                 if bar is not None:
                     bar.update()
         else:
-            results = _in_processes(task, names, jobs, bar)
+            results = _in_processes(task, largest_first(scenes), jobs, bar)
     finally:
         if bar is not None:
             bar.close()  # clears its line: an error or "interrupted" starts on a clean line
     return [row for name in names for row in results[name]]
+
+
+def largest_first(scenes: dict) -> list[str]:
+    """Scene names by their 3-D solid's estimated DOFs, largest first (``modalfe.models.estimate.estimate_size``,
+    no meshing): the longest solves start first, so that the processes finish together (longest-processing-time
+    order; in name order the tile, the longest, started last and the other process idled for its last seconds)."""
+    from modalfe.models.estimate import estimate_size
+
+    return sorted(scenes, key=lambda name: -estimate_size(scenes[name]).dofs)
 
 
 def _in_processes(task, names: list[str], jobs: int, bar) -> dict[str, list[ReportRow]]:

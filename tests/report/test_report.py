@@ -71,3 +71,15 @@ def test_bad_report_arguments_fail_before_any_solve():
         run_report(["tile_eq5"], progress=False, jobs=0)
     with pytest.raises(SceneError):
         run_report(["tile_eq5", "no_such_device"], progress=False)
+
+
+def test_the_largest_scene_starts_first_and_the_rows_keep_the_order_asked():
+    from modalfe.models.estimate import estimate_size
+    from modalfe.report.report import largest_first
+    from modalfe.scene import load_scene
+
+    scenes = {name: load_scene(name) for name in ("tile_eq5", "honeycomb_tile", "ciliary_beam")}
+    assert [round(estimate_size(s).dofs, -3) for s in scenes.values()] == [1000, 28000, 4000]
+    assert largest_first(scenes) == ["honeycomb_tile", "ciliary_beam", "tile_eq5"]
+    rows = run_report(["tile_eq5", "ciliary_beam"], progress=False, jobs=2, error_estimate=False)
+    assert [r.scene for r in rows] == ["tile_eq5", "ciliary_beam"]

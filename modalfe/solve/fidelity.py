@@ -265,10 +265,10 @@ def solve_auto(scene, analysis, *, tol: float, check=None, size_factor: float = 
         worst, why = _worst(checked, check)
         if worst <= tol:
             model = max((m.model_error for m in _checked_modes(checked, check)), default=0.0)
-            note = (f"auto: {fidelity} answered, estimated error {worst:.2%} <= tol {tol:.2%} "
+            note = (f"auto: {fidelity} answered, estimated error {worst:.2%} <= tol {percent(tol)} "
                     f"(model error {model:.2%} from a 3-D solid cross-check, plus discretization)")
             return replace(checked, fidelity_note=note, cross_check=tuple(solid_check()))
-        reasons.append(f"{fidelity} model: {why} > tol {tol:.2%}")
+        reasons.append(f"{fidelity} model: {why} > tol {percent(tol)}")
     fine = solve_level(scene, analysis, size_factor=size_factor, solver=solver)
     start = time.perf_counter()
     reason = no_estimate_reason(scene, size_factor)
@@ -305,20 +305,28 @@ def refined_to_tol(scene, analysis, solid: Modes, *, tol: float, check, size_fac
         except SceneError as exc:
             stopped = f" (a finer grid would not fit: {exc})"
             break
-        log.info("auto: the solid's %s exceeds tol %.2f%%: elements x%.3g, %d layers (%s)", why, 100 * tol,
+        log.info("auto: the solid's %s exceeds tol %s: elements x%.3g, %d layers (%s)", why, percent(tol),
                  factor, finer.mesh.min_layers, size.describe())
         solid = solve_estimated(finer, analysis, "solid", size_factor=factor, solver=solver)
         steps += 1
         worst, why = _worst(solid, check)
     note = ""
     if steps:
-        note = (f"; refined for tol {tol:.2%}: elements x{size_factor / REFINE_RATIO**steps:.3g} of the scene's "
+        note = (f"; refined for tol {percent(tol)}: elements x{size_factor / REFINE_RATIO**steps:.3g} of the scene's "
                 f"mesh, {refined_scene(scene, steps).mesh.min_layers} thickness layers, {solid.dofs} DOFs")
     if worst > tol:
         if not stopped and math.isfinite(worst) and steps == MAX_REFINE_STEPS:
             stopped = f" at the most refinement allowed (MAX_REFINE_STEPS = {MAX_REFINE_STEPS})"
-        note += f"; its {why} exceeds tol {tol:.2%}{stopped}"
+        note += f"; its {why} exceeds tol {percent(tol)}{stopped}"
     return solid, note
+
+
+def percent(x: float) -> str:
+    """A relative tolerance as a percentage with two decimals, or two significant digits below 0.01 %
+    (``tol 1e-05`` is ``0.0010%``, not ``0.00%``)."""
+    if x >= 1e-4 or x <= 0:
+        return f"{100 * x:.2f}%"
+    return f"{100 * x:.{1 - math.floor(math.log10(100 * x))}f}%"
 
 
 def refined_scene(scene, steps: int):

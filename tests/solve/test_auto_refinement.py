@@ -33,8 +33,8 @@ def test_auto_refines_the_solid_until_the_estimate_meets_tol_and_the_estimate_co
 def test_auto_says_when_the_refinement_limit_stops_it(monkeypatch):
     monkeypatch.setattr(fidelity, "MAX_REFINE_STEPS", 1)
     modes = solve_modes(load_scene("tile_eq5"), fidelity="auto", tol=1e-7, check=(("(0,0)", 845.0),))
-    assert "refined for tol 0.00%: elements x0.667" in modes.fidelity_note
-    assert "exceeds tol 0.00% at the most refinement allowed (MAX_REFINE_STEPS = 1)" in modes.fidelity_note
+    assert "refined for tol 0.000010%: elements x0.667" in modes.fidelity_note
+    assert "exceeds tol 0.000010% at the most refinement allowed (MAX_REFINE_STEPS = 1)" in modes.fidelity_note
 
 
 def test_auto_does_not_refine_past_the_memory_and_says_why(monkeypatch):

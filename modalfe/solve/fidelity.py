@@ -47,6 +47,7 @@ from modalfe.solve.estimates import (
     axis_ratio,
     coarse_level,
     coarser,
+    level_layers,
     p_extrapolation,
     partner,
     refinement_ratio,
@@ -278,14 +279,14 @@ def solve_auto(scene, analysis, *, tol: float, check=None, size_factor: float = 
         solid = without_estimates(fine, reason)
     solid = replace(solid, timings=dict(fine.timings, error_estimate=time.perf_counter() - start))
     solid, refined = refined_to_tol(scene, analysis, solid, tol=tol, check=check, size_factor=size_factor,
-                                    solver=solver)
+                                    solver=solver, levels=levels)
     note = "auto: solid answered" + (f" ({'; '.join(reasons)})" if reasons else " (no reduced model for a "
                                      f"{scene.kind} scene)")
     return replace(solid, fidelity_note=note + refined)
 
 
 def refined_to_tol(scene, analysis, solid: Modes, *, tol: float, check, size_factor: float = 1.0,
-                   solver: str = "auto") -> tuple[Modes, str]:
+                   solver: str = "auto", levels: list[Modes] | tuple = ()) -> tuple[Modes, str]:
     """(``solid``, or the solid solved again on finer grids until the estimated error of the checked modes is
     within ``tol``; a phrase for the note saying what was done). Each step makes the elements ``REFINE_RATIO``
     smaller and the thickness layers as many times more (the estimate levels' own ratio, ``COARSE_FACTOR``), one
@@ -293,9 +294,15 @@ def refined_to_tol(scene, analysis, solid: Modes, *, tol: float, check, size_fac
     jumping by the steps an h^2 fall predicts overshot: the glass plate's (0,16) needed one step but was
     predicted two, 94k DOFs stating 0.11 % for tol 0.5 %), at most ``MAX_REFINE_STEPS``, and none whose model
     would not fit in memory (``modalfe.models.estimate.check_size``). Not where the solid states no estimate
-    (nothing to steer by)."""
+    (nothing to steer by). A step's estimate levels (elements x1.5 and x2.25 of its own, layers alike) are the grids
+    of the steps before it (``solid`` and its ``levels`` for the first): they are reused (``_step_estimated``)."""
     from modalfe.models.estimate import check_size
 
+    grids = {}  # (thickness layers, element size factor) -> the solve on that grid, where levels come from grids
+    if reuses_grids(scene):
+        grids[_grid(scene.mesh.min_layers, size_factor)] = solid
+        for level, factor in zip(levels, CHECK_FACTORS):
+            grids[_grid(level_layers(scene.mesh.min_layers, factor), size_factor * factor)] = level
     worst, why = _worst(solid, check)
     steps, stopped = 0, ""
     while worst > tol and math.isfinite(worst) and steps < MAX_REFINE_STEPS:
@@ -307,7 +314,7 @@ def refined_to_tol(scene, analysis, solid: Modes, *, tol: float, check, size_fac
             break
         log.info("auto: the solid's %s exceeds tol %s: elements x%.3g, %d layers (%s)", why, percent(tol),
                  factor, finer.mesh.min_layers, size.describe())
-        solid = solve_estimated(finer, analysis, "solid", size_factor=factor, solver=solver)
+        solid = _step_estimated(finer, analysis, factor, solver, grids)
         steps += 1
         worst, why = _worst(solid, check)
     note = ""
@@ -319,6 +326,36 @@ def refined_to_tol(scene, analysis, solid: Modes, *, tol: float, check, size_fac
             stopped = f" at the most refinement allowed (MAX_REFINE_STEPS = {MAX_REFINE_STEPS})"
         note += f"; its {why} exceeds tol {percent(tol)}{stopped}"
     return solid, note
+
+
+def reuses_grids(scene) -> bool:
+    """Whether the solid's estimate levels are coarser grids of its own order (h-refinement), which a refinement
+    step finds among the grids solved before it; not the orders on one grid (``uses_orders``) nor with the order
+    step (``checks_order_step``)."""
+    return not uses_orders(scene) and not checks_order_step(scene)
+
+
+def _grid(layers: int, size_factor: float) -> tuple[int, float]:
+    return layers, round(size_factor, 9)
+
+
+def _step_estimated(scene, analysis, size_factor: float, solver: str, grids: dict) -> Modes:
+    """The solid of one refinement step with its error estimates (``solve_estimated``), its two levels taken from
+    ``grids`` where steps before solved them; solved afresh where one is missing or leaves a mode without a partner
+    (inf: the grid solved before asked fewer modes around the target than a level does). Adds the step to ``grids``."""
+    keys = [_grid(level_layers(scene.mesh.min_layers, f), size_factor * f) for f in CHECK_FACTORS]
+    if not grids or any(k not in grids for k in keys) or no_estimate_reason(scene, size_factor) is not None:
+        result = solve_estimated(scene, analysis, "solid", size_factor=size_factor, solver=solver)
+    else:
+        fine = solve_level(scene, analysis, solver=solver, size_factor=size_factor)
+        start = time.perf_counter()
+        result = solid_estimates(fine, [grids[k] for k in keys], scene)
+        if any(math.isinf(m.error_estimate) for m in result):
+            result = solid_estimates(fine, solid_levels(scene, analysis, size_factor, solver), scene)
+        result = replace(result, timings=dict(fine.timings, error_estimate=time.perf_counter() - start))
+    if grids:
+        grids[_grid(scene.mesh.min_layers, size_factor)] = result
+    return result
 
 
 def percent(x: float) -> str:

@@ -7,6 +7,7 @@ import pytest
 from modalfe import load_scene
 from modalfe.errors import SceneError
 from modalfe.results.modes import select
+from modalfe.scene import Analysis
 from modalfe.solve import fidelity
 from modalfe.solve.api import solve_modes
 
@@ -63,3 +64,26 @@ def test_report_takes_the_antiresonance_from_the_refined_mesh():
     # fa and fr from one mesh: k_eff moves by the discretization only (0.0629 -> 0.0612, -2.7 %, measured);
     # fa from the scene's own mesh beside the refined fr would give 0.113
     assert row.k_eff == pytest.approx(coarse.k_eff, rel=0.05)
+
+
+def test_a_refinement_step_solves_only_its_own_grid_and_estimates_as_fresh_levels_would(monkeypatch):
+    # a step's levels (elements x1.5 and x2.25 of its own, layers alike) are the grids solved before it: the scene's
+    # mesh and its first estimate level; reused, they give the estimate that solving them again gives
+    scene = load_scene("ciliary_beam")
+    solved = []
+    solve_level = fidelity.solve_level
+
+    def counted(sc, analysis, **options):
+        solved.append((options.get("fidelity", "solid"), sc.mesh.min_layers, options.get("size_factor")))
+        return solve_level(sc, analysis, **options)
+
+    monkeypatch.setattr(fidelity, "solve_level", counted)
+    modes = solve_modes(scene, near=24.2e3, count=4, fidelity="auto", tol=0.005, check=CILIARY_CHECK)
+    solids = [s for s in solved if s[0] == "solid"]
+    assert solids[-1] == ("solid", 5, pytest.approx(1 / 1.5)) and len(solids) == 4  # 3 of the scene's mesh + 1
+    monkeypatch.setattr(fidelity, "solve_level", solve_level)
+    fresh = fidelity.solve_estimated(fidelity.refined_scene(scene, 1), Analysis(near=24.2e3, count=4), "solid",
+                                     size_factor=1 / 1.5)
+    mode, again = select(modes, "bending-z 6", 24.2e3), select(fresh, "bending-z 6", 24.2e3)
+    assert mode.frequency == pytest.approx(again.frequency, rel=1e-12)
+    assert mode.error_estimate == pytest.approx(again.error_estimate, rel=1e-9)

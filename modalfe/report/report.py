@@ -15,6 +15,7 @@ from modalfe.results.labels import RIGID_NAMES
 from modalfe.results.modes import select
 from modalfe.solve.api import DEFAULT_TOL
 
+REPORT_COUNT = 10  # modes asked around a target at least (the labels of a dense spectrum need neighbours)
 _MAX_COUNT = 80  # modes searched around a target before a working mode is declared missing
 
 
@@ -65,10 +66,11 @@ def device_report(scene, *, error_estimate: bool = True, fidelity: str = "auto",
     start = time.perf_counter()
     band = scene.analysis.band
     solved = {}
+    windows = working_windows(scene)
     for wm in scene.working_modes:
         key = "band" if band is not None else wm.near
-        count = max(scene.analysis.count, 10)
-        window = scene.working_modes if band is not None else [w for w in scene.working_modes if w.near == wm.near]
+        count = max(scene.analysis.count, REPORT_COUNT)
+        window = windows[key]
         options = {"error_estimate": error_estimate, "fidelity": fidelity, "tol": tol,
                    "check": tuple((w.selector, w.near) for w in window)}
         while True:
@@ -114,6 +116,14 @@ def device_report(scene, *, error_estimate: bool = True, fidelity: str = "auto",
         ))
     seconds = time.perf_counter() - start
     return [ReportRow(**{**asdict(r), "seconds": seconds}) for r in rows]
+
+
+def working_windows(scene) -> dict:
+    """The report's solves of ``scene``: {"band" or the target near [Hz]: the working modes it holds}."""
+    windows: dict = {}
+    for wm in scene.working_modes:
+        windows.setdefault("band" if scene.analysis.band is not None else wm.near, []).append(wm)
+    return windows
 
 
 def device_notes(scene, modes, mode) -> list[str]:

@@ -205,10 +205,11 @@ def solid_estimates(fine: Modes, levels: list[Modes], scene, step_level: Modes |
 
 
 def solve_estimated(scene, analysis, fidelity: str, *, size_factor: float = 1.0, solver: str = "auto",
-                    error_estimate: bool = True, frame=None) -> Modes:
+                    error_estimate: bool = True, frame=None, levels: list[Modes] | None = None) -> Modes:
     """Modes of one fidelity with discretization estimates: the solid's from ``solid_levels`` (lower orders or
-    coarser grids), a reduced model's Richardson from levels 1.5x and 2.25x coarser
-    (``modalfe.solve.estimates.richardson``; no model error: ``with_model_errors`` adds it)."""
+    coarser grids; ``levels``: those grids solved already, used unless they leave a mode without a partner), a
+    reduced model's Richardson from levels 1.5x and 2.25x coarser (``modalfe.solve.estimates.richardson``; no
+    model error: ``with_model_errors`` adds it)."""
     if fidelity != "solid" and fidelity not in reduced_fidelities(scene):
         raise SceneError(f"fidelity: '{fidelity}' does not apply to a {scene.kind} scene "
                          f"(use {[*reduced_fidelities(scene), 'solid', 'auto']})")
@@ -222,8 +223,11 @@ def solve_estimated(scene, analysis, fidelity: str, *, size_factor: float = 1.0,
         reason = no_estimate_reason(scene, size_factor)
         if reason is not None:
             return without_estimates(fine, reason)
-        result = solid_estimates(fine, solid_levels(scene, analysis, size_factor, solver, frame), scene,
-                                 order_step_level(scene, analysis, size_factor, solver, frame))
+        step = order_step_level(scene, analysis, size_factor, solver, frame)
+        result = solid_estimates(fine, levels, scene, step) if levels else None
+        if result is None or any(math.isinf(m.error_estimate) for m in result):
+            # the grids solved before asked fewer modes around the target than a level does: one lacked a partner
+            result = solid_estimates(fine, solid_levels(scene, analysis, size_factor, solver, frame), scene, step)
         return replace(result, timings=dict(fine.timings, error_estimate=time.perf_counter() - start))
 
     def solve(a, **level):
@@ -295,15 +299,18 @@ def refined_to_tol(scene, analysis, solid: Modes, *, tol: float, check, size_fac
     predicted two, 94k DOFs stating 0.11 % for tol 0.5 %), at most ``MAX_REFINE_STEPS``, and none whose model
     would not fit in memory (``modalfe.models.estimate.check_size``). Not where the solid states no estimate
     (nothing to steer by). A step's estimate levels (elements x1.5 and x2.25 of its own, layers alike) are the grids
-    of the steps before it (``solid`` and its ``levels`` for the first): they are reused (``_step_estimated``)."""
+    of the steps before it (``solid`` and its ``levels`` for the first): they are reused (``solve_estimated``)."""
     from modalfe.models.estimate import check_size
 
-    grids = {}  # (thickness layers, element size factor) -> the solve on that grid, where levels come from grids
+    grids = None  # (thickness layers, element size factor) -> the solve on that grid, where levels are grids
     if reuses_grids(scene):
-        grids[_grid(scene.mesh.min_layers, size_factor)] = solid
+        grids = {_grid(scene.mesh.min_layers, size_factor): solid}
         for level, factor in zip(levels, CHECK_FACTORS):
             grids[_grid(level_layers(scene.mesh.min_layers, factor), size_factor * factor)] = level
-    worst, why = _worst(solid, check)
+    # every mode listed (no ``check``): those the scene's mesh is made to resolve; a mode above mesh.max_frequency
+    # is outside the scene's range (``solve_modes``), refining for it would size the mesh for another range
+    ceiling = solid.mesh_frequency if math.isfinite(solid.mesh_frequency) else math.inf
+    worst, why = _worst(solid, check, ceiling)
     steps, stopped = 0, ""
     while worst > tol and math.isfinite(worst) and steps < MAX_REFINE_STEPS:
         finer, factor = refined_scene(scene, steps + 1), size_factor / REFINE_RATIO ** (steps + 1)
@@ -314,17 +321,27 @@ def refined_to_tol(scene, analysis, solid: Modes, *, tol: float, check, size_fac
             break
         log.info("auto: the solid's %s exceeds tol %s: elements x%.3g, %d layers (%s)", why, percent(tol),
                  factor, finer.mesh.min_layers, size.describe())
-        solid = _step_estimated(finer, analysis, factor, solver, grids)
-        steps += 1
-        worst, why = _worst(solid, check)
+        reused = None
+        if grids is not None:
+            keys = [_grid(level_layers(finer.mesh.min_layers, f), factor * f) for f in CHECK_FACTORS]
+            reused = [grids[k] for k in keys] if all(k in grids for k in keys) else None
+        solid = solve_estimated(finer, analysis, "solid", size_factor=factor, solver=solver, levels=reused)
+        if grids is not None:
+            grids[_grid(finer.mesh.min_layers, factor)] = solid
+        steps, last = steps + 1, (factor, finer.mesh.min_layers)
+        worst, why = _worst(solid, check, ceiling)
     note = ""
     if steps:
-        note = (f"; refined for tol {percent(tol)}: elements x{size_factor / REFINE_RATIO**steps:.3g} of the scene's "
-                f"mesh, {refined_scene(scene, steps).mesh.min_layers} thickness layers, {solid.dofs} DOFs")
+        note = (f"; refined for tol {percent(tol)}: elements x{last[0]:.3g} of the scene's mesh, {last[1]} thickness "
+                f"layers, {solid.dofs} DOFs")
     if worst > tol:
         if not stopped and math.isfinite(worst) and steps == MAX_REFINE_STEPS:
             stopped = f" at the most refinement allowed (MAX_REFINE_STEPS = {MAX_REFINE_STEPS})"
         note += f"; its {why} exceeds tol {percent(tol)}{stopped}"
+    above, why_above = _worst(solid, None) if check is None else (0.0, "")
+    if above > tol and above > worst:
+        note += (f"; modes above the {ceiling:.6g} Hz the mesh resolves (mesh.max_frequency) are not refined for: "
+                 f"{why_above}")
     return solid, note
 
 
@@ -337,25 +354,6 @@ def reuses_grids(scene) -> bool:
 
 def _grid(layers: int, size_factor: float) -> tuple[int, float]:
     return layers, round(size_factor, 9)
-
-
-def _step_estimated(scene, analysis, size_factor: float, solver: str, grids: dict) -> Modes:
-    """The solid of one refinement step with its error estimates (``solve_estimated``), its two levels taken from
-    ``grids`` where steps before solved them; solved afresh where one is missing or leaves a mode without a partner
-    (inf: the grid solved before asked fewer modes around the target than a level does). Adds the step to ``grids``."""
-    keys = [_grid(level_layers(scene.mesh.min_layers, f), size_factor * f) for f in CHECK_FACTORS]
-    if not grids or any(k not in grids for k in keys) or no_estimate_reason(scene, size_factor) is not None:
-        result = solve_estimated(scene, analysis, "solid", size_factor=size_factor, solver=solver)
-    else:
-        fine = solve_level(scene, analysis, solver=solver, size_factor=size_factor)
-        start = time.perf_counter()
-        result = solid_estimates(fine, [grids[k] for k in keys], scene)
-        if any(math.isinf(m.error_estimate) for m in result):
-            result = solid_estimates(fine, solid_levels(scene, analysis, size_factor, solver), scene)
-        result = replace(result, timings=dict(fine.timings, error_estimate=time.perf_counter() - start))
-    if grids:
-        grids[_grid(scene.mesh.min_layers, size_factor)] = result
-    return result
 
 
 def percent(x: float) -> str:
@@ -432,10 +430,11 @@ def _checked_modes(modes: Modes, check) -> list:
     return [select(modes, selector, near) for selector, near in check]
 
 
-def _worst(modes: Modes, check) -> tuple[float, str]:
-    """(largest estimated error of the checked modes, a phrase saying which)."""
+def _worst(modes: Modes, check, ceiling: float = math.inf) -> tuple[float, str]:
+    """(largest estimated error of the checked modes, a phrase saying which); with no ``check`` (every mode), those
+    at most ``ceiling`` [Hz]."""
     try:
-        found = _checked_modes(modes, check)
+        found = [m for m in _checked_modes(modes, check) if check is not None or m.frequency <= ceiling]
     except SolverError as exc:
         return math.inf, f"working mode not found ({exc})"
     if not found:

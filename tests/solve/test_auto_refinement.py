@@ -50,7 +50,7 @@ def test_auto_does_not_refine_past_the_memory_and_says_why(monkeypatch):
 
     monkeypatch.setattr(estimate, "check_size", too_large)
     modes = solve_modes(load_scene("tile_eq5"), fidelity="auto", tol=1e-7, check=(("(0,0)", 845.0),))
-    assert "refined" not in modes.fidelity_note
+    assert "refined for tol" not in modes.fidelity_note
     assert "a finer grid would not fit: mesh: too large for this machine (test)" in modes.fidelity_note
 
 
@@ -87,3 +87,14 @@ def test_a_refinement_step_solves_only_its_own_grid_and_estimates_as_fresh_level
     mode, again = select(modes, "bending-z 6", 24.2e3), select(fresh, "bending-z 6", 24.2e3)
     assert mode.frequency == pytest.approx(again.frequency, rel=1e-12)
     assert mode.error_estimate == pytest.approx(again.error_estimate, rel=1e-9)
+
+
+def test_modes_above_the_frequency_the_mesh_resolves_are_not_refined_for():
+    # every mode listed is checked (no working modes), but only those up to mesh.max_frequency steer the refinement:
+    # above it the mesh is not made to resolve them (here (0,2) at 3.97 kHz states 6.5 %, (2,2) 24 %)
+    modes = solve_modes(load_scene("tile_eq5", **{"mesh.max_frequency": 1000.0}), count=6, fidelity="auto")
+    assert "refined for tol" not in modes.fidelity_note
+    assert max(m.error_estimate for m in modes if m.frequency > 1000.0) > 0.02
+    assert all(m.error_estimate <= 0.02 for m in modes if m.frequency <= 1000.0)
+    assert "modes above the 1000 Hz the mesh resolves (mesh.max_frequency) are not refined for: estimated error " \
+           "23.76% on (2,2)" in modes.fidelity_note

@@ -49,7 +49,7 @@ def build_model(scene, fidelity: str = "solid", *, size_factor: float = 1.0, fra
 
 
 def _solid(scene, *, size_factor: float, frame, min_layers: int | None) -> tuple[object, dict[str, float]]:
-    from modalfe.models.mesh import build_mesh, element_sizes
+    from modalfe.models.mesh import build_mesh, element_sizes, mass_patches
     from modalfe.models.solid import assemble
 
     t0 = time.perf_counter()
@@ -57,7 +57,8 @@ def _solid(scene, *, size_factor: float, frame, min_layers: int | None) -> tuple
     layers = scene.mesh.min_layers if min_layers is None else min_layers
     fully_clamped = tuple(sorted(g for g, components in scene.clamps.items() if set(components) == set("xyz")))
     dm = build_mesh(scene.assembly(), size=sizes, element=scene.mesh.element, min_layers=layers,
-                    graded_faces=fully_clamped, grading_layers=scene.mesh.clamp_grading)
+                    graded_faces=fully_clamped, grading_layers=scene.mesh.clamp_grading,
+                    patches=mass_patches(scene, size_factor))
     t_mesh = (time.perf_counter() - t0) if dm.seconds else 0.0
     key = repr((dm.key, scene.params, scene.materials, scene.springs, scene.masses, scene.electrodes,
                 scene.clamps, scene.mesh.order, scene.mesh.family,

@@ -35,6 +35,7 @@ class LayeredModel(PiezoUnknowns):
     electrodes: dict[str, np.ndarray]
     clamped: np.ndarray
     timings: dict[str, float] = field(default_factory=dict)
+    attached_mass: sp.csr_matrix | None = None  # (n_u, n_u): the scene's masses alone, included in M
 
     @property
     def n_phi(self) -> int:

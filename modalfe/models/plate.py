@@ -382,7 +382,7 @@ def assemble_plate(scene, *, size_factor: float = 1.0) -> PlateModel:
     derivative = (lambda f: f, lambda f: f.grad[0], lambda f: f.grad[1])  # value, d/dx, d/dy
     E = _strain_maps()
     section_of_element = stacks.cell_section[ci, cj]
-    K_terms, M_terms = [], []
+    K_terms, M_terms, attached_terms = [], [], []
     for k, s in enumerate(stacks.sections):
         sub = Basis(mesh, element, intorder=4, elements=np.flatnonzero(section_of_element == k))
         forms = {}  # (a, b) -> int derivative[a](v) derivative[b](u); the (b, a) form is its transpose
@@ -406,8 +406,9 @@ def assemble_plate(scene, *, size_factor: float = 1.0) -> PlateModel:
         if stiffness is not None:
             K_terms.append(sp.kron(S00, P.T @ np.diag(stiffness) @ P, format="coo"))
         if inertia is not None:
-            M_terms.append(sp.kron(S00, inertia * P.T @ P, format="coo"))
-    K, M = _summed(K_terms, n_u), _summed(M_terms, n_u)
+            attached_terms.append(sp.kron(S00, inertia * P.T @ P, format="coo"))
+    attached = _summed(attached_terms, n_u) if attached_terms else None
+    K, M = _summed(K_terms, n_u), _summed(M_terms + attached_terms, n_u)
     index, piezo = electrode_layers(scene, scene.assembly())
     n_phi = len(index)
     if n_phi:
@@ -435,7 +436,7 @@ def assemble_plate(scene, *, size_factor: float = 1.0) -> PlateModel:
     clamped = _clamped_dofs(scene, basis, mesh)
     timings = {"mesh": t_mesh, "assembly": time.perf_counter() - t0 - t_mesh}
     return PlateModel(scene, mesh, basis, K.tocsr(), M.tocsr(), n_u, {g: np.array([i]) for g, i in index.items()},
-                      clamped, timings, stacks=stacks)
+                      clamped, timings, attached_mass=attached, stacks=stacks)
 
 
 def _summed(terms, n: int) -> sp.csr_matrix:

@@ -51,6 +51,16 @@ class PiezoUnknowns:
     def ndofs(self) -> int:
         return self.n_u + self.n_phi
 
+    def attached_share(self, shapes: np.ndarray) -> np.ndarray:
+        """Share of each mode's kinetic energy carried by the scene's attached masses (``shapes`` (n, k) full DOF
+        vectors): x_u^T M_attached x_u / x^T M x, zero without masses (``attached_mass``, on the u DOFs)."""
+        shapes = np.asarray(shapes).reshape(self.ndofs, -1)
+        if self.attached_mass is None:
+            return np.zeros(shapes.shape[1])
+        u = shapes[: self.n_u]
+        total = np.einsum("ik,ik->k", shapes, self.M @ shapes)
+        return np.einsum("ik,ik->k", u, self.attached_mass @ u) / np.where(total > 0, total, 1.0)
+
     def constraints(self, circuit: str) -> Constraints:
         """The map from free unknowns to the full DOF vector for a ``short`` or ``open`` circuit.
 
@@ -138,6 +148,7 @@ class Model(PiezoUnknowns):
     clamped: np.ndarray
     timings: dict[str, float] = field(default_factory=dict)
     frame: np.ndarray | None = None
+    attached_mass: sp.csr_matrix | None = None  # (n_u, n_u): the scene's masses alone, included in M
 
     @property
     def n_phi(self) -> int:
@@ -311,8 +322,9 @@ def assemble(scene, device_mesh, *, frame: np.ndarray | None = None) -> Model:
     Muu = sum(M_blocks, Muu).tocsr()
     if scene.springs:
         Kuu = Kuu + _face_springs(scene, device_mesh, u_basis, scalar, intorder)
-    if scene.masses:
-        Muu = Muu + _face_masses(scene, device_mesh, u_basis, scalar, intorder)
+    attached = _face_masses(scene, device_mesh, u_basis, scalar, intorder) if scene.masses else None
+    if attached is not None:
+        Muu = Muu + attached
     phi_dofs, Kup, Kpp = _piezo_blocks(mesh, scalar, intorder, scalar_dofs, piezo_parts, n_u, chunk_size)
     n_phi = len(phi_dofs)
     if n_phi:  # stacking CSR blocks row by row is twice as fast as sp.bmat
@@ -325,7 +337,7 @@ def assemble(scene, device_mesh, *, frame: np.ndarray | None = None) -> Model:
     electrodes = _electrode_dofs(scene, device_mesh, mesh, scalar, phi_dofs)
     clamped = _clamped_dofs(scene, device_mesh, u_basis)
     return Model(scene, device_mesh, u_basis, K, M, n_u, phi_dofs, electrodes, clamped,
-                 {"assembly": time.perf_counter() - start}, frame)
+                 {"assembly": time.perf_counter() - start}, frame, attached)
 
 
 def _material_of(scene, part, frame):

@@ -296,16 +296,14 @@ def _honeycomb_tile_assumptions(params) -> tuple[str, ...]:
             "homogeneous solid of equivalent density with unstated stiffness; here the core carries catalogue "
             "transverse shear moduli (the twisting mode at 1118.8 Hz in a 72k-DOF cubic solid: modalfe modes "
             "honeycomb_tile --near 950 --count 10 --fidelity solid --set mesh.order=3 --set mesh.max_size=0.03 "
-            "--set mesh.min_layers=2); the modes at 760, 814, 836 and 954 Hz there are local (the default mesh, "
-            "two quadratic elements across the pad, puts them 2-33 % higher; the 954 Hz one shows a twist on the "
-            "top facing and may take the label (1,1)): the 2.3 kg actuator mass, smeared on the 0.8 mm facing "
-            "without stiffness, bouncing, rocking and bending on the core's compression stiffness under its "
-            "40 x 40 mm pad, which the seed's bonded bracket would spread and stiffen",
-            "the 3-D solid's error estimate fails here on the default 20-node hexahedra: it puts the twisting "
-            "mode at 1111.8 Hz stating 0.13 %, 0.6 % below the 1118.7 Hz that cubic elements converge to (72k and "
-            "145k DOFs agree to 0.005 %), its three grids all missing the pad's local modes; 27-node hexahedra "
-            "(--set mesh.family=lagrange, 45k DOFs) give 1119.9 Hz stating 1.5 % (the label (1,1) may then go to "
-            "the 972 Hz pad twist); the plate model's 1115.1 Hz stating 0.56 % covers it")
+            "--set mesh.min_layers=2); the modes at 760, 814, 836 and 954 Hz there are local: the 2.3 kg actuator "
+            "mass, smeared on the 0.8 mm facing without stiffness, bouncing, rocking and bending on the core's "
+            "compression stiffness under its 40 x 40 mm pad, which the seed's bonded bracket would spread and "
+            "stiffen; the plate model has no core compression and misses them, so near them it cannot be vouched "
+            "for and the 3-D solid answers. The solid's mesh puts 4 elements across the pad "
+            "(modalfe.models.mesh.MASS_PATCH_ELEMENTS; with 2 its estimate grids missed these modes and stated "
+            "0.13 % on the twisting mode, 0.6 % off), and the label (1,1) goes to the plate's twist, not to the "
+            "pad's (~1000 Hz, 97 % of its kinetic energy in the pad: modalfe.results.labels.CARRIED)")
 
 
 def _ciliary_beam_assumptions(params) -> tuple[str, ...]:

@@ -44,7 +44,8 @@ def modes_of(model, analysis, *, fidelity: str, solver: str = "auto", timings: d
         del _SHORT_FACTORS[_KEPT_FACTORS:]
     shapes = T @ solution.vectors
     frequencies = [float(np.sqrt(max(lam, 0.0)) / (2 * np.pi)) for lam in solution.values]
-    names = unique_labels(model, shapes, frequencies)  # unique in the solve; degenerate pairs in their clearest basis
+    # unique in the solve; degenerate pairs in their clearest basis; modes carried by attached masses yield
+    names = unique_labels(model, shapes, frequencies, model.attached_share(shapes))
     modes = [Mode(i, f, name, shapes[:, i], model, analysis.circuit, wavelength=w)
              for i, (f, (name, w)) in enumerate(zip(frequencies, names))]
     seconds = {**(timings or {}), "factorization": solution.factorization_seconds,

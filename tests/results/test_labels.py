@@ -99,6 +99,19 @@ def test_labels_are_unique_and_the_clearest_pattern_keeps_the_plain_label():
     assert base_label(names[1]) != "(1,1)" and len(set(names)) == 3
 
 
+def test_a_mode_carried_by_attached_masses_yields_the_plain_label():
+    # two equally clear (1,1) twists (the tile's pad twist on a mesh that resolves the pad, 97 % of its kinetic
+    # energy in the actuator mass, and the plate's own at 2 %): the plain label goes to the one not carried
+    plate = _Plate()
+    twist = (plate.x - 0.5) * (plate.y - 0.5)
+    shapes = np.column_stack([twist, 2 * twist])
+    assert [n for n, _ in unique_labels(plate, shapes, [972.0, 1119.0])] == ["(1,1)", "(1,1)#2"]  # lowest first
+    names = [n for n, _ in unique_labels(plate, shapes, [972.0, 1119.0], carried=[0.97, 0.02])]
+    assert names == ["(1,1)#2", "(1,1)"]
+    # below CARRIED the share does not reorder
+    assert [n for n, _ in unique_labels(plate, shapes, [972.0, 1119.0], carried=[0.4, 0.02])] == ["(1,1)", "(1,1)#2"]
+
+
 def _modes(labels_and_frequencies):
     modes = tuple(Mode(i, f, name, np.zeros(1), None) for i, (name, f) in enumerate(labels_and_frequencies))
     return Modes(modes, None, "short", "plate", 1)

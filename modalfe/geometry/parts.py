@@ -122,6 +122,17 @@ class Face:
     window: tuple[tuple[float, float], tuple[float, float]] | None = None
 
 
+def _window_below(face: Face, axis: int, mid: float, tol: float) -> Face | None:
+    """``face`` with its window clipped to the half below ``mid`` along ``axis`` (an in-plane axis of the face),
+    None where nothing of it is left."""
+    j = [k for k in range(3) if k != "xyz".index(face.side[0])].index(axis)
+    lo, hi = list(face.window[0]), list(face.window[1])
+    if lo[j] >= mid - tol:
+        return None
+    hi[j] = min(hi[j], mid)
+    return Face(face.part, face.side, (tuple(lo), tuple(hi)))
+
+
 def face_ref(group: str, ref) -> Face:
     """A scene file's face reference: 'part.side', or {face = 'part.side', window = [[u0, v0], [u1, v1]]} [m]."""
     window = None
@@ -247,8 +258,10 @@ class Assembly:
             for f in entries:
                 if f.part not in names or (f.part in clipped and f.side == cut_side):
                     continue  # removed with the mirror half (a clipped part's far face is the cut)
-                if f.window is not None:
-                    raise SceneError(f"symmetry: face windows (faces.{group}) are not supported with symmetry")
+                if f.window is not None and "xyz".index(f.side[0]) != axis:
+                    f = _window_below(f, axis, mid, tol)
+                    if f is None:
+                        continue  # a window wholly in the mirror half
                 inside.append(f)
             if inside:
                 faces[group] = tuple(inside)

@@ -237,10 +237,10 @@ def build_mesh(assembly, *, size: float | Mapping[str, float], element: str = "h
 
 
 def mass_patches(scene, size_factor: float = 1.0) -> tuple[tuple[int, float, float, float], ...]:
-    """(axis, lo, hi, size) over each in-plane side of every face carrying an attached mass in ``scene.assembly()``:
-    ``MASS_PATCH_ELEMENTS`` elements across it, times ``size_factor`` (an estimate level's elements are as much
-    larger there as elsewhere)."""
-    assembly = scene.assembly()
+    """(axis, lo, hi, size) over each in-plane side of every face carrying an attached mass: ``MASS_PATCH_ELEMENTS``
+    elements across the whole device's face (a half model's cut face keeps the whole one's elements), times
+    ``size_factor`` (an estimate level's elements are as much larger there as elsewhere)."""
+    assembly = scene.full_assembly()
     out = []
     for group in scene.masses:
         for face in assembly.faces.get(group, ()):

@@ -42,10 +42,10 @@ class PiezoUnknowns:
 
     @property
     def copies(self) -> int:
-        """Copies of the solved part in the whole device: 2 per mirror plane of a symmetric model (its modes are
-        the symmetric ones), so charges, capacitances and modal masses of the whole device are ``copies`` times
-        the solved part's."""
-        return 2 ** len(self.scene.symmetry)
+        """Copies of the solved part in the whole device: 2 per mirror plane of a symmetric (antisymmetric) model
+        (its modes are the symmetric (antisymmetric) ones), so charges, capacitances and modal masses of the whole
+        device are ``copies`` times the solved part's."""
+        return 2 ** len(self.scene.mirror_axes)
 
     @property
     def ndofs(self) -> int:

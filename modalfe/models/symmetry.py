@@ -4,7 +4,8 @@
 ``fold`` sends points of the whole device into the solved part (a point in a mirrored half reads its image,
 with the displacement component normal to that plane negated); ``unfold`` mirrors points and vector fields
 of the solved part into the whole device. The modes a symmetric model returns are the ones symmetric about
-its planes, so the displacement normal to a plane is odd across it and the others even.
+its planes, so the displacement normal to a plane is odd across it and the others even; about a plane of
+``Scene.antisymmetry`` the other way round (every component of the image negated once more).
 """
 
 from __future__ import annotations
@@ -16,7 +17,19 @@ def mirror_planes(scene) -> list[tuple[int, float]]:
     """(axis index, 2 x plane coordinate [m]) of every mirror plane of ``scene``: a point's image along that
     axis is ``twice_plane - x``."""
     lo, hi = scene.full_assembly().bounds
-    return [("xyz".index(a), lo["xyz".index(a)] + hi["xyz".index(a)]) for a in scene.symmetry]
+    return [("xyz".index(a), lo["xyz".index(a)] + hi["xyz".index(a)]) for a in scene.mirror_axes]
+
+
+def image_signs(scene) -> list[np.ndarray]:
+    """Per plane of ``mirror_planes``: the sign (3,) of each displacement component in the image, the normal one
+    negated about a plane of symmetry, the two others about one of antisymmetry."""
+    signs = []
+    for axis, parity in [("xyz".index(a), 1.0) for a in scene.symmetry] + \
+                        [("xyz".index(a), -1.0) for a in scene.antisymmetry]:
+        sign = np.full(3, parity)
+        sign[axis] = -parity
+        signs.append(sign)
+    return signs
 
 
 def mirrored(points: np.ndarray, axis: int, twice_plane: float) -> np.ndarray:
@@ -28,29 +41,24 @@ def mirrored(points: np.ndarray, axis: int, twice_plane: float) -> np.ndarray:
 
 def fold(scene, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(points (3, n) moved into the solved part, sign (3, n) of each displacement component there):
-    a point beyond a mirror plane reads its image, the component normal to the plane negated."""
+    a point beyond a mirror plane reads its image, its components signed by ``image_signs``."""
     p = np.array(points, dtype=float, copy=True)
     sign = np.ones_like(p)
-    for axis, twice in mirror_planes(scene):
+    for (axis, twice), flip in zip(mirror_planes(scene), image_signs(scene)):
         far = p[axis] > 0.5 * twice
         p[axis, far] = twice - p[axis, far]
-        sign[axis, far] = -1.0
+        sign[:, far] *= flip[:, None]
     return p, sign
 
 
 def unfold(scene, points: np.ndarray, *fields: np.ndarray) -> tuple[np.ndarray, ...]:
     """(points, *fields) of the whole device from those of the solved part: points (3, n) and vector fields
-    (3, n) each get their mirror images appended per plane (normal component negated), n doubling per plane."""
+    (3, n) each get their mirror images appended per plane (signed by ``image_signs``), n doubling per plane."""
     points = np.asarray(points, dtype=float)
     fields = [np.asarray(f) for f in fields]
-    for axis, twice in mirror_planes(scene):
+    for (axis, twice), flip in zip(mirror_planes(scene), image_signs(scene)):
         points = np.hstack([points, mirrored(points, axis, twice)])
-        flipped = []
-        for f in fields:
-            image = np.array(f, copy=True)
-            image[axis] = -image[axis]
-            flipped.append(np.hstack([f, image]))
-        fields = flipped
+        fields = [np.hstack([f, f * flip[:, None]]) for f in fields]
     return (points, *fields)
 
 
@@ -77,14 +85,12 @@ def whole_device_mesh(model, fields: dict[str, np.ndarray]):
     for i, name in enumerate(names):
         part_id[model.mesh.parts[name]] = i
     fields = {k: v.T.copy() for k, v in fields.items()}  # (n, 3)
-    for k, twice in mirror_planes(scene):
+    for (k, twice), flip in zip(mirror_planes(scene), image_signs(scene)):
         mirror = mirrored(points.T, k, twice).T
         flipped = cells[:, [1, 0, 3, 2, 5, 4, 7, 6]] if kind == 12 else cells[:, [1, 0, 2, 3]]
         cells = np.vstack([cells, flipped + len(points)])  # reordered: mirrored cells keep a positive volume
         points = np.vstack([points, mirror])
         part_id = np.concatenate([part_id, part_id])
         for name, value in fields.items():
-            m = value.copy()
-            m[:, k] *= -1
-            fields[name] = np.vstack([value, m])
+            fields[name] = np.vstack([value, value * flip])
     return points, cells, kind, fields, part_id, names

@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from modalfe.errors import SolverError
-from modalfe.models.symmetry import mirror_planes, mirrored
+from modalfe.models.symmetry import image_signs, mirror_planes, mirrored
 
 # VTK's edge order of the quadratic cells, as pairs of corner positions
 _HEX_EDGES = ((0, 1), (1, 2), (2, 3), (3, 0), (4, 5), (5, 6), (6, 7), (7, 4), (0, 4), (1, 5), (2, 6), (3, 7))
@@ -109,12 +109,10 @@ def quadratic_device(model, shapes: list[np.ndarray]):
     pairs = _HEX_EDGES if kind == "hex" else _TET_EDGES
     flip = [1, 0, 3, 2, 5, 4, 7, 6] if kind == "hex" else [1, 0, 2, 3]
     copies = [corners]  # corner connectivity of each copy, in the solved part's vertex numbering
-    for axis, twice in mirror_planes(scene):
+    for (axis, twice), sign in zip(mirror_planes(scene), image_signs(scene)):
         points = np.vstack([points, mirrored(points.T, axis, twice).T])
-        for i, u in enumerate(displacements):
-            image = u.copy()
-            image[:, axis] *= -1  # the normal component is odd across a mirror plane
-            displacements[i] = np.vstack([u, image])
+        # the normal component odd across a plane of symmetry, the others across one of antisymmetry
+        displacements = [np.vstack([u, u * sign]) for u in displacements]
         potentials = [np.concatenate([p, p]) for p in potentials]
         copies = copies + [c[:, flip] for c in copies]  # reordered: mirrored cells keep a positive volume
     blocks = []

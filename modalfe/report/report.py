@@ -8,7 +8,7 @@ import multiprocessing
 import os
 import signal
 import time
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 
 from modalfe.errors import SceneError, SolverError
 from modalfe.results.labels import RIGID_NAMES
@@ -54,38 +54,23 @@ class ReportRow:
 
 def device_report(scene, *, error_estimate: bool = True, fidelity: str = "auto",
                   tol: float = DEFAULT_TOL) -> list[ReportRow]:
-    """Rows for each working mode of ``scene``; solves once per frequency window, and once more in
-    open circuit where the scene has a driven electrode (antiresonance and k_eff): at the solid when it
-    answered, else from the solid's fa / fr at the cross-check level (``coupling_check_level``). With
-    ``fidelity="auto"`` the working modes of the window must meet ``tol``."""
+    """Rows for each working mode of ``scene``; solves once per ``working_windows`` window (a frequency window on
+    the working modes' mirror family), and once more in open circuit where the scene has a driven electrode
+    (antiresonance and k_eff): at the solid when it answered, else from the solid's fa / fr at the cross-check
+    level (``coupling_check_level``). With ``fidelity="auto"`` the working modes of the window must meet ``tol``."""
     from modalfe.results.coupling import antiresonance, k_eff
-    from modalfe.solve.api import open_circuit_modes, solve_modes
+    from modalfe.solve.api import open_circuit_modes
     from modalfe.solve.fidelity import coupling_check_level
 
-    rows = []
     start = time.perf_counter()
-    band = scene.analysis.band
-    solved = {}
     windows = working_windows(scene)
+    solved = {id(w): window_modes(w, error_estimate=error_estimate, fidelity=fidelity, tol=tol) for w in windows}
+    rows = []
     for wm in scene.working_modes:
-        key = "band" if band is not None else wm.near
-        count = max(scene.analysis.count, REPORT_COUNT)
-        window = windows[key]
-        options = {"error_estimate": error_estimate, "fidelity": fidelity, "tol": tol,
-                   "check": tuple((w.selector, w.near) for w in window)}
-        while True:
-            if key not in solved:
-                solved[key] = (solve_modes(scene, **options) if band is not None
-                               else solve_modes(scene, near=wm.near, count=count, **options))
-            modes = solved[key]
-            try:
-                mode = select(modes, wm.selector, wm.near)
-                break
-            except SolverError:
-                if band is not None or count >= _MAX_COUNT:
-                    raise
-                count *= 2  # dense spectrum: look at more modes around the target
-                del solved[key]
+        window = next(w for w in windows if wm in w.members)
+        modes = solved[id(window)]
+        mode = select(modes, wm.selector, wm.near)
+        family, band = window.scene, window.near is None
         targets = []
         for t in wm.targets:
             value = mode.wavelength if t.unit == "m" else mode.frequency
@@ -93,13 +78,13 @@ def device_report(scene, *, error_estimate: bool = True, fidelity: str = "auto",
             targets.append({"name": t.name, "value": t.value, "unit": t.unit, "kind": t.kind,
                             "source": t.source, "deviation": deviation})
         fa = coupling = None
-        notes = device_notes(scene, modes, mode)
-        if "drive" in scene.electrodes.values() and modes.fidelity == "solid":
-            open_modes = open_circuit_modes(modes, near=mode.frequency if band is not None else wm.near,
-                                            count=6 if band is not None else count)
+        notes = device_notes(family, modes, mode) + ([window.note] if window.note else [])
+        if "drive" in family.electrodes.values() and modes.fidelity == "solid":
+            open_modes = open_circuit_modes(modes, near=mode.frequency if band else wm.near,
+                                            count=6 if band else len(modes))
             fa = antiresonance(mode, open_modes).frequency
             coupling = k_eff(mode.frequency, fa)
-        elif "drive" in scene.electrodes.values():
+        elif "drive" in family.electrodes.values():
             fr_solid, fa_solid = coupling_check_level(modes, mode)
             fa, coupling = mode.frequency * fa_solid / fr_solid, k_eff(fr_solid, fa_solid)
             notes.append(f"k_eff and fa / fr from the 3-D solid at the cross-check's coarse level "
@@ -118,20 +103,59 @@ def device_report(scene, *, error_estimate: bool = True, fidelity: str = "auto",
     return [ReportRow(**{**asdict(r), "seconds": seconds}) for r in rows]
 
 
-def working_windows(scene) -> dict:
-    """The report's solves of ``scene``: {"band" or the target near [Hz]: the working modes it holds}."""
+@dataclass(frozen=True)
+class Window:
+    """One solve of the report: the scene solved (the working modes' mirror family, ``WorkingMode.family_scene``),
+    the target ``near`` [Hz] (None: the scene's band), the working modes it holds, and why the family could not be
+    used (else empty)."""
+
+    scene: object
+    near: float | None
+    members: tuple
+    note: str = ""
+
+
+def working_windows(scene) -> list[Window]:
+    """The report's solves of ``scene``: one per target frequency (or the band) and mirror family."""
     windows: dict = {}
     for wm in scene.working_modes:
-        windows.setdefault("band" if scene.analysis.band is not None else wm.near, []).append(wm)
-    return windows
+        key = (None if scene.analysis.band is not None else wm.near, wm.symmetric, wm.antisymmetric)
+        if key in windows:
+            windows[key] = replace(windows[key], members=(*windows[key].members, wm))
+        else:
+            family, note = wm.family_scene(scene)
+            windows[key] = Window(family, key[0], (wm,), note)
+    return list(windows.values())
+
+
+def window_modes(window: Window, **options):
+    """The modes of one window, solved with ``options`` (and the members as ``check``); a dense spectrum is
+    searched with twice the modes until every member is found, up to ``_MAX_COUNT``."""
+    from modalfe.solve.api import solve_modes
+
+    scene, check = window.scene, tuple((w.selector, w.near) for w in window.members)
+    count = max(scene.analysis.count, REPORT_COUNT)
+    while True:
+        modes = (solve_modes(scene, check=check, **options) if window.near is None
+                 else solve_modes(scene, near=window.near, count=count, check=check, **options))
+        try:
+            for w in window.members:
+                select(modes, w.selector, w.near)
+            return modes
+        except SolverError:
+            if window.near is None or count >= _MAX_COUNT:
+                raise
+            count *= 2  # dense spectrum: look at more modes around the target
 
 
 def device_notes(scene, modes, mode) -> list[str]:
     """Computed remarks that explain a row: other modes of interest, model limits."""
     notes = []
-    if scene.symmetry:
-        notes.append(f"symmetric model about the {'/'.join(scene.symmetry)} mid-plane(s): "
-                     "modes antisymmetric about them are not computed (--set symmetry=[] for all)")
+    if scene.mirror_axes:
+        family = " and ".join(f"{kind} about the {'/'.join(axes)} mid-plane(s)" for kind, axes in
+                              (("symmetric", scene.symmetry), ("antisymmetric", scene.antisymmetry)) if axes)
+        notes.append(f"solved on the modes {family} (half or quarter model); the others are not computed "
+                     f"(modalfe modes with --set 'symmetry=[]' for all)")
     if math.isfinite(mode.wavelength) and scene.kind == "plate":
         main = scene.assembly().main_part
         f_thin = kirchhoff_frequency(scene.material(main.material).C, scene.material(main.material).rho,
@@ -204,12 +228,16 @@ def run_report(names: list[str] | None = None, *, progress: bool = True, error_e
 
 
 def largest_first(scenes: dict) -> list[str]:
-    """Scene names by their 3-D solid's estimated DOFs, largest first (``modalfe.models.estimate.estimate_size``,
-    no meshing): the longest solves start first, so that the processes finish together (longest-processing-time
-    order; in name order the tile, the longest, started last and the other process idled for its last seconds)."""
+    """Scene names by the estimated DOFs of the 3-D solids their report solves (one per ``working_windows`` window,
+    on its mirror family; ``modalfe.models.estimate.estimate_size``, no meshing), largest first: the longest solves
+    start first, so that the processes finish together (longest-processing-time order; in name order the tile, the
+    longest then, started last and the other process idled for its last seconds)."""
     from modalfe.models.estimate import estimate_size
 
-    return sorted(scenes, key=lambda name: -estimate_size(scenes[name]).dofs)
+    def work(scene) -> float:
+        return sum(estimate_size(w.scene).dofs for w in working_windows(scene))
+
+    return sorted(scenes, key=lambda name: -work(scenes[name]))
 
 
 def _in_processes(task, names: list[str], jobs: int, bar) -> dict[str, list[ReportRow]]:

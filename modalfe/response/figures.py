@@ -117,7 +117,7 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
     (``modalfe.response.loads.Load``; default: the scene's ``drive.load``) is checked before any solve;
     ``stress``: True (every part) or part names for the peak stress and field at resonance."""
     from modalfe.response.forced import Damping, harmonic_response, reduce
-    from modalfe.response.loads import Load, check_load
+    from modalfe.response.loads import Load, check_forcing
     from modalfe.results.modes import select
     from modalfe.solve.api import solve_modes
 
@@ -125,7 +125,7 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
         load, load_source = scene.drive.load, scene.drive.load_source
     else:
         load, load_source = Load.from_value(load, "load"), "set by the user"
-    check_load(scene, load)  # before the solve: a tile has no electrode to drive
+    check_forcing(scene, load)  # before the solve: a tile has no electrode to drive
     voltage = load.kind == "voltage"
     parts = None
     if stress is not None and stress is not False:

@@ -25,7 +25,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from modalfe.errors import SceneError
-from modalfe.scene.loads import Load, check_load
+from modalfe.scene.loads import Load, check_forcing
 
 MEAN_PREFIX = "mean:"
 
@@ -55,7 +55,7 @@ def output_points(scene, outputs) -> dict[str, np.ndarray]:
 def load_vector(model, load: Load) -> tuple[np.ndarray, np.ndarray]:
     """(f, x_p): full DOF load per unit ``load`` and the prescribed part of the response (the driven
     electrodes' potential for a voltage, zero otherwise); the response is T x_free + x_p."""
-    check_load(model.scene, load)
+    check_forcing(model.scene, load)
     if load.kind == "voltage":
         return model.voltage_load(1.0), model.prescribed_potential(1.0)
     f = np.zeros(model.ndofs)

@@ -52,7 +52,7 @@ def cube_plate() -> Scene:
             WorkingMode("(0,6)", 40.7e3, (
                 Target("f_measured", 40.7e3, "Hz", "measured", "seed 001, measured resonance"),
                 Target("f_reference_fe", 42.7e3, "Hz", "reference", "seed 001, Abaqus C3D8E, no bond layer"),
-            )),
+            ), symmetric=("x",)),  # six nodal lines across x, placed alike about the mid-length: even in x
         ),
         assumptions=_cube_plate_assumptions({}),
         assumption_writer=builtin_assumptions,
@@ -123,11 +123,11 @@ def honeycomb_tile() -> Scene:
             WorkingMode("heave", 45.0, (
                 Target("f_reference_fe", 45.0, "Hz", "reference", "seed 002, FEM heave mode"),
                 Target("f_lumped", 49.0, "Hz", "analytic", "seed 002, f0 = sqrt(4EA/(h M0)) / 2 pi"),
-            )),
+            ), symmetric=("x", "y")),  # the whole tile bouncing on its four mounts
             WorkingMode("(1,1)", 896.0, (
                 Target("f_analytic_eq5", 845.0, "Hz", "analytic", "seed 002, eq. (5)"),
                 Target("f_reference_fe", 896.0, "Hz", "reference", "seed 002, FEM (1,1)"),
-            )),
+            ), antisymmetric=("x", "y")),  # twisting: w ~ (x - a/2)(y - b/2), odd about both mid-planes
         ),
         assumptions=_honeycomb_tile_assumptions({}),
         assumption_writer=builtin_assumptions,

@@ -63,7 +63,7 @@ def scene_from_toml(path: str | Path) -> Scene:
 
 
 _TOP_KEYS = ("name", "units", "geometry", "parts", "faces", "materials", "electrodes", "clamps", "springs",
-             "masses", "analysis", "mesh", "working_modes", "kind", "symmetry", "drive")
+             "masses", "analysis", "mesh", "working_modes", "kind", "symmetry", "antisymmetry", "drive")
 _DRIVE_KEYS = ("damping", "damping_source", "outputs", "load", "load_source")
 _UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "um": 1e-6}
 _TARGET_KEYS = ("name", "value", "unit", "kind", "source")
@@ -110,7 +110,7 @@ def scene_from_dict(data: Mapping[str, Any], default_name: str = "scene", folder
     for i, w in enumerate(v.array("working_modes", data.get("working_modes", []))):
         where = f"working_modes[{i}]"
         w = v.table(where, w)
-        v.known_keys(where, w, ("selector", "near", "targets"))
+        v.known_keys(where, w, ("selector", "near", "targets", "symmetric", "antisymmetric"))
         if "selector" not in w or "near" not in w:
             raise SceneError(f"{where}: needs selector and near [Hz]")
         targets = []
@@ -126,10 +126,14 @@ def scene_from_dict(data: Mapping[str, Any], default_name: str = "scene", folder
                                   v.string(f"{at}.kind", t.get("kind", "reference"),
                                            choices=("measured", "reference", "analytic")),
                                   v.string(f"{at}.source", t.get("source", "user scene file"))))
+        planes = {key: tuple(v.string(f"{where}.{key}[{i}]", a, choices=("x", "y", "z"))
+                             for i, a in enumerate(v.array(f"{where}.{key}", w.get(key, []))))
+                  for key in ("symmetric", "antisymmetric")}
         working_modes.append(WorkingMode(v.string(f"{where}.selector", w["selector"]),
                                          v.number(f"{where}.near", w["near"], unit="Hz", positive=True),
-                                         tuple(targets)))
+                                         tuple(targets), **planes))
     symmetry = v.array("symmetry", data.get("symmetry", []))
+    antisymmetry = v.array("antisymmetry", data.get("antisymmetry", []))
     scene = Scene(
         name=v.string("name", data.get("name", default_name)),
         device="imported" if geometry is not None else "shaped" if shapes else "boxes",
@@ -144,6 +148,8 @@ def scene_from_dict(data: Mapping[str, Any], default_name: str = "scene", folder
         working_modes=tuple(working_modes),
         kind=v.string("kind", data.get("kind", "solid" if shapes else "plate"), choices=KINDS),
         symmetry=tuple(v.string(f"symmetry[{i}]", a, choices=("x", "y", "z")) for i, a in enumerate(symmetry)),
+        antisymmetry=tuple(v.string(f"antisymmetry[{i}]", a, choices=("x", "y", "z"))
+                           for i, a in enumerate(antisymmetry)),
         drive=_drive(data.get("drive", {}), scale),
     )
     scene.validate()

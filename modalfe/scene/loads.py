@@ -107,6 +107,14 @@ class Load:
         return cls(kind=kind.replace("_", "-"), group=group, value=tuple(raw), axis=value.get("axis"))
 
 
+def check_forcing(scene, load: Load) -> None:
+    """``check_load``, and refuse to force a model of the antisymmetric family (``Scene.antisymmetry``)."""
+    if scene.antisymmetry:
+        raise SceneError("antisymmetry: forced response needs the symmetric family or the whole device (a load on "
+                         "the modes antisymmetric about a plane is not supported); set antisymmetry = []")
+    check_load(scene, load)
+
+
 def check_load(scene, load: Load) -> None:
     """Refuse a load the scene cannot take, before any solve: a missing face group or driven electrode, or a
     load that is not symmetric about the mirror planes of a half (quarter) model."""

@@ -56,11 +56,32 @@ class WorkingMode:
 
     ``selector``: a plate label ``(0,6)``, a family ``(0,n)`` (nodal lines across the length only,
     the one nearest ``near``), a beam label ``bending-z 6``, or ``heave`` for a suspension mode.
+    ``symmetric`` / ``antisymmetric``: mid-planes the mode's shape is mirror-symmetric / antisymmetric about (the
+    Cu-Be plate's (0,6) about x; the tile's twisting (1,1) antisymmetric about x and y): the report solves it on
+    that half (quarter) of the device where the geometry is mirror-symmetric (``family_scene``).
     """
 
     selector: str
     near: float
     targets: tuple[Target, ...] = ()
+    symmetric: tuple[str, ...] = ()
+    antisymmetric: tuple[str, ...] = ()
+
+    def family_scene(self, scene: Scene) -> tuple[Scene, str]:
+        """(``scene`` solving only this mode's family: its ``symmetric`` planes added to the scene's symmetry, its
+        ``antisymmetric`` ones as the antisymmetry; a phrase for the report), or (``scene``, why not) where the
+        device is not mirror-symmetric about those planes (a dimension changed by the user) or the family cannot be
+        solved (antisymmetry with piezoelectric parts)."""
+        symmetry = tuple(a for a in dict.fromkeys((*scene.symmetry, *self.symmetric)) if a not in self.antisymmetric)
+        family = replace(scene, symmetry=symmetry, antisymmetry=tuple(self.antisymmetric))
+        if family == scene:
+            return scene, ""
+        try:
+            family.validate()
+            family.assembly()
+        except SceneError as exc:
+            return scene, f"{self.selector} not solved on its mirror family alone ({exc})"
+        return family, ""
 
 
 @dataclass(frozen=True)
@@ -178,6 +199,10 @@ class Scene:
     assumptions: tuple[str, ...] = ()
     kind: str = "plate"
     symmetry: tuple[str, ...] = ()
+    # axes whose mid-plane the device is mirror-symmetric about and the modes kept are ANTIsymmetric about (the
+    # tile's twisting mode (1,1) about both): the same half (quarter) solved, the tangential displacement fixed on
+    # the cut instead of the normal one
+    antisymmetry: tuple[str, ...] = ()
     drive: Drive = Drive()
     # a seed's spectrum to print beside the computed one, by family: "suspension" (rigid-body modes on the
     # supports) or "plate" (elastic modes), e.g. {"suspension": "seed 002 FEM: 28, 45, 51, 77 Hz"}
@@ -189,7 +214,7 @@ class Scene:
     def __post_init__(self) -> None:
         for name in _TABLES:
             object.__setattr__(self, name, FrozenMap(getattr(self, name)))
-        for name in ("working_modes", "assumptions", "symmetry"):
+        for name in ("working_modes", "assumptions", "symmetry", "antisymmetry"):
             object.__setattr__(self, name, tuple(getattr(self, name)))
 
     def assembly(self):
@@ -197,14 +222,23 @@ class Scene:
         ``symmetry`` (axes whose mid-plane the device is mirror-symmetric about; the solve then
         returns only the modes symmetric about those planes)."""
         assembly = self.full_assembly()
-        for axis in self.symmetry:
+        if self.antisymmetry and any(p.poling for p in assembly.parts):
+            raise SceneError("antisymmetry: not available with piezoelectric parts (their potential would have to "
+                             "vanish on the cut); use symmetry or solve the whole device")
+        for axis in (*self.symmetry, *self.antisymmetry):
             assembly = assembly.halved("xyz".index(axis))
         return assembly
 
     @property
+    def mirror_axes(self) -> tuple[str, ...]:
+        """Every mid-plane the model is cut at: ``symmetry`` then ``antisymmetry``."""
+        return (*self.symmetry, *self.antisymmetry)
+
+    @property
     def symmetry_clamps(self) -> dict[str, str]:
-        """Mirror conditions: no displacement normal to each symmetry plane."""
-        return {f"symmetry_{axis}": axis for axis in self.symmetry}
+        """Mirror conditions: no displacement normal to each symmetry plane, none along an antisymmetry plane."""
+        return {**{f"symmetry_{axis}": axis for axis in self.symmetry},
+                **{f"symmetry_{axis}": "xyz".replace(axis, "") for axis in self.antisymmetry}}
 
     def full_assembly(self):
         """The device's whole assembly (validated by its builder; a geometry file's for device ``imported``)."""
@@ -260,10 +294,10 @@ class Scene:
                 if not isinstance(value, Mapping):
                     raise SceneError(f"{key}: must be a table group = value")
                 scene = replace(scene, **{key: dict(value)})
-            elif key == "symmetry":
-                axes = v.array("symmetry", value)
-                scene = replace(scene, symmetry=tuple(v.string(f"symmetry[{i}]", a, choices=("x", "y", "z"))
-                                                      for i, a in enumerate(axes)))
+            elif key in ("symmetry", "antisymmetry"):
+                axes = v.array(key, value)
+                scene = replace(scene, **{key: tuple(v.string(f"{key}[{i}]", a, choices=("x", "y", "z"))
+                                                     for i, a in enumerate(axes))})
             elif key == "kind":
                 scene = replace(scene, kind=v.string("kind", value, choices=KINDS))
             elif head == "materials" and rest:
@@ -308,8 +342,9 @@ class Scene:
 
             v.known_keys("", self.params, ("file", "digest", "parts"))
             imported_parts(self.params.get("parts", ()))
-            if self.symmetry:
-                raise SceneError("symmetry: not available for a geometry file (its mirror halves are not known)")
+            if self.mirror_axes:
+                which = "symmetry" if self.symmetry else "antisymmetry"
+                raise SceneError(f"{which}: not available for a geometry file (its mirror halves are not known)")
             if self.mesh.element != "tet":
                 raise SceneError(f"mesh.element: a geometry file is meshed with tetrahedra; set 'tet', got "
                                  f"'{self.mesh.element}'")
@@ -324,8 +359,12 @@ class Scene:
             v.face_groups(self.params.get("faces", {}))
         elif self.device in BUILDERS:
             check_parameters(self.device, self.params)  # types and constraints from the builder's signature
-        for i, axis in enumerate(self.symmetry):
-            v.string(f"symmetry[{i}]", axis, choices=("x", "y", "z"))
+        for key in ("symmetry", "antisymmetry"):
+            for i, axis in enumerate(getattr(self, key)):
+                v.string(f"{key}[{i}]", axis, choices=("x", "y", "z"))
+        for axis in self.antisymmetry:
+            if axis in self.symmetry or self.antisymmetry.count(axis) > 1:
+                raise SceneError(f"antisymmetry: the {axis} mid-plane is listed twice (symmetry or antisymmetry)")
         for name, spec in self.materials.items():
             v.table(f"materials.{name}", spec)
             self.material(name)

@@ -33,6 +33,8 @@ def scene_to_toml(scene: Scene) -> str:
                                                             if scene.device not in SCENE_FILE_DEVICES else ""),
            f"name = {_value(scene.name)}", 'units = "m"', f"kind = {_value(scene.kind)}",
            f"symmetry = {_value(list(scene.symmetry))}"]
+    if scene.antisymmetry:
+        out.append(f"antisymmetry = {_value(list(scene.antisymmetry))}")
     out += [f"# assumption: {line}" for line in scene.assumptions]
     out += [f"# reference spectrum ({family}): {text}" for family, text in scene.reference_spectra.items()]
     out += _table("analysis", {f.name: getattr(scene.analysis, f.name) for f in fields(Analysis)
@@ -60,6 +62,8 @@ def scene_to_toml(scene: Scene) -> str:
                    for t in wm.targets]
         out += ["", "[[working_modes]]", f"selector = {_value(wm.selector)}", f"near = {_value(wm.near)}",
                 f"targets = {_value(targets)}"]
+        out += [f"{key} = {_value(list(getattr(wm, key)))}" for key in ("symmetric", "antisymmetric")
+                if getattr(wm, key)]
     return "\n".join(out) + "\n"
 
 

@@ -445,16 +445,17 @@ def _worst(modes: Modes, check, ceiling: float = math.inf) -> tuple[float, str]:
 
 
 def _widened(analysis, scene):
-    """Twice the modes where the scene is symmetric: about half are dropped as antisymmetric."""
-    if not scene.symmetry or analysis.band is not None:
+    """Twice the modes per mirror plane of the scene: about half are dropped as of the other parity."""
+    if not scene.mirror_axes or analysis.band is not None:
         return analysis
-    return replace(analysis, count=analysis.count * 2 ** len(scene.symmetry))
+    return replace(analysis, count=analysis.count * 2 ** len(scene.mirror_axes))
 
 
 def _same_family(modes: Modes, scene, analysis) -> Modes:
     """Keep the modes symmetric about every mirror plane of ``scene.symmetry`` (the family the 3-D
     solid's reduced domain returns), then the ``count`` nearest the target; renumbered from 0."""
-    kept = [m for m in modes if all(_parity(modes.model, m.shape, "xyz".index(a), scene) > 0 for a in scene.symmetry)]
+    kept = [m for m in modes if all(_parity(modes.model, m.shape, "xyz".index(a), scene) > 0 for a in scene.symmetry)
+            and all(_parity(modes.model, m.shape, "xyz".index(a), scene) < 0 for a in scene.antisymmetry)]
     if analysis.band is None:
         kept = sorted(sorted(kept, key=lambda m: abs(m.frequency - analysis.near))[: analysis.count],
                       key=lambda m: m.frequency)

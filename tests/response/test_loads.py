@@ -6,9 +6,10 @@ import pytest
 
 from modalfe.errors import SceneError
 from modalfe.models.build import build_model
-from modalfe.response.loads import Load, check_load, load_vector, output_operators, rigid_translation
+from modalfe.response.loads import Load, load_vector, output_operators, rigid_translation
 from modalfe.response.superposition import static_response
 from modalfe.scene import load_scene, scene_from_dict
+from modalfe.scene.loads import check_load
 from tests.oracles.cases import cantilever_scene
 
 # brass-seed003 (E, nu, rho) and the 100 x 5 x 5 mm section of cantilever_scene

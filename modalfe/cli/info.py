@@ -43,7 +43,9 @@ def scene_info(scene) -> dict[str, Any]:
                 "masses_kg": dict(scene.masses)}
     if not any(supports.values()):
         supports["note"] = "free: no clamp, spring or mass (rigid-body modes at 0 Hz)"
-    symmetry = [{"axis": "xyz"[axis], "plane_m": twice / 2} for axis, twice in mirror_planes(scene)]
+    symmetry = [{"axis": "xyz"[axis], "plane_m": twice / 2,
+                 "parity": "antisymmetric" if "xyz"[axis] in scene.antisymmetry else "symmetric"}
+                for axis, twice in mirror_planes(scene)]
     a = scene.analysis
     analysis = {"near_hz": a.near, "count": a.count, "band_hz": list(a.band) if a.band else None,
                 "circuit": a.circuit, "mesh_resolves_hz": scene.max_frequency,
@@ -59,7 +61,10 @@ def scene_info(scene) -> dict[str, Any]:
     return {"scene": scene.name, "device": scene.device, "kind": scene.kind, "parts": parts,
             "materials": materials, "face_groups": faces, "supports": supports,
             "symmetry": {"planes": symmetry, "model": _model_name(len(symmetry)),
-                         "note": "only the modes symmetric about these planes are found" if symmetry else ""},
+                         "note": ("only the modes " + " and ".join(
+                             f"{kind} about {', '.join(axes)}" for kind, axes in
+                             (("symmetric", scene.symmetry), ("antisymmetric", scene.antisymmetry)) if axes)
+                             + " are found") if symmetry else ""},
             "analysis": analysis, "estimate": estimates,
             "machine_memory_bytes": limit if math.isfinite(limit) else None}
 

@@ -42,11 +42,11 @@ GRADING_RATIO = 0.4  # size ratio of neighbouring element layers toward a clampe
 # 0.57 % and 0.05 % high with elements 4, 2 and 1 mm long
 RING_WALL_ELEMENTS = 1.0
 # elements across each side of a face carrying an attached mass (hexahedra): a smeared mass has modes of its own
-# (bouncing, rocking, twisting on the structure under it) whose shapes span the patch. The honeycomb tile's 40 mm
-# actuator pad with 2 quadratic elements across put them 2-33 % high, and on the three estimate grids the
-# twisting mode, which they repel, converged to 1111.8 Hz stating 0.13 % against the 1118.8 Hz of cubic elements;
-# with 4 (the estimate grids 3 and 2) it is 1120.6 Hz stating 1.2 %
-MASS_PATCH_ELEMENTS = 4
+# (bouncing, rocking, twisting on the structure under it) whose shapes span the patch. On the honeycomb tile's 40 mm
+# actuator pad 2 quadratic elements across put them 2-33 % high and 4 within 1-2 % of quartic elements; every
+# estimate level must resolve them (with 2 across on the coarsest level, x2.25, its twisting mode mixed with the
+# pad's and the estimate missed the error), so the scene's mesh gets 4 x 2.25 = 9 and its coarsest level 4
+MASS_PATCH_ELEMENTS = 9
 _memory_cache: dict[str, DeviceMesh] = {}
 
 

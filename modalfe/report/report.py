@@ -166,13 +166,16 @@ def device_notes(scene, modes, mode) -> list[str]:
                      f"{main.size[2] / mode.wavelength:.2f})")
     if scene.analysis.band is not None:
         rigid = [m for m in modes if m.label in RIGID_NAMES]
+        # a mirror family holds only its share of them: said, with the command for all
+        family = (f" (of the family solved; all: modalfe modes {scene.name} --band {scene.analysis.band[0]:g} "
+                  f"{scene.analysis.band[1]:g} --set 'symmetry=[]')") if scene.mirror_axes else ""
         if rigid and mode.label in ("heave",):
             notes.append("suspension modes: " + ", ".join(f"{m.label} {m.frequency:.1f} Hz" for m in rigid)
-                         + _reference(scene, "suspension"))
+                         + family + _reference(scene, "suspension"))
         plate = [m for m in modes if m not in rigid]
         if plate and mode.label not in ("heave",):
             notes.append("plate modes: " + ", ".join(f"{m.label} {m.frequency:.0f} Hz" for m in plate[:6])
-                         + _reference(scene, "plate"))
+                         + family + _reference(scene, "plate"))
     return notes
 
 

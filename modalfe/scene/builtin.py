@@ -294,16 +294,17 @@ def _honeycomb_tile_assumptions(params) -> tuple[str, ...]:
             "underside (lumped estimate for pure rocking: 4 kz d^2 / I ~ 180 Hz)",
             "why the plate modes differ from the seed's 896/1032 Hz: the seed's FE replaced the honeycomb by a "
             "homogeneous solid of equivalent density with unstated stiffness; here the core carries catalogue "
-            "transverse shear moduli (the twisting mode at 1118.8 Hz in a 72k-DOF cubic solid: modalfe modes "
-            "honeycomb_tile --near 950 --count 10 --fidelity solid --set mesh.order=3 --set mesh.max_size=0.03 "
-            "--set mesh.min_layers=2); the modes at 760, 814, 836 and 954 Hz there are local: the 2.3 kg actuator "
-            "mass, smeared on the 0.8 mm facing without stiffness, bouncing, rocking and bending on the core's "
-            "compression stiffness under its 40 x 40 mm pad, which the seed's bonded bracket would spread and "
-            "stiffen; the plate model has no core compression and misses them, so near them it cannot be vouched "
-            "for and the 3-D solid answers. The solid's mesh puts 4 elements across the pad "
-            "(modalfe.models.mesh.MASS_PATCH_ELEMENTS; with 2 its estimate grids missed these modes and stated "
-            "0.13 % on the twisting mode, 0.6 % off), and the label (1,1) goes to the plate's twist, not to the "
-            "pad's (~1000 Hz, 97 % of its kinetic energy in the pad: modalfe.results.labels.CARRIED)")
+            "transverse shear moduli (the twisting mode at 1118.06 Hz with quartic elements on its antisymmetric "
+            "quarter, 83k DOFs: modalfe modes honeycomb_tile --near 1100 --count 4 --fidelity solid --set "
+            "'antisymmetry=[\"x\",\"y\"]' --set mesh.order=4 --set mesh.max_size=0.02 --set mesh.min_layers=2); the "
+            "modes at ~760-950 Hz are local: the 2.3 kg actuator mass, smeared on the 0.8 mm facing without "
+            "stiffness, bouncing, rocking and bending on the core's compression stiffness under its 40 x 40 mm pad, "
+            "which the seed's bonded bracket would spread and stiffen; the plate model has no core compression and "
+            "misses them (its twisting mode 1115.1 Hz, 0.27 % low). The solid's mesh puts 9 elements across the pad, "
+            "4 on its coarsest estimate level (modalfe.models.mesh.MASS_PATCH_ELEMENTS; with 2 on the scene's mesh "
+            "the estimate grids missed these modes and stated 0.13 % at 1111.8 Hz, 0.56 % off), and the label (1,1) "
+            "goes to the plate's twist, not to the pad's (~965 Hz, 97 % of its kinetic energy in the pad: "
+            "modalfe.results.labels.CARRIED)")
 
 
 def _ciliary_beam_assumptions(params) -> tuple[str, ...]:

@@ -182,7 +182,8 @@ def symmetry_note(scene) -> str:
     if not planes:
         return ""
     model = {1: "half", 2: "quarter", 3: "eighth"}[len(planes)]
-    about = " and ".join(f"{'xyz'[axis]} = {1e3 * twice / 2:g} mm" for axis, twice in planes)
+    about = " and ".join(f"{'xyz'[axis]} = {1e3 * twice / 2:g} mm"
+                         + (" (antisymmetric)" if "xyz"[axis] in scene.antisymmetry else "") for axis, twice in planes)
     return f"whole device drawn from the {model} model about {about}"
 
 

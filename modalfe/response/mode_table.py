@@ -121,6 +121,11 @@ def mode_table(scene, *, near: float | None = None, count: int | None = None,
                      f"masses and fractions refer to the solved part, and the modes listed are the symmetric ones "
                      f"(the whole device's symmetric modes have no effective mass along "
                      f"{'/'.join(scene.symmetry)}; the solved part's value is listed)")
+    if scene.antisymmetry:
+        notes.append(f"solved on the part of the device on one side of its {'/'.join(scene.antisymmetry)} "
+                     f"mid-plane(s), the modes antisymmetric about them: masses and fractions refer to the solved part "
+                     f"(the whole device's modes antisymmetric about a plane have no effective mass along the plane's "
+                     f"own directions; the solved part's value is listed)")
     notes.append("effective mass m = (phi^T M r_d)^2 for mass-normalised phi (Chopra 2012, sec. 13.2.5); "
                  "cumulative fractions of the total mass over the modes listed, in frequency order")
     opens = ()

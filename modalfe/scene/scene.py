@@ -219,8 +219,8 @@ class Scene:
 
     def assembly(self):
         """The box assembly that is meshed: the whole device, or the half (quarter) kept by
-        ``symmetry`` (axes whose mid-plane the device is mirror-symmetric about; the solve then
-        returns only the modes symmetric about those planes)."""
+        ``symmetry`` and ``antisymmetry`` (axes whose mid-plane the device is mirror-symmetric about; the solve
+        then returns only the modes symmetric, or antisymmetric, about those planes)."""
         assembly = self.full_assembly()
         if self.antisymmetry and any(p.poling for p in assembly.parts):
             raise SceneError("antisymmetry: not available with piezoelectric parts (their potential would have to "

@@ -226,7 +226,9 @@ class Scene:
             raise SceneError("antisymmetry: not available with piezoelectric parts (their potential would have to "
                              "vanish on the cut); use symmetry or solve the whole device")
         for axis in (*self.symmetry, *self.antisymmetry):
-            assembly = assembly.halved("xyz".index(axis))
+            half = assembly.halved("xyz".index(axis))  # the parts' mirror images first
+            _check_mirrored_roles(self, assembly, axis)
+            assembly = half
         return assembly
 
     @property
@@ -429,3 +431,37 @@ def _has_shapes(scene: Scene) -> bool:
 
 _TABLES = ("params", "electrodes", "clamps", "springs", "masses", "materials", "reference_spectra")
 
+
+def _check_mirrored_roles(scene: Scene, assembly, axis: str) -> None:
+    """SceneError unless every face group with a role (spring, mass, clamp, electrode) has its mirror image about
+    the ``axis`` mid-plane of ``assembly`` in itself or in a group of the same role and value: a half model solves
+    one side and stands for the other by its image, so a support on one side only would be lost or doubled."""
+    k = "xyz".index(axis)
+    lo, hi = assembly.bounds
+    twice, scale = lo[k] + hi[k], max(b - a for a, b in zip(lo, hi))
+
+    def rectangles(group: str, mirror: bool = False):
+        out = set()
+        for face in assembly.faces[group]:
+            rect = assembly.face_rect(face)
+            if rect is None:  # a curved wall: the parts' own mirror check covers it
+                return None
+            normal, at, a, b = rect
+            a, b = list(a), list(b)
+            if mirror and normal == k:
+                at = twice - at
+            elif mirror:
+                a[k], b[k] = twice - b[k], twice - a[k]
+            out.add((normal, round(at / scale, 9), *(round(x / scale, 9) for i in range(3) if i != normal
+                                                     for x in (a[i], b[i]))))
+        return frozenset(out)
+
+    for table in ("springs", "masses", "clamps", "electrodes"):
+        roles = {g: v for g, v in getattr(scene, table).items() if g in assembly.faces}
+        for group, value in roles.items():
+            image = rectangles(group, mirror=True)
+            if image is None or any(rectangles(other) == image for other, v in roles.items() if v == value):
+                continue
+            which = "symmetry" if axis in scene.symmetry else "antisymmetry"
+            raise SceneError(f"{which}: {table}.{group} has no mirror image of the same value about the {axis} "
+                             f"mid-plane (the half model stands for the other side by its image)")

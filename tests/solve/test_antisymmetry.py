@@ -102,3 +102,22 @@ def test_the_report_solves_a_working_mode_on_its_family_where_the_geometry_allow
     assert family == moved and "not solved on its mirror family alone" in note
     family, note = working.family_scene(cube)
     assert family.symmetry == ("y", "x") and note == ""
+
+
+def test_a_support_without_its_mirror_image_is_refused_by_a_half_model():
+    # a half model stands for the other side by its image: a spring on one side only would be lost (its window in
+    # the mirror half dropped) or doubled. Refused, naming the group, for symmetry and antisymmetry alike
+    # (refused when the scene is loaded: its checks build the assembly)
+    with pytest.raises(SceneError, match=r"^symmetry: springs\.pad has no mirror image of the same value"):
+        free_plate_scene(symmetry=["y"], faces={"pad": [{"face": "plate.zmin",
+                                                         "window": [[0.01, 0.001], [0.02, 0.003]]}]},
+                         springs={"pad": [0.0, 0.0, 1e4]}).assembly()
+    # the tile's four mounts mirror one another: equal springs pass, one stiffer mount is refused
+    load_scene("honeycomb_tile", antisymmetry=["x", "y"]).assembly()
+    with pytest.raises(SceneError, match=r"^antisymmetry: springs\.mount_1 has no mirror image of the same value"):
+        load_scene("honeycomb_tile", antisymmetry=["x", "y"], **{"springs.mount_1": [1e5, 1e5, 1e6]}).assembly()
+    # a centred window mirrors itself
+    centred = free_plate_scene(symmetry=["y"], faces={"pad": [{"face": "plate.zmin",
+                                                              "window": [[0.01, 0.002], [0.02, 0.008]]}]},
+                               springs={"pad": [0.0, 0.0, 1e4]})
+    assert centred.assembly().face_area("pad") == pytest.approx(0.01 * 0.003)

@@ -61,10 +61,7 @@ def scene_info(scene) -> dict[str, Any]:
     return {"scene": scene.name, "device": scene.device, "kind": scene.kind, "parts": parts,
             "materials": materials, "face_groups": faces, "supports": supports,
             "symmetry": {"planes": symmetry, "model": _model_name(len(symmetry)),
-                         "note": ("only the modes " + " and ".join(
-                             f"{kind} about {', '.join(axes)}" for kind, axes in
-                             (("symmetric", scene.symmetry), ("antisymmetric", scene.antisymmetry)) if axes)
-                             + " are found") if symmetry else ""},
+                         "note": f"only the modes {scene.mirror_family} are found" if symmetry else ""},
             "analysis": analysis, "estimate": estimates,
             "machine_memory_bytes": limit if math.isfinite(limit) else None}
 

@@ -89,17 +89,11 @@ def _intervals(assembly, axis: int, patches=()) -> list[tuple[float, float]]:
 def _divisions(assembly, axis: int, sizes, min_layers: int, patches=()) -> list[tuple[float, float, float]]:
     """(a, b, elements) per interval along ``axis``, in floats (no overflow for absurd requests); ``patches`` as
     ``modalfe.models.mesh.divisions``."""
-    main = assembly.main_part
-    out = []
-    for a, b in _intervals(assembly, axis, patches):
-        mid = (a + b) / 2
-        spanning = [sizes[p.name] for p in assembly.parts if p.lo[axis] <= mid <= p.hi[axis]]
-        spanning += [h for k, lo, hi, h in patches if k == axis and lo <= mid <= hi]
-        h = min(spanning) if spanning else b - a
-        if main.lo[axis] <= mid <= main.hi[axis]:
-            h = min(h, main.size[axis] / min_layers)
-        out.append((a, b, max(1.0, math.ceil((b - a) / h - 1e-9))))
-    return out
+    from modalfe.models.mesh import interval_size
+
+    return [(a, b, max(1.0, math.ceil((b - a) / interval_size(assembly, axis, a, b, sizes, min_layers, patches)
+                                      - 1e-9)))
+            for a, b in _intervals(assembly, axis, patches)]
 
 
 def _per_part(assembly, sizes, min_layers: int, axes=(0, 1, 2), patches=()) -> dict[str, tuple[float, ...]]:

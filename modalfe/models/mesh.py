@@ -95,17 +95,24 @@ def divisions(assembly, axis: int, breaks: np.ndarray, sizes: Mapping[str, float
     asked for by any part spanning that interval, or by a ``patch`` (axis, lo, hi, size) spanning it; the main
     (largest) part gets at least ``min_layers`` elements across each of its dimensions, so bending through its
     thickness is resolved (one quadratic layer under-estimates shear and rotary effects)."""
+    return np.array([max(1, int(np.ceil((b - a) / interval_size(assembly, axis, a, b, sizes, min_layers, patches)
+                                        - 1e-9)))
+                     for a, b in itertools.pairwise(breaks)])
+
+
+def interval_size(assembly, axis: int, a: float, b: float, sizes: Mapping[str, float], min_layers: int,
+                  patches: Sequence[tuple[int, float, float, float]] = ()) -> float:
+    """Element size [m] along ``axis`` on the grid interval [a, b] (``divisions``): the smallest asked for by the
+    parts and ``patches`` spanning it, at most the main part's size / ``min_layers``; its length where nothing
+    spans it."""
     main = assembly.main_part
-    out = []
-    for a, b in itertools.pairwise(breaks):
-        mid = (a + b) / 2
-        spanning = [sizes[p.name] for p in assembly.parts if p.lo[axis] <= mid <= p.hi[axis]]
-        spanning += [h for k, lo, hi, h in patches if k == axis and lo <= mid <= hi]
-        h = min(spanning) if spanning else b - a
-        if main.lo[axis] <= mid <= main.hi[axis]:
-            h = min(h, main.size[axis] / min_layers)
-        out.append(max(1, int(np.ceil((b - a) / h - 1e-9))))
-    return np.array(out)
+    mid = (a + b) / 2
+    spanning = [sizes[p.name] for p in assembly.parts if p.lo[axis] <= mid <= p.hi[axis]]
+    spanning += [h for k, lo, hi, h in patches if k == axis and lo <= mid <= hi]
+    h = min(spanning) if spanning else b - a
+    if main.lo[axis] <= mid <= main.hi[axis]:
+        h = min(h, main.size[axis] / min_layers)
+    return h
 
 
 def graded_breaks(assembly, breaks: list[np.ndarray], faces: Sequence[str], sizes: Mapping[str, float],

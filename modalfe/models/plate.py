@@ -408,7 +408,9 @@ def assemble_plate(scene, *, size_factor: float = 1.0) -> PlateModel:
         if inertia is not None:
             attached_terms.append(sp.kron(S00, inertia * P.T @ P, format="coo"))
     attached = _summed(attached_terms, n_u) if attached_terms else None
-    K, M = _summed(K_terms, n_u), _summed(M_terms + attached_terms, n_u)
+    K, M = _summed(K_terms, n_u), _summed(M_terms, n_u)
+    if attached is not None:
+        M = M + attached
     index, piezo = electrode_layers(scene, scene.assembly())
     n_phi = len(index)
     if n_phi:

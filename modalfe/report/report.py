@@ -152,10 +152,8 @@ def device_notes(scene, modes, mode) -> list[str]:
     """Computed remarks that explain a row: other modes of interest, model limits."""
     notes = []
     if scene.mirror_axes:
-        family = " and ".join(f"{kind} about the {'/'.join(axes)} mid-plane(s)" for kind, axes in
-                              (("symmetric", scene.symmetry), ("antisymmetric", scene.antisymmetry)) if axes)
-        notes.append(f"solved on the modes {family} (half or quarter model); the others are not computed "
-                     f"(modalfe modes with --set 'symmetry=[]' for all)")
+        notes.append(f"solved on the modes {scene.mirror_family} mid-plane(s) (half or quarter model); the others "
+                     f"are not computed (modalfe modes with --set 'symmetry=[]' for all)")
     if math.isfinite(mode.wavelength) and scene.kind == "plate":
         main = scene.assembly().main_part
         f_thin = kirchhoff_frequency(scene.material(main.material).C, scene.material(main.material).rho,

@@ -237,6 +237,12 @@ class Scene:
         return (*self.symmetry, *self.antisymmetry)
 
     @property
+    def mirror_family(self) -> str:
+        """The modes the model keeps, in words ("symmetric about y and antisymmetric about x"), "" for all."""
+        return " and ".join(f"{kind} about {'/'.join(axes)}" for kind, axes in
+                            (("symmetric", self.symmetry), ("antisymmetric", self.antisymmetry)) if axes)
+
+    @property
     def symmetry_clamps(self) -> dict[str, str]:
         """Mirror conditions: no displacement normal to each symmetry plane, none along an antisymmetry plane."""
         return {**{f"symmetry_{axis}": axis for axis in self.symmetry},

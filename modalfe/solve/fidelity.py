@@ -452,8 +452,9 @@ def _widened(analysis, scene):
 
 
 def _same_family(modes: Modes, scene, analysis) -> Modes:
-    """Keep the modes symmetric about every mirror plane of ``scene.symmetry`` (the family the 3-D
-    solid's reduced domain returns), then the ``count`` nearest the target; renumbered from 0."""
+    """Keep the modes symmetric about every mirror plane of ``scene.symmetry`` and antisymmetric about every one of
+    ``scene.antisymmetry`` (the family the 3-D solid's reduced domain returns), then the ``count`` nearest the
+    target; renumbered from 0."""
     kept = [m for m in modes if all(_parity(modes.model, m.shape, "xyz".index(a), scene) > 0 for a in scene.symmetry)
             and all(_parity(modes.model, m.shape, "xyz".index(a), scene) < 0 for a in scene.antisymmetry)]
     if analysis.band is None:

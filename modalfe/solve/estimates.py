@@ -11,10 +11,19 @@ Order: the eigenvalue error of degree-p elements is ~h^(2p) = h^4 for smooth mod
 of the Finite Element Method, 1973, ch. 6), but a singular field of strength h^alpha slows it to h^(2 alpha):
 clamped edges, bonded patches and feet (studies/convergence.py observes 1.5-2.1 on the seed devices; a
 clamped thin plate ~1.3). With three levels the order is observed from the two differences and used within
-[MIN_ORDER, CONVERGENCE_ORDER]; with two levels, or where the differences change sign or the coarsest partner is a
+[MIN_ORDER, ceiling]; with two levels, or where the differences change sign or the coarsest partner is a
 mixed shape (MAC below ``SUBSPACE_PAIR``; pre-asymptotic), the bound MIN_ORDER = 1 is used (with the larger
 step): alpha >= 1/2 for every 3-D elasticity singularity (a crack tip, the strongest; Grisvard, Elliptic Problems
 in Nonsmooth Domains, 1985), so order 2 alpha >= 1.
+
+The ceiling is CONVERGENCE_ORDER = 2 for a field with no singular point (``singular_field``: one part, free or on
+mirror-type supports), else MIN_ORDER itself: as the grid refines, a singular field takes over the error and the
+order falls toward 2 alpha, below what three levels show, which is that of the coarser ones. The Cu-Be plate's
+(0,6) (ten ceramics bonded over the plate, four feet below) showed 2.15 through its refinement's grids of 34,547,
+15,064 and 6,010 DOFs, while nested uniform refinement of its default grid (every grid interval split 2, 3 and 4
+times, to 307,966 DOFs) converges at 1.68 and then 1.34 (studies/singular_convergence.py); at the ceiling 2 its
+finest grid stated 0.199 % against an error of 0.282 %. The glass plate's (0,16), whose two small end patches hold
+little of the mode, converges at 2.41 there: at order 1 its estimates are 2-3x its errors, the price of a bound.
 """
 
 from __future__ import annotations
@@ -30,7 +39,7 @@ from modalfe.results.modes import Mode, Modes
 log = logging.getLogger(__name__)
 
 COARSE_FACTOR = 1.5  # coarse levels of the Richardson estimate: elements 1.5x and 2.25x larger
-CONVERGENCE_ORDER = 2.0  # the highest order used: observed orders above it are not trusted (pre-asymptotic)
+CONVERGENCE_ORDER = 2.0  # the highest order used where the field is not singular (module docstring)
 MIN_ORDER = 1.0  # the lowest order of an eigenvalue error with a singular field (module docstring)
 OBSERVED_ORDERS = (1.5, 2.1)  # the cross-check extrapolation's uncertainty: orders observed on the seed devices
 MAC_PAIR = 0.8  # a single coarse mode this alike is the partner (the sweeps' crossing threshold)
@@ -197,10 +206,10 @@ def observed_order(f0: float, f1: float, f2: float, r1: float, r2: float) -> flo
 
 
 def richardson(fine: Modes, coarse: Modes, ratio: float, coarsest: Modes | None = None,
-               ratio_2: float | None = None) -> dict[int, float]:
+               ratio_2: float | None = None, ceiling: float = CONVERGENCE_ORDER) -> dict[int, float]:
     """Relative error estimate of each fine mode from its coarse partner (by shape): |f_h - f_coarse| /
     ((ratio^p - 1) f_h), p observed through ``coarsest`` (elements ``ratio_2`` x the fine level's) within
-    [MIN_ORDER, CONVERGENCE_ORDER], else MIN_ORDER (module docstring); inf where a mode has no partner (the
+    [MIN_ORDER, ``ceiling``], else MIN_ORDER (module docstring); inf where a mode has no partner (the
     coarse level does not resolve it, so the fine one is not converged either).
 
     ``ratio`` is the refinement every direction has at least (``axis_ratio``): with errors of one sign in each
@@ -211,7 +220,7 @@ def richardson(fine: Modes, coarse: Modes, ratio: float, coarsest: Modes | None 
     usable = ratio >= MIN_RATIO
     usable_2 = coarsest is not None and len(coarsest) > 0 and ratio_2 is not None and ratio_2 >= MIN_RATIO
     if not usable and usable_2:
-        return richardson(fine, coarsest, ratio_2)
+        return richardson(fine, coarsest, ratio_2, ceiling=ceiling)
     estimates = {}
     top = max(m.frequency for m in fine)
     pairs = shape_partners(fine, coarse) if usable else {}
@@ -237,9 +246,31 @@ def richardson(fine: Modes, coarse: Modes, ratio: float, coarsest: Modes | None 
                 # step alone (0.10 %, at order 2) stated 0.18 % against an error of 0.23 %
                 step = max(step, abs(f2 - f1))
             else:
-                order = min(max(p, MIN_ORDER), CONVERGENCE_ORDER)
+                order = min(max(p, MIN_ORDER), ceiling)
         estimates[mode.index] = step / ((ratio**order - 1) * mode.frequency)
     return estimates
+
+
+def singular_field(scene) -> str:
+    """What makes ``scene``'s elastic field singular somewhere, in words, or "" (module docstring): parts bonded to one
+    another (their interfaces end at re-entrant or bi-material edges), a clamp other than a mirror condition (the
+    normal displacement alone, or the two tangential ones, fixed on whole faces: the field then continues smoothly
+    by reflection, as the diaphragm's simple supports and the half models' cuts do), springs and attached masses
+    (supports that end on a face), electrodes on part of a face."""
+    assembly = scene.assembly()
+    reasons = ["bonded parts"] if len(assembly.parts) > 1 else []
+
+    def mirror_type(face, components: str) -> bool:
+        normal = face.side[0]
+        return face.window is None and set(components) in ({normal}, set("xyz") - {normal})
+
+    clamps = [g for g, c in scene.clamps.items() if not all(mirror_type(f, c) for f in assembly.faces.get(g, ()))]
+    reasons += [f"clamps ({', '.join(clamps)})"] if clamps else []
+    reasons += ["springs"] if scene.springs else []
+    reasons += ["attached masses"] if scene.masses else []
+    if any(f.window is not None for g in scene.electrodes for f in assembly.faces.get(g, ())):
+        reasons.append("electrodes on part of a face")
+    return ", ".join(reasons)
 
 
 def p_rate(p: int, d_low: float, d_high: float) -> float | None:

@@ -42,6 +42,7 @@ from modalfe.solve.estimates import (
     COARSE_FACTOR,
     CONVERGENCE_ORDER,
     LOWEST_P_LEVEL,
+    MIN_ORDER,
     MIN_P_RATE,
     OBSERVED_ORDERS,
     axis_ratio,
@@ -54,6 +55,7 @@ from modalfe.solve.estimates import (
     richardson,
     sample_points,
     shape_partners,
+    singular_field,
 )
 from modalfe.solve.levels import solve_level
 
@@ -194,9 +196,13 @@ def solid_estimates(fine: Modes, levels: list[Modes], scene, step_level: Modes |
         method = f"p-refinement: orders {orders} on one grid (error ~ p^-q, q = {MIN_P_RATE:g} or slower{seen})"
     else:
         coarse, coarsest = levels
+        singular = singular_field(scene)
         estimates = richardson(fine, coarse, axis_ratio(fine.model.mesh, coarse.model.mesh, scene), coarsest,
-                               axis_ratio(fine.model.mesh, coarsest.model.mesh, scene))
+                               axis_ratio(fine.model.mesh, coarsest.model.mesh, scene),
+                               ceiling=MIN_ORDER if singular else CONVERGENCE_ORDER)
         method = "h-refinement: Richardson through three grids (elements x1, x1.5, x2.25)"
+        if singular:
+            method += f" at order {MIN_ORDER:g}, the least a singular field converges at ({singular})"
         if checks_order_step(scene):
             step, _ = p_extrapolation(fine, step_level)
             estimates = {i: max(e, step.get(i, e)) for i, e in estimates.items()}

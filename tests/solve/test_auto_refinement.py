@@ -78,7 +78,8 @@ def test_a_refinement_step_solves_only_its_own_grid_and_estimates_as_fresh_level
         return solve_level(sc, analysis, **options)
 
     monkeypatch.setattr(fidelity, "solve_level", counted)
-    modes = solve_modes(scene, near=24.2e3, count=4, fidelity="auto", tol=0.005, check=CILIARY_CHECK)
+    # tol 2 %: one step (the scene's mesh states 2.7 % at order 1, the floor of its clamped root's singular field)
+    modes = solve_modes(scene, near=24.2e3, count=4, fidelity="auto", tol=0.02, check=CILIARY_CHECK)
     solids = [s for s in solved if s[0] == "solid"]
     assert solids[-1] == ("solid", 5, pytest.approx(1 / 1.5)) and len(solids) == 4  # 3 of the scene's mesh + 1
     monkeypatch.setattr(fidelity, "solve_level", solve_level)

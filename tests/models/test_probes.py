@@ -24,3 +24,32 @@ def test_probes_in_a_sliver_element_read_a_linear_field_exactly():
     field = 1.0 + 20 * mesh.p[0] - 30 * mesh.p[1] + 400 * mesh.p[2]
     read = _probing(basis).probes(points) @ field
     assert read == pytest.approx(1.0 + 20 * points[0] - 30 * points[1] + 400 * points[2], abs=1e-12)
+
+
+def test_the_grid_search_gives_skfems_matrix_on_a_seed_mesh_and_refuses_points_outside():
+    """The box grid's element search (``_box_grid``) against skfem's own search: the same probe matrix at element
+    centroids and at mesh vertices (on grid planes, where either neighbour's values agree), on the Cu-Be plate's
+    quarter (ceramics over the plate, feet below: cells of the grid's bounding box that hold no element); a point
+    in an empty cell (between two feet) is refused as skfem refuses it."""
+    from modalfe.models.build import build_model
+    from modalfe.report.report import working_windows
+    from modalfe.scene import load_scene
+
+    scene = working_windows(load_scene("cube_plate"))[0].scene
+    model, _ = build_model(scene, "solid")
+    probing = model._displacement_probing
+    assert probing._find is not None
+    mesh = model.mesh.mesh
+    points = model._inside(np.hstack([mesh.p[:, mesh.t].mean(axis=1)[:, ::5], mesh.p[:, ::17]]))
+    ours, skfems = probing.probes(points).tocsr(), probing.basis.probes(points).tocsr()
+    assert abs(ours - skfems).max() <= 1e-12
+    between_feet = np.array([[0.030], [0.010], [-0.002]])  # below the plate, beside every foot
+    with pytest.raises(ValueError, match="lie in no element"):
+        probing.probes(between_feet)
+
+
+def test_the_grid_search_stands_aside_on_tetrahedra():
+    from skfem import ElementTetP1, MeshTet1
+
+    assert _probing(Basis(MeshTet1.init_tensor(*[np.linspace(0, 1, 3)] * 3), ElementTetP1(), intorder=1))._find \
+        is None

@@ -73,15 +73,17 @@ def test_bad_report_arguments_fail_before_any_solve():
         run_report(["tile_eq5", "no_such_device"], progress=False)
 
 
-def test_the_largest_scene_starts_first_and_the_rows_keep_the_order_asked():
+def test_the_largest_window_starts_first_and_the_rows_keep_the_order_asked():
     from modalfe.models.estimate import estimate_size
-    from modalfe.report.report import largest_first, working_windows
+    from modalfe.report.report import solve_order, working_windows
     from modalfe.scene import load_scene
 
     scenes = {name: load_scene(name) for name in ("tile_eq5", "honeycomb_tile", "ciliary_beam")}
     # the report's solves: the tile's two working modes each on a quarter (their mirror families), the others one
     windows = {name: [round(estimate_size(w.scene).dofs, -3) for w in working_windows(s)] for name, s in scenes.items()}
     assert windows == {"tile_eq5": [1000], "honeycomb_tile": [16000, 16000], "ciliary_beam": [4000]}
-    assert largest_first(scenes) == ["honeycomb_tile", "ciliary_beam", "tile_eq5"]
-    rows = run_report(["tile_eq5", "ciliary_beam"], progress=False, jobs=2, error_estimate=False)
-    assert [r.scene for r in rows] == ["tile_eq5", "ciliary_beam"]
+    # each window a task of its own (the tile's two may run at once), largest first
+    assert solve_order(scenes) == [("honeycomb_tile", 0), ("honeycomb_tile", 1), ("ciliary_beam", 0), ("tile_eq5", 0)]
+    rows = run_report(["tile_eq5", "honeycomb_tile", "ciliary_beam"], progress=False, jobs=2, error_estimate=False)
+    assert [(r.scene, r.mode) for r in rows] == [("tile_eq5", "(0,0)"), ("honeycomb_tile", "heave"),
+                                                 ("honeycomb_tile", "(1,1)"), ("ciliary_beam", "bending-z 6")]

@@ -312,7 +312,8 @@ def order_cases(order: int | str = 4) -> dict:
         "free plate, plate": lambda: _against_finer("free plate", at_order(free_plate_scene(), o), 5e3, 6, "plate",
                                                     0.5, free_plate_scene()),
         "clamped bar, solid": lambda: _against_finer("clamped bar", at_order(clamped_bar_scene(0.3, 4e-3), o),
-                                                     1.5e3, 4, "solid", 0.5 / 2, clamped_bar_scene(0.3, 4e-3)),
+                                                     1.5e3, 4, "solid", 0.5 / 4, clamped_bar_scene(0.3, 4e-3),
+                                                     nested=True),
         "clamped bar, solid, coarse": lambda: _against_finer(
             "clamped bar coarse", at_order(clamped_bar_scene(0.3, 8e-3), o), 1.5e3, 4, "solid", 0.5 / 8,
             clamped_bar_scene(0.3, 8e-3), nested=True),

@@ -25,7 +25,8 @@ class ReportRow:
     """One working mode of one device against its targets.
 
     frequency_hz [Hz]; wavelength_m [m] (plate modes, else None); error_estimate relative;
-    seconds: wall time of its window's solves (``device_report``); targets: name, value, unit, kind, source, deviation.
+    seconds: wall time of the ``device_report`` call that made it (in ``run_report``, its window's solves);
+    targets: name, value, unit, kind, source, deviation.
     """
 
     scene: str

@@ -44,10 +44,11 @@ def test_order_4_stated_error_covers_the_actual_error(case):
 # order-3 Lagrange cases of the same study, the coarse clamped ones where the h-estimate alone was short (the 25 mm
 # cantilever's bending 3: stated 0.95 % against 1.78 %) and a smooth one; with the order 2-3 step as a floor,
 # ``python studies/verification_errors.py --order 3``: 81 of 82 covered, the other (a beam-model row) undecided
-ORDER_3 = ("cantilever, solid, coarse", "clamped bar, solid, coarse", "thick SS plate, solid, coarse")
+# (the clamped bar's reference, 73k DOFs to bound its own error by a nested step, takes ~40 s: slow)
+ORDER_3 = ("cantilever, solid, coarse", "thick SS plate, solid, coarse")
 
 
-@pytest.mark.parametrize("case", ORDER_3)
+@pytest.mark.parametrize("case", [*ORDER_3, pytest.param("clamped bar, solid, coarse", marks=pytest.mark.slow)])
 def test_order_3_stated_error_covers_the_actual_error(case):
     from tests.helpers import load_study
 

@@ -301,14 +301,14 @@ def window_rows(name_window: tuple[str, int], *, overrides: dict, error_estimate
 
     name, window = name_window
     scene = load_scene(name, **overrides)
+    members = working_windows(scene)[window].members
+    indices = [i for i, wm in enumerate(scene.working_modes) if wm in members]  # device_report's row order
     try:
         rows = device_report(scene, error_estimate=error_estimate, fidelity=fidelity, tol=tol, windows=[window])
     except SolverError as exc:
-        first = scene.working_modes.index(working_windows(scene)[window].members[0])
-        return [(first, ReportRow(scene=name, mode="FAILED", frequency_hz=float("nan"), targets=[],
-                                  error_estimate=None, dofs=0, fidelity="solid", seconds=0.0, notes=[str(exc)]))]
-    members = [wm for wm in scene.working_modes if wm in working_windows(scene)[window].members]
-    return [(scene.working_modes.index(wm), row) for wm, row in zip(members, rows)]
+        return [(indices[0], ReportRow(scene=name, mode="FAILED", frequency_hz=float("nan"), targets=[],
+                                       error_estimate=None, dofs=0, fidelity="solid", seconds=0.0, notes=[str(exc)]))]
+    return list(zip(indices, rows))
 
 
 def format_rows(rows: list[ReportRow]) -> str:

@@ -14,6 +14,7 @@ from modalfe.cli.options import (
     positive_int,
 )
 from modalfe.errors import SceneError
+from modalfe.report.report import REPORT_TOL
 
 
 def register(sub) -> None:
@@ -25,7 +26,7 @@ def register(sub) -> None:
                    help="skip the coarse-mesh solve (solid and reduced fidelities; auto always estimates)")
     p.add_argument("--jobs", type=positive_int,
                    help="devices solved at once, one process each (default: one per core)")
-    fidelity_options(p)
+    fidelity_options(p, REPORT_TOL)
     p.set_defaults(func=_report)
 
     p = sub.add_parser("modes", help="eigenmodes of a built-in scene or a TOML scene file")

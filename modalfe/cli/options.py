@@ -176,14 +176,16 @@ def parse_params(items: list[str]) -> dict[str, list[float]]:
     return params
 
 
-def fidelity_options(p: argparse.ArgumentParser) -> None:
+def fidelity_options(p: argparse.ArgumentParser, tol: float | None = None) -> None:
+    """--fidelity and --tol (default ``tol``, else ``modalfe.solve.api.DEFAULT_TOL``)."""
     from modalfe.solve.api import DEFAULT_TOL, FIDELITIES
 
+    tol = DEFAULT_TOL if tol is None else tol
     p.add_argument("--fidelity", choices=FIDELITIES, default="auto",
                    help="model: 1-D beam, 2-D plate, 3-D solid, or auto: the cheapest meeting --tol (default)")
-    p.add_argument("--tol", type=positive_float, default=DEFAULT_TOL,
-                   help=f"relative frequency error asked of --fidelity auto, which refines the solid's mesh until its "
-                        f"estimate meets it (default {DEFAULT_TOL:g})")
+    p.add_argument("--tol", type=positive_float, default=tol,
+                   help=f"relative frequency error asked of --fidelity auto, which refines the solid (its element "
+                        f"order, then its grid) until its estimate meets it (default {tol:g})")
 
 
 def parse_names(text: str, flag: str = "--vary") -> list[str]:

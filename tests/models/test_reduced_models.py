@@ -163,7 +163,7 @@ def test_report_takes_k_eff_from_the_solid_when_the_plate_answers():
     from modalfe.report.report import device_report
 
     scene = load_scene("cube_plate")
-    (row,) = device_report(scene)
+    (row,) = device_report(scene, tol=0.02)  # the plate states 1.40 %: it answers at 2 %, not at the report's 0.5 %
     assert row.fidelity == "plate"
 
     def coupling(fidelity):

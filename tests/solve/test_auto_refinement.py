@@ -34,8 +34,47 @@ def test_auto_refines_the_solid_until_the_estimate_meets_tol_and_the_estimate_co
 def test_auto_says_when_the_refinement_limit_stops_it(monkeypatch):
     monkeypatch.setattr(fidelity, "MAX_REFINE_STEPS", 1)
     modes = solve_modes(load_scene("tile_eq5"), fidelity="auto", tol=1e-7, check=(("(0,0)", 845.0),))
-    assert "refined for tol 0.000010%: elements x0.667" in modes.fidelity_note
+    assert "refined for tol 0.000010%: order 4 on elements x3 of the scene's mesh, 1 thickness layers" \
+        in modes.fidelity_note
     assert "exceeds tol 0.000010% at the most refinement allowed (MAX_REFINE_STEPS = 1)" in modes.fidelity_note
+
+
+def test_the_refinement_steps_raise_the_order_on_a_coarser_grid_then_refine_it():
+    # quadratic box hexahedra: quartic on a grid 3x coarser (layers 3 -> 1), then 1.5x finer a step (layers rounded
+    # down); a scene where the quartic p-estimate does not apply (tetrahedra) refines its grid at its own order
+    scene = load_scene("cube_plate")
+    assert fidelity.raises_order(scene)
+    steps = [fidelity.refinement_step(scene, k, 1.0) for k in (1, 2, 3)]
+    assert [(s.mesh.order, s.mesh.family, s.mesh.min_layers) for s, _ in steps] == [(4, "lagrange", 1),
+                                                                                  (4, "lagrange", 1),
+                                                                                  (4, "lagrange", 2)]
+    assert [f for _, f in steps] == pytest.approx([3.0, 2.0, 4 / 3])
+    tet = load_scene("cube_plate", **{"mesh.element": "tet"})
+    assert not fidelity.raises_order(tet)
+    finer, factor = fidelity.refinement_step(tet, 2, 1.0)
+    assert (finer.mesh.order, finer.mesh.min_layers, factor) == (2, 7, pytest.approx(1 / 1.5**2))
+    assert not fidelity.raises_order(load_scene("cube_plate", **{"mesh.order": 3}))
+
+
+def test_auto_solves_the_scenes_own_grid_unless_its_levels_forecast_it_far_above_tol(monkeypatch):
+    # the ciliary beam's quadratic grid states 2.74 % and its estimate levels forecast 6.62 %: at tol 0.5 % (13x) it
+    # is skipped for the first quartic step, at tol 2 % (3.3x, below FORECAST_MARGIN) it is solved (and refined)
+    scene = load_scene("ciliary_beam")
+    solved = []
+    solve_level = fidelity.solve_level
+
+    def counted(sc, analysis, **options):
+        solved.append((options.get("fidelity", "solid"), sc.mesh.order, options.get("size_factor", 1.0)))
+        return solve_level(sc, analysis, **options)
+
+    monkeypatch.setattr(fidelity, "solve_level", counted)
+    tight = solve_modes(scene, near=24.2e3, count=4, fidelity="auto", tol=0.005, check=CILIARY_CHECK)
+    assert ("solid", 2, 1.0) not in solved and "the scene's own grid not solved" in tight.fidelity_note
+    solved.clear()
+    loose = solve_modes(scene, near=24.2e3, count=4, fidelity="auto", tol=0.02, check=CILIARY_CHECK)
+    assert ("solid", 2, 1.0) in solved and "the scene's own grid not solved" not in loose.fidelity_note
+    forecast = float(tight.fidelity_note.split("forecast ")[1].split("%")[0]) / 100
+    assert fidelity.FORECAST_MARGIN * 0.005 < forecast < fidelity.FORECAST_MARGIN * 0.02
 
 
 def test_auto_does_not_refine_past_the_memory_and_says_why(monkeypatch):
@@ -44,7 +83,7 @@ def test_auto_does_not_refine_past_the_memory_and_says_why(monkeypatch):
     check_size = estimate.check_size
 
     def too_large(scene, fidelity="solid", *, size_factor=1.0, min_layers=None):
-        if size_factor < 1.0:  # the refined grids (and their estimate levels) only
+        if size_factor < 1.0 or scene.mesh.order != 2:  # the refinement steps only (finer grids, higher orders)
             raise SceneError("mesh: too large for this machine (test)")
         return check_size(scene, fidelity, size_factor=size_factor, min_layers=min_layers)
 
@@ -58,17 +97,19 @@ def test_report_takes_the_antiresonance_from_the_refined_mesh():
     from modalfe.report.report import device_report
 
     scene = load_scene("ciliary_beam")
-    (coarse,) = device_report(scene)
+    (coarse,) = device_report(scene, fidelity="solid")
     (row,) = device_report(scene, tol=0.005)
-    assert "refined for tol" in row.fidelity_note and row.dofs > coarse.dofs
-    # fa and fr from one mesh: k_eff moves by the discretization only (0.0629 -> 0.0612, -2.7 %, measured);
-    # fa from the scene's own mesh beside the refined fr would give 0.113
+    assert "refined for tol" in row.fidelity_note and row.dofs != coarse.dofs
+    # fa and fr from one mesh: k_eff moves by the discretization only (0.0629 on the scene's quadratic grid -> 0.0609
+    # on the quartic one, -3.1 %, measured); fa from the scene's own mesh beside the refined fr would give 0.113
     assert row.k_eff == pytest.approx(coarse.k_eff, rel=0.05)
 
 
 def test_a_refinement_step_solves_only_its_own_grid_and_estimates_as_fresh_levels_would(monkeypatch):
-    # a step's levels (elements x1.5 and x2.25 of its own, layers alike) are the grids solved before it: the scene's
-    # mesh and its first estimate level; reused, they give the estimate that solving them again gives
+    # on h-steps (a scene whose order auto does not raise: here made so), a step's levels (elements x1.5 and x2.25
+    # of its own, layers alike) are the grids solved before it: the scene's mesh and its first estimate level;
+    # reused, they give the estimate that solving them again gives
+    monkeypatch.setattr(fidelity, "raises_order", lambda scene: False)
     scene = load_scene("ciliary_beam")
     solved = []
     solve_level = fidelity.solve_level

@@ -46,18 +46,29 @@ def test_the_ceiling_bounds_the_order_used(monkeypatch, ceiling):
     assert stated >= fine[0].frequency / exact - 1  # an order below the sequence's own over-states
 
 
-def test_the_cube_plates_refined_estimate_covers_the_limit_of_nested_refinement():
-    # at the ceiling 2 this grid (34,547 DOFs) stated 0.199 % against 0.282 %. The reference: the limit of nested
-    # uniform refinement of the mode's grid (studies/singular_convergence.py, to 307,966 DOFs, at the order 1.34 its
-    # last three grids show) and how far it moves if the order falls to 1 beyond them, as report_tolerance takes it
+def test_the_cube_plates_refined_estimates_cover_the_limit_of_nested_refinement():
+    # the reference: the limit of nested uniform refinement of the mode's grid (studies/singular_convergence.py, to
+    # 307,966 DOFs, at the order 1.34 its last three grids show) and how far it moves if the order falls to 1 beyond
+    # them, as report_tolerance takes it. Both estimates auto can answer with must cover it: the h-estimate of the
+    # quadratic grid it used to refine to (x0.444, 7 layers: 34,547 DOFs; at the ceiling 2 it stated 0.199 % against
+    # 0.282 %) and the p-estimate of the quartic grid it now refines to first (``refinement_step``)
     from modalfe.report.report import window_modes, working_windows
+    from modalfe.scene import Analysis
+    from modalfe.solve.fidelity import refined_scene, solve_estimated
     from tests.helpers import load_study
 
     limit, uncertainty = load_study("report_tolerance").NESTED["cube_plate", "(0,6)"]
-
     window = working_windows(load_scene("cube_plate"))[0]
+
+    quadratic = solve_estimated(refined_scene(window.scene, 2), Analysis(near=40.7e3, count=10), "solid",
+                                size_factor=1 / 1.5**2)
+    mode = select(quadratic, "(0,6)", 40.7e3)
+    assert quadratic.dofs == 34547
+    assert "at order 1, the least a singular field converges at (bonded parts)" in quadratic.estimate_method
+    assert mode.error_estimate >= abs(mode.frequency / limit - 1) + uncertainty
+
     modes = window_modes(window, fidelity="auto", tol=0.005)
     mode = select(modes, "(0,6)", 40.7e3)
-    assert "at order 1, the least a singular field converges at (bonded parts)" in modes.estimate_method
+    assert "order 4 on elements x3" in modes.fidelity_note and modes.estimate_method.startswith("p-refinement")
     assert mode.error_estimate <= 0.005
     assert mode.error_estimate >= abs(mode.frequency / limit - 1) + uncertainty

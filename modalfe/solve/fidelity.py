@@ -75,11 +75,14 @@ MAX_REFINE_STEPS = 3  # at most 1.5^3 = 3.4x smaller elements (~40x the DOFs) th
 # singular field as the h-estimate takes its order floor
 P_ORDER = 4
 P_COARSENING = 3.0
-# auto skips the scene's own quadratic grid when ``scene_grid_forecast`` is this many times tol. The forecast was
-# 0.2-4.5x what the grid then stated on the seed devices (Cu-Be (0,6) 1.44 % against 7.40 %, glass (0,8) 1.68
-# against 0.71, glass (0,16) 7.29 against 2.93, tile (1,1) 0.72 against 0.16, ciliary bending-z 6 6.62 against
-# 2.74): a grid that would have met tol is not skipped on any of them
-FORECAST_MARGIN = 5.0
+# auto starts where even an optimistic reading of ``scene_grid_forecast`` says the grids before would miss tol: the
+# least ratio seen on the seed devices at tol 0.5 % of what the scene's quadratic grid then stated to its forecast
+# (Cu-Be (0,6) 7.40 % against 1.44, glass (0,8) 0.71 against 1.68, glass (0,16) 2.93 against 7.29, tile (1,1) 0.16
+# against 0.72, ciliary bending-z 6 2.74 against 6.62: 0.22, the tile's), and of what the first quartic step stated
+# (0.283 %, 0.141, 0.714, -, 0.920: 0.08, the glass plate's (0,8)). A wrong start costs time, never accuracy: the
+# answer's estimate is its own
+FORECAST_GRID = 0.22
+FORECAST_FIRST_STEP = 0.08
 
 
 def reduced_fidelities(scene) -> list[str]:
@@ -296,43 +299,38 @@ def solve_auto(scene, analysis, *, tol: float, check=None, size_factor: float = 
             return replace(checked, fidelity_note=note, cross_check=tuple(solid_check()))
         reasons.append(f"{fidelity} model: {why} > tol {percent(tol)}")
     reason = no_estimate_reason(scene, size_factor)
-    forecast = scene_grid_forecast(scene, levels, check, size_factor) if reason is None else 0.0
+    forecast = scene_grid_forecast(scene, levels, check) if reason is None else 0.0
+    start = first_step(scene, forecast, tol, size_factor)
     skipped = ""
-    if forecast > FORECAST_MARGIN * tol:  # the scene's own grid would miss tol: straight to the first step
+    if start:  # the scene's own grid (and maybe the first step) would miss tol
         solid = None
-        skipped = (f"; the scene's own grid not solved (its estimate levels forecast {forecast:.2%} there, "
-                   f"scene_grid_forecast)")
-        log.info("auto: the scene's grid is forecast to state %.2f%% > tol %s: not solved", 100 * forecast,
-                 percent(tol))
+        skipped = (f"; the scene's own grid not solved (its estimate levels forecast {percent(forecast)} there: "
+                   f"started at refinement step {start}, first_step)")
+        log.info("auto: the scene's grid is forecast to state %s against tol %s: starting at refinement step %d",
+                 percent(forecast), percent(tol), start)
     else:
         fine = solve_level(scene, analysis, size_factor=size_factor, solver=solver)
-        start = time.perf_counter()
+        start_time = time.perf_counter()
         if reason is None:  # the levels are reused if the cross-check solved them
             solid = solid_estimates(fine, solid_check(), scene,
                                     order_step_level(scene, analysis, size_factor, solver))
         else:
             solid = without_estimates(fine, reason)
-        solid = replace(solid, timings=dict(fine.timings, error_estimate=time.perf_counter() - start))
+        solid = replace(solid, timings=dict(fine.timings, error_estimate=time.perf_counter() - start_time))
     solid, refined = refined_to_tol(scene, analysis, solid, tol=tol, check=check, size_factor=size_factor,
-                                    solver=solver, levels=levels)
+                                    solver=solver, levels=levels, start=max(start, 1))
     note = "auto: solid answered" + (f" ({'; '.join(reasons)})" if reasons else " (no reduced model for a "
                                      f"{scene.kind} scene)")
     return replace(solid, fidelity_note=note + skipped + refined)
 
 
-def scene_grid_forecast(scene, levels: list[Modes], check, size_factor: float = 1.0) -> float:
+def scene_grid_forecast(scene, levels: list[Modes], check) -> float:
     """The largest error the solid's own grid would state on the checked modes, forecast from its two estimate levels
     where a reduced model's cross-check solved them (else 0: nothing to go by): their step, shrunk to the scene's
     grid at ``CONVERGENCE_ORDER``, at the order the grid's own estimate would use (``singular_field``). Only where
-    ``raises_order`` and the first refinement step fits in memory. It chooses which grid auto solves first, never a
-    stated error; a rough one (``FORECAST_MARGIN``)."""
-    from modalfe.models.estimate import check_size
-
+    ``raises_order``. A rough figure (0.2-5x what the grid then states, ``FORECAST_GRID``) that chooses where auto
+    starts (``first_step``), never a stated error."""
     if len(levels) != 2 or not raises_order(scene) or not reuses_grids(scene):
-        return 0.0
-    try:
-        check_size(*refinement_step(scene, 1, size_factor))
-    except SceneError:
         return 0.0
     coarse, coarsest = levels
     pairs = shape_partners(coarse, coarsest)
@@ -344,11 +342,27 @@ def scene_grid_forecast(scene, levels: list[Modes], check, size_factor: float = 
     return worst if math.isfinite(worst) else 0.0  # inf: a checked mode the coarse level does not hold
 
 
+def first_step(scene, forecast: float, tol: float, size_factor: float = 1.0) -> int:
+    """Where auto's solid starts: 0, the scene's own grid; 1 or 2, that refinement step (``refinement_step``), where
+    ``forecast`` (``scene_grid_forecast``) times the least ratio seen (``FORECAST_GRID``, ``FORECAST_FIRST_STEP``)
+    still exceeds ``tol`` for the grids before it, and the step fits in memory."""
+    from modalfe.models.estimate import check_size
+
+    wanted = 2 if forecast * FORECAST_FIRST_STEP > tol else 1 if forecast * FORECAST_GRID > tol else 0
+    for step in range(wanted, 0, -1):
+        try:
+            check_size(*refinement_step(scene, step, size_factor))
+        except SceneError:
+            continue
+        return step
+    return 0
+
+
 def refined_to_tol(scene, analysis, solid: Modes | None, *, tol: float, check, size_factor: float = 1.0,
-                   solver: str = "auto", levels: list[Modes] | tuple = ()) -> tuple[Modes, str]:
+                   solver: str = "auto", levels: list[Modes] | tuple = (), start: int = 1) -> tuple[Modes, str]:
     """(``solid``, or the solid solved again on finer grids until the estimated error of the checked modes is
     within ``tol``; a phrase for the note saying what was done); ``solid`` None: the scene's own grid was skipped
-    (``scene_grid_forecast``), start at the first step. The steps are ``refinement_step``'s: quartic elements on a
+    (``first_step``), start at step ``start``. The steps are ``refinement_step``'s: quartic elements on a
     coarser grid first where ``raises_order``, else elements ``REFINE_RATIO`` smaller a step and the thickness
     layers as many times more (the estimate levels' own ratio, ``COARSE_FACTOR``); one step at a time (a step costs
     ~1.5^3 = 3.4x the one before, so the steps before the last add at most ~40 %; jumping by the steps an h^2 fall
@@ -368,7 +382,7 @@ def refined_to_tol(scene, analysis, solid: Modes | None, *, tol: float, check, s
     # is outside the scene's range (``solve_modes``), refining for it would size the mesh for another range
     ceiling = scene.max_frequency if math.isfinite(scene.max_frequency) and scene.max_frequency > 0 else math.inf
     worst, why = (math.inf, "grid is skipped") if solid is None else _worst(solid, check, ceiling)
-    steps, stopped = 0, ""
+    steps, stopped = (0 if solid is not None else start - 1), ""
     while worst > tol and (math.isfinite(worst) or solid is None) and steps < MAX_REFINE_STEPS:
         finer, factor = refinement_step(scene, steps + 1, size_factor)
         try:
@@ -387,6 +401,8 @@ def refined_to_tol(scene, analysis, solid: Modes | None, *, tol: float, check, s
             grids[_grid(finer.mesh.min_layers, factor)] = solid
         steps, last = steps + 1, (finer, factor)
         worst, why = _worst(solid, check, ceiling)
+    if solid is None:
+        raise SolverError(f"auto: no refinement step could be solved{stopped}")
     note = ""
     if steps:
         grid, grid_factor = last

@@ -21,6 +21,13 @@ log = logging.getLogger(__name__)
 # a PARDISO solve whose relative residual is above this gets MKL's iterative refinement on every solve
 # (``_PardisoFactor.refine``); bare solves of the seed devices' models reach 1e-13 to 1e-12
 REFINED_ABOVE = 1e-10
+# PARDISO orders a matrix with at least this many nonzeros a row by minimum degree, else by nested dissection (MKL's
+# default). Measured, one thread, factorization seconds nested dissection / minimum degree: cubic and quartic
+# Lagrange hexahedra (283-560 a row) 0.22 / 0.11 (Cu-Be plate, cubic, 7,048 DOFs), 0.77 / 0.36 (quartic, 15,514),
+# 1.11 / 0.48 (glass plate, quartic, 18,348), 1.72 / 1.22 (Cu-Be, quartic, 30,170), 1.31 / 1.10 (tile, quartic,
+# 23,088); quadratic serendipity (about 130 a row) 2.19 / 4.31 (Cu-Be, 34,547), 0.47 / 0.55 (tile, 12,103),
+# 11.1 / 27.1 (glass, 93,994): few large dense element blocks make the dissection's graph partitioning the larger cost
+MINIMUM_DEGREE_ROWS = 200
 
 
 def available_solvers() -> list[str]:
@@ -88,8 +95,14 @@ def _pardiso(A: sp.csr_matrix):
     upper = sp.triu(A, format="csr")
     upper.sort_indices()
     ps = pypardiso.PyPardisoSolver(mtype=-2)  # real symmetric indefinite
-    # iparm[0] = 0: MKL fills iparm with its defaults for the matrix type and uses them (nested dissection, 1e-8 pivot
-    # perturbation, Bunch-Kaufman pivots, no scaling or matching); values set before are ignored
+    # MKL's defaults for the matrix type (pardisoinit: nested dissection, 1e-8 pivot perturbation, Bunch-Kaufman
+    # pivots, no scaling or matching, two iterative refinement steps), but for:
+    ps.libmkl.pardisoinit.restype = None
+    ps.libmkl.pardisoinit(ps.pt.ctypes.data_as(ctypes.POINTER(ps._pt_type[0])), ctypes.byref(ctypes.c_int32(-2)),
+                          ps.iparm.ctypes.data_as(ctypes.POINTER(ctypes.c_int32)))
+    if A.nnz >= MINIMUM_DEGREE_ROWS * A.shape[0]:
+        ps.iparm[1] = 0  # minimum degree ordering (MINIMUM_DEGREE_ROWS)
+    ps.iparm[7] = 0  # no iterative refinement unless pivots were perturbed (``_PardisoFactor``)
     ps.factorize(upper)
     return _PardisoFactor(ps, upper)
 
@@ -136,18 +149,16 @@ class _PardisoFactor:
     """A PARDISO factorization as a callable solve(b); frees MKL's memory when dropped.
 
     Solves call MKL's solve phase (33) directly with the matrix's 1-based index arrays made once (pypardiso's solve
-    re-hashes the matrix and its call re-indexes it, each time) and without iterative refinement: MKL's defaults
-    add two steps to every solve (iparm[7] = 2), each one more solve and one product with the matrix, 7x the time
-    of a bare solve of the glass plate's quartic model (18,348 DOFs: 0.085 s against 0.011 s, relative residual
-    1.3e-13 and 1.5e-13). ``refine`` restores them, for a factorization whose residual needs them (``factorize``);
-    with 0 MKL still refines where it perturbed pivots."""
+    re-hashes the matrix and its call re-indexes it, each time), without iterative refinement (``_pardiso`` sets
+    iparm[7] = 0; MKL still refines where it perturbed pivots): its default two steps a solve, each one more solve
+    and one product with the matrix, took 7x the time of a bare solve of the glass plate's quartic model (18,348
+    DOFs: 0.085 s against 0.011 s, relative residuals 1.3e-13 and 1.5e-13). ``refine`` restores them, for a
+    factorization whose residual needs them (``factorize``)."""
 
     def __init__(self, ps, upper):
         self._ps, self._upper = ps, upper
         self._ia = (upper.indptr + 1).astype(np.int32)
         self._ja = (upper.indices + 1).astype(np.int32)
-        ps.iparm[0] = 1  # use iparm as MKL filled it at the factorization, but for:
-        ps.iparm[7] = 0  # no iterative refinement steps unless pivots were perturbed
 
     def refine(self) -> None:
         """Two iterative refinement steps on every solve from now on (MKL's default)."""

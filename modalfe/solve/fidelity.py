@@ -349,6 +349,7 @@ def first_step(scene, forecast: float, tol: float, size_factor: float = 1.0) -> 
     from modalfe.models.estimate import check_size
 
     wanted = 2 if forecast * FORECAST_FIRST_STEP > tol else 1 if forecast * FORECAST_GRID > tol else 0
+    wanted = min(wanted, MAX_REFINE_STEPS)
     for step in range(wanted, 0, -1):
         try:
             check_size(*refinement_step(scene, step, size_factor))

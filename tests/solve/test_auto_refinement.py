@@ -56,9 +56,10 @@ def test_the_refinement_steps_raise_the_order_on_a_coarser_grid_then_refine_it()
     assert not fidelity.raises_order(load_scene("cube_plate", **{"mesh.order": 3}))
 
 
-def test_auto_solves_the_scenes_own_grid_unless_its_levels_forecast_it_far_above_tol(monkeypatch):
-    # the ciliary beam's quadratic grid states 2.74 % and its estimate levels forecast 6.62 %: at tol 0.5 % (13x) it
-    # is skipped for the first quartic step, at tol 2 % (3.3x, below FORECAST_MARGIN) it is solved (and refined)
+def test_auto_starts_where_the_forecast_says_the_grids_before_would_miss_tol(monkeypatch):
+    # the ciliary beam's quadratic grid states 2.74 % and its estimate levels forecast 6.62 %: at tol 0.5 % even the
+    # least ratios seen (x0.22 for the grid, x0.08 for the first quartic step) leave both above tol, so auto starts
+    # at step 2; at tol 2 % the grid itself is solved (and refined from)
     scene = load_scene("ciliary_beam")
     solved = []
     solve_level = fidelity.solve_level
@@ -69,12 +70,16 @@ def test_auto_solves_the_scenes_own_grid_unless_its_levels_forecast_it_far_above
 
     monkeypatch.setattr(fidelity, "solve_level", counted)
     tight = solve_modes(scene, near=24.2e3, count=4, fidelity="auto", tol=0.005, check=CILIARY_CHECK)
-    assert ("solid", 2, 1.0) not in solved and "the scene's own grid not solved" in tight.fidelity_note
+    assert ("solid", 2, 1.0) not in solved and ("solid", 4, 3.0) not in solved and ("solid", 4, 2.0) in solved
+    assert "started at refinement step 2" in tight.fidelity_note
     solved.clear()
     loose = solve_modes(scene, near=24.2e3, count=4, fidelity="auto", tol=0.02, check=CILIARY_CHECK)
     assert ("solid", 2, 1.0) in solved and "the scene's own grid not solved" not in loose.fidelity_note
     forecast = float(tight.fidelity_note.split("forecast ")[1].split("%")[0]) / 100
-    assert fidelity.FORECAST_MARGIN * 0.005 < forecast < fidelity.FORECAST_MARGIN * 0.02
+    assert 0.005 / fidelity.FORECAST_FIRST_STEP < forecast < 0.02 / fidelity.FORECAST_GRID
+    # the start is capped by the steps allowed, and by what fits in memory
+    monkeypatch.setattr(fidelity, "MAX_REFINE_STEPS", 1)
+    assert fidelity.first_step(scene, forecast, 0.005) == 1
 
 
 def test_auto_does_not_refine_past_the_memory_and_says_why(monkeypatch):

@@ -1,0 +1,49 @@
+"""PARDISO's settings (``modalfe.solve.linalg``): MKL's defaults but for the ordering of dense-row matrices (minimum
+degree) and the iterative refinement (off, back on where a factorization's residual needs it); the answers stay
+those of SuperLU."""
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from modalfe.models.build import build_model
+from modalfe.scene import load_scene
+from modalfe.solve import linalg
+
+pytestmark = pytest.mark.skipif("pardiso" not in linalg.available_solvers(), reason="PARDISO (MKL) not installed")
+
+
+def _shifted(order: int, size_factor: float, hz: float = 24.2e3):
+    """A - sigma B of the ciliary beam (PZT sheets: symmetric indefinite, potentials without inertia)."""
+    scene = load_scene("ciliary_beam")
+    scene = dataclasses.replace(scene, mesh=dataclasses.replace(scene.mesh, order=order,
+                                                                 min_layers=1 if order > 2 else 3))
+    model, _ = build_model(scene, "solid", size_factor=size_factor)
+    T = model.constraints("short").T
+    A, B = (T.T @ model.K @ T).tocsr(), (T.T @ model.M @ T).tocsr()
+    return (A - (2 * np.pi * hz) ** 2 * B).tocsr()
+
+
+@pytest.mark.parametrize(("order", "size_factor", "ordering"), [(4, 3.0, 0), (2, 1.5, 3)])
+def test_orders_by_minimum_degree_only_dense_rows_and_solves_without_refinement(order, size_factor, ordering):
+    # quartic Lagrange: ~530 nonzeros a row, minimum degree; quadratic serendipity: ~130, MKL's nested dissection (3)
+    K = _shifted(order, size_factor)
+    assert (K.nnz / K.shape[0] >= linalg.MINIMUM_DEGREE_ROWS) == (ordering == 0)
+    solve, name = linalg.factorize(K, solver="pardiso")
+    assert name == "pardiso" and solve._ps.iparm[1] == ordering and solve._ps.iparm[7] == 0
+    b = np.random.default_rng(2).standard_normal(K.shape[0])
+    # bare solves of these models reach ~1e-12 (refinement stayed off): below the level that switches it on
+    assert np.linalg.norm(K @ solve(b) - b) <= linalg.REFINED_ABOVE * np.linalg.norm(b)
+    # the inertia (a Sturm count) does not depend on the ordering: SuperLU's LDL^T agrees
+    assert linalg.negative_eigenvalue_count(K, solver="pardiso") == linalg.negative_eigenvalue_count(
+        K, solver="superlu")
+
+
+def test_a_residual_above_the_threshold_turns_refinement_on(monkeypatch):
+    K = _shifted(4, 3.0)
+    monkeypatch.setattr(linalg, "REFINED_ABOVE", 0.0)  # every residual is above it
+    solve, _ = linalg.factorize(K, solver="pardiso")
+    assert solve._ps.iparm[7] == 2  # MKL's two steps on every solve from then on
+    b = np.random.default_rng(5).standard_normal(K.shape[0])
+    assert np.linalg.norm(K @ solve(b) - b) <= 1e-10 * np.linalg.norm(b)

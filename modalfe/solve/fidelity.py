@@ -16,8 +16,10 @@ with ``fidelity="beam"|"plate"`` asked directly alike (a reduced model's figure 
 
 ``auto`` tries the reduced model that suits the scene's kind (beam or plate) and answers with it when
 the estimated error of the modes asked about is within ``tol``; otherwise the 3-D solid answers,
-reusing the cross-check's levels for its own error estimate (nothing is solved twice or for nothing), and solved
-again on finer grids while its own estimate exceeds ``tol`` (``refined_to_tol``).
+reusing the cross-check's levels for its own error estimate (nothing is solved twice or for nothing), and refined
+while its own estimate exceeds ``tol`` (``refined_to_tol``): quadratic box hexahedra by the order first (quartic on
+a coarser grid, ``refinement_step``), other meshes by the grid; where the cross-check's levels forecast that the
+scene's own grid would miss ``tol`` by far, auto starts past it (``first_step``).
 ``Modes.fidelity_note`` says which fidelity answered and why, ``Modes.estimate_method`` how errors were estimated.
 
 Where the scene declares mirror symmetry the plate model solves the symmetric part, as the solid does;

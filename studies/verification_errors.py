@@ -281,13 +281,17 @@ CASES = {
     "k31 bar": _k31_rows,
     "cantilever, solid": lambda: _cantilever_rows("solid"),
     "cantilever, beam": lambda: _cantilever_rows("beam"),
-    "free plate, plate": lambda: _against_finer("free plate", free_plate_scene(), 5e3, 6, "plate", 0.5),
+    "free plate, plate": lambda: _against_finer("free plate", free_plate_scene(), 5e3, FREE_PLATE_COUNT, "plate", 0.5),
     "clamped bar, solid": lambda: _against_finer("clamped bar", clamped_bar_scene(0.3, 2e-3), 1.5e3, 4, "solid", 0.5),
     "thin SS plate, solid": lambda: _plate_rows("thin SS plate", THIN, THIN[0] / 24, "solid"),
     "clamped thin plate, solid": lambda: _against_finer("clamped plate", clamped_plate_scene(40e-3 / 12), 6e3, 6,
                                                         "solid", 0.25),
     "piezo cube, solid": lambda: _against_finer("piezo cube", piezo_cube_scene(2.5e-3), 150e3, 8, "solid", 0.5),
 }
+# the free plate's modes nearest 5 kHz: its six rigid-body modes tie at 0 Hz, nearer 5 kHz (in omega^2, as the shift
+# finds them) than (1,2) at 12.1 kHz, so with 6 modes which of them a solve returns decided whether (1,2) was
+# checked (it was, then was not, when PARDISO's iterative refinement went); 10 holds all six and (0,2) to (1,2)
+FREE_PLATE_COUNT = 10
 # 10-60 s each (the k31 bar's 3x finer reference, the free plate's cross-check): run with -m slow
 SLOW = ("k31 bar", "free plate, plate", "thin SS plate, solid", "clamped thin plate, solid", "piezo cube, solid")
 
@@ -309,8 +313,8 @@ def order_cases(order: int | str = 4) -> dict:
         "cantilever, solid": lambda: _cantilever_rows("solid", o, 12.5e-3, 1),
         "cantilever, solid, coarse": lambda: _cantilever_rows("solid", o, 25e-3, 1),
         "cantilever, beam": lambda: _cantilever_rows("beam", o),
-        "free plate, plate": lambda: _against_finer("free plate", at_order(free_plate_scene(), o), 5e3, 6, "plate",
-                                                    0.5, free_plate_scene()),
+        "free plate, plate": lambda: _against_finer("free plate", at_order(free_plate_scene(), o), 5e3,
+                                                    FREE_PLATE_COUNT, "plate", 0.5, free_plate_scene()),
         "clamped bar, solid": lambda: _against_finer("clamped bar", at_order(clamped_bar_scene(0.3, 4e-3), o),
                                                      1.5e3, 4, "solid", 0.5 / 4, clamped_bar_scene(0.3, 4e-3),
                                                      nested=True),

@@ -353,8 +353,9 @@ def first_step(scene, forecast: float, tol: float, size_factor: float = 1.0) -> 
     wanted = 2 if forecast * FORECAST_FIRST_STEP > tol else 1 if forecast * FORECAST_GRID > tol else 0
     wanted = min(wanted, MAX_REFINE_STEPS)
     for step in range(wanted, 0, -1):
+        finer, factor = refinement_step(scene, step, size_factor)
         try:
-            check_size(*refinement_step(scene, step, size_factor))
+            check_size(finer, size_factor=factor)
         except SceneError:
             continue
         return step
@@ -384,7 +385,7 @@ def refined_to_tol(scene, analysis, solid: Modes | None, *, tol: float, check, s
     # every mode listed (no ``check``): those the scene's mesh is made to resolve; a mode above mesh.max_frequency
     # is outside the scene's range (``solve_modes``), refining for it would size the mesh for another range
     ceiling = scene.max_frequency if math.isfinite(scene.max_frequency) and scene.max_frequency > 0 else math.inf
-    worst, why = (math.inf, "grid is skipped") if solid is None else _worst(solid, check, ceiling)
+    worst, why = (math.inf, "own grid (not solved, first_step)") if solid is None else _worst(solid, check, ceiling)
     steps, stopped = (0 if solid is not None else start - 1), ""
     while worst > tol and (math.isfinite(worst) or solid is None) and steps < MAX_REFINE_STEPS:
         finer, factor = refinement_step(scene, steps + 1, size_factor)

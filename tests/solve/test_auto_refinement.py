@@ -77,7 +77,19 @@ def test_auto_starts_where_the_forecast_says_the_grids_before_would_miss_tol(mon
     assert ("solid", 2, 1.0) in solved and "the scene's own grid not solved" not in loose.fidelity_note
     forecast = float(tight.fidelity_note.split("forecast ")[1].split("%")[0]) / 100
     assert 0.005 / fidelity.FORECAST_FIRST_STEP < forecast < 0.02 / fidelity.FORECAST_GRID
-    # the start is capped by the steps allowed, and by what fits in memory
+    # the start is capped by what fits in memory (step 2: elements x2 of the scene's) and by the steps allowed
+    import modalfe.models.estimate as estimate
+
+    check_size = estimate.check_size
+
+    def step_2_too_large(scene, fidelity="solid", *, size_factor=1.0, min_layers=None):
+        if fidelity == "solid" and size_factor == pytest.approx(2.0):
+            raise SceneError("mesh: too large for this machine (test)")
+        return check_size(scene, fidelity, size_factor=size_factor, min_layers=min_layers)
+
+    monkeypatch.setattr(estimate, "check_size", step_2_too_large)
+    assert fidelity.first_step(scene, forecast, 0.005) == 1
+    monkeypatch.setattr(estimate, "check_size", check_size)
     monkeypatch.setattr(fidelity, "MAX_REFINE_STEPS", 1)
     assert fidelity.first_step(scene, forecast, 0.005) == 1
 

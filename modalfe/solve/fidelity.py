@@ -411,8 +411,9 @@ def refined_to_tol(scene, analysis, solid: Modes | None, *, tol: float, check, s
     if steps:
         grid, grid_factor = last
         order = f"order {grid.mesh.order} on " if grid.mesh.order != scene.mesh.order else ""
+        layers = grid.mesh.min_layers
         note = (f"; refined for tol {percent(tol)}: {order}elements x{grid_factor:.3g} of the scene's mesh, "
-                f"{grid.mesh.min_layers} thickness layers, {solid.dofs} DOFs")
+                f"{layers} thickness layer{'s' if layers != 1 else ''}, {solid.dofs} DOFs")
     if worst > tol:
         if not stopped and math.isfinite(worst) and steps == MAX_REFINE_STEPS:
             stopped = f" at the most refinement allowed (MAX_REFINE_STEPS = {MAX_REFINE_STEPS})"

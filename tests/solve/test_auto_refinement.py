@@ -34,7 +34,7 @@ def test_auto_refines_the_solid_until_the_estimate_meets_tol_and_the_estimate_co
 def test_auto_says_when_the_refinement_limit_stops_it(monkeypatch):
     monkeypatch.setattr(fidelity, "MAX_REFINE_STEPS", 1)
     modes = solve_modes(load_scene("tile_eq5"), fidelity="auto", tol=1e-7, check=(("(0,0)", 845.0),))
-    assert "refined for tol 0.000010%: order 4 on elements x3 of the scene's mesh, 1 thickness layers" \
+    assert "refined for tol 0.000010%: order 4 on elements x3 of the scene's mesh, 1 thickness layer," \
         in modes.fidelity_note
     assert "exceeds tol 0.000010% at the most refinement allowed (MAX_REFINE_STEPS = 1)" in modes.fidelity_note
 

@@ -72,17 +72,16 @@ MAX_REFINE_STEPS = 3  # at most 1.5^3 = 3.4x smaller elements (~40x the DOFs) th
 # at 1.5h, then that grid REFINE_RATIO finer a step. Measured at tol 0.5 % (stated / actual against
 # studies/report_tolerance.py's references): the Cu-Be plate's (0,6) 0.283 / 0.211 % at 15,514 DOFs where the
 # quadratic grid needed 34,547 (0.454 / 0.282 %); the glass plate's (0,16) 0.350 / 0.077 % at 18,348 DOFs (93,994
-# and 28 s quadratic, 6 s quartic); the ciliary beam's bending-z 6 0.342 / 0.166 % at 3,510 DOFs (30,404). The
-# p-estimate (orders 2-3-4 on the grid, ``modalfe.solve.estimates.p_extrapolation``) takes the rate floor of a
-# singular field as the h-estimate takes its order floor
+# and 28 s quadratic, 6 s quartic); the ciliary beam's bending-z 6 0.342 / 0.166 % at 3,510 DOFs (30,404). Its
+# p-estimate (``modalfe.solve.estimates.p_extrapolation``) takes a singular field's rate floor as h takes its order
 P_ORDER = 4
 P_COARSENING = 3.0
 # auto starts where even an optimistic reading of ``scene_grid_forecast`` says the grids before would miss tol: the
 # least ratio seen on the seed devices at tol 0.5 % of what the scene's quadratic grid then stated to its forecast
 # (Cu-Be (0,6) 7.40 % against 1.44, glass (0,8) 0.71 against 1.68, glass (0,16) 2.93 against 7.29, tile (1,1) 0.16
 # against 0.72, ciliary bending-z 6 2.74 against 6.62: 0.22, the tile's), and of what the first quartic step stated
-# (0.283 %, 0.141, 0.714, -, 0.920: 0.08, the glass plate's (0,8)). A wrong start costs time, never accuracy: the
-# answer's estimate is its own
+# (0.283 %, 0.141, 0.714, -, 0.920: 0.08, the glass plate's (0,8)). A wrong start costs time, never accuracy. Read
+# off the very windows the report is timed on: without them 13.0 s against 11.6 s, same rows (docs/benchmarks.md)
 FORECAST_GRID = 0.22
 FORECAST_FIRST_STEP = 0.08
 
@@ -117,7 +116,11 @@ def uses_orders(scene) -> bool:
     grids (h-refinement). Not on curved (swept) hexahedra: the orders share one quadratic geometry, so their steps
     miss the geometry's own error (studies/swept_verification.py disc: order 4's p-estimate stated 1.6e-9 on fr,
     which differs from a finer grid's by 1.7e-7); coarser grids change the geometry too."""
-    return scene.mesh.element == "hex" and scene.mesh.order - 2 >= LOWEST_P_LEVEL and not scene.assembly().shaped
+    return _box_hexahedra(scene) and scene.mesh.order - 2 >= LOWEST_P_LEVEL
+
+
+def _box_hexahedra(scene) -> bool:  # hexahedra on box parts only (no curved, swept part)
+    return scene.mesh.element == "hex" and not scene.assembly().shaped
 
 
 def checks_order_step(scene) -> bool:
@@ -370,8 +373,7 @@ def refined_to_tol(scene, analysis, solid: Modes | None, *, tol: float, check, s
     coarser grid first where ``raises_order``, else elements ``REFINE_RATIO`` smaller a step and the thickness
     layers as many times more (the estimate levels' own ratio, ``COARSE_FACTOR``); one step at a time (a step costs
     ~1.5^3 = 3.4x the one before, so the steps before the last add at most ~40 %; jumping by the steps an h^2 fall
-    predicts overshot: the glass plate's (0,16) needed one step but was predicted two, 94k DOFs stating 0.11 % for
-    tol 0.5 %), at most ``MAX_REFINE_STEPS``, and none whose model would not fit in memory
+    predicts overshot), at most ``MAX_REFINE_STEPS``, and none whose model would not fit in memory
     (``modalfe.models.estimate.check_size``). Not where the solid states no estimate (nothing to steer by). On
     h-steps a step's estimate levels (elements x1.5 and x2.25 of its own, layers alike) are the grids of the steps
     before it (``solid`` and its ``levels`` for the first): they are reused (``solve_estimated``)."""
@@ -428,7 +430,7 @@ def refined_to_tol(scene, analysis, solid: Modes | None, *, tol: float, check, s
 def raises_order(scene) -> bool:
     """Whether auto refines ``scene``'s solid by the order before the grid (``P_ORDER``): quadratic hexahedra on
     boxes, where the quartic p-estimate applies (``uses_orders``)."""
-    return scene.mesh.element == "hex" and scene.mesh.order == LOWEST_P_LEVEL and not scene.assembly().shaped
+    return _box_hexahedra(scene) and scene.mesh.order == LOWEST_P_LEVEL
 
 
 def refinement_step(scene, steps: int, size_factor: float = 1.0) -> tuple[object, float]:

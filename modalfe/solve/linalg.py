@@ -158,8 +158,12 @@ class _PardisoFactor:
 
     def __init__(self, ps, upper):
         self._ps, self._upper = ps, upper
-        self._ia = (upper.indptr + 1).astype(np.int32)
-        self._ja = (upper.indices + 1).astype(np.int32)
+
+    @functools.cached_property
+    def _one_based(self) -> tuple[np.ndarray, np.ndarray]:
+        """(ia, ja): the upper triangle's index arrays as PARDISO reads them, made at the first solve (a Sturm count
+        only factorizes)."""
+        return (self._upper.indptr + 1).astype(np.int32), (self._upper.indices + 1).astype(np.int32)
 
     def refine(self) -> None:
         """Two iterative refinement steps on every solve from now on (MKL's default)."""
@@ -172,13 +176,14 @@ class _PardisoFactor:
         b = np.asarray(b, dtype=float)
         rhs = np.asfortranarray(b.reshape(len(b), -1))
         x = np.zeros_like(rhs)
+        ia, ja = self._one_based
         error = ctypes.c_int32(0)
         ps, int_p, double_p = self._ps, ctypes.POINTER(ctypes.c_int32), ctypes.POINTER(ctypes.c_double)
         ps._mkl_pardiso(ps.pt.ctypes.data_as(ctypes.POINTER(ps._pt_type[0])), ctypes.byref(ctypes.c_int32(1)),
                         ctypes.byref(ctypes.c_int32(1)), ctypes.byref(ctypes.c_int32(ps.mtype)),
                         ctypes.byref(ctypes.c_int32(33)), ctypes.byref(ctypes.c_int32(len(b))),
-                        self._upper.data.ctypes.data_as(double_p), self._ia.ctypes.data_as(int_p),
-                        self._ja.ctypes.data_as(int_p), ps.perm.ctypes.data_as(int_p),
+                        self._upper.data.ctypes.data_as(double_p), ia.ctypes.data_as(int_p),
+                        ja.ctypes.data_as(int_p), ps.perm.ctypes.data_as(int_p),
                         ctypes.byref(ctypes.c_int32(rhs.shape[1])), ps.iparm.ctypes.data_as(int_p),
                         ctypes.byref(ctypes.c_int32(0)), rhs.ctypes.data_as(double_p), x.ctypes.data_as(double_p),
                         ctypes.byref(error))

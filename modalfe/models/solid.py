@@ -25,6 +25,7 @@ import scipy.sparse as sp
 
 from modalfe.errors import SceneError
 from modalfe.models import box_assembly
+from modalfe.models.constraints import Constraints
 from modalfe.models.symmetry import fold, unfold
 
 log = logging.getLogger(__name__)
@@ -217,8 +218,7 @@ class Model(PiezoUnknowns):
     def shifted_matrix(self, frequency: float, *, scale: float | None = None) -> sp.csr_matrix:
         """K - omega^2 M on the short-circuit free unknowns, the potentials scaled by ``scale``
         (default: ``potential_scale()``; 1.0 leaves them in volts), for conditioning checks."""
-        T = self.constraints("short").T
-        A = T.T @ (self.K - (2 * np.pi * frequency) ** 2 * self.M) @ T
+        A = self.constraints("short").project(self.K - (2 * np.pi * frequency) ** 2 * self.M)
         n_u_free = self.n_u - len(self.clamped)
         ratio = (self.potential_scale() if scale is None else scale) / self.potential_scale()
         rescale = sp.diags(np.r_[np.ones(n_u_free), np.full(A.shape[0] - n_u_free, ratio)])
@@ -230,16 +230,19 @@ def _probing(basis) -> _Probing:
     mesh (skfem MeshTet2, whose isoparametric point search does not converge in the elements next to a point) the
     same element on the straight-sided tetrahedra of the same vertices: the DOF numbering is the same (vertices,
     then edges), the point is only located through the chords, off by at most the sagitta h^2 / (8 R) of an element
-    of size h on a boundary of radius R. On hexahedra (trilinear map) the point's reference coordinates are found by
-    skfem's Newton iteration to ``PROBE_NEWTON_TOL`` instead of its 1e-12: that iteration stalls at the round-off
-    eps |x| / h of a thin element (measured: 1.2e-12 on an 11.7 um sliver at x = 61.6 mm of a tuned Cu-Be plate, and
-    every point of a probe set must pass at once)."""
+    of size h on a boundary of radius R. On the box grid, ``basis`` itself (``_Probing``). On other hexahedra
+    (trilinear map) the point's reference coordinates are found by skfem's Newton iteration to ``PROBE_NEWTON_TOL``
+    instead of its 1e-12: that iteration stalls at the round-off eps |x| / h of a thin element (measured: 1.2e-12 on
+    an 11.7 um sliver at x = 61.6 mm of a tuned Cu-Be plate, and every point of a probe set must pass at once)."""
     import functools
 
     from skfem import Basis, MeshTet1, MeshTet2
     from skfem.mapping import MappingIsoparametric
 
     mesh = basis.mesh
+    find = _box_grid(mesh)
+    if find is not None:
+        return _Probing(basis, find)
     if isinstance(mesh, MeshTet2):
         return _Probing(Basis(MeshTet1(np.ascontiguousarray(mesh.p[:, : mesh.nvertices]), mesh.t), basis.elem,
                               intorder=1))
@@ -251,28 +254,37 @@ def _probing(basis) -> _Probing:
 
 
 class _Probing:
-    """Point probes of one basis: the matrix of skfem's ``CellBasis.probes``, with each point's element found on the
-    structured grid where the mesh is one (``_box_grid``: the box scenes' hexahedra) instead of by skfem's search
-    through a tetrahedral split of the mesh, which it rebuilds at every call (0.15 s a call on the glass plate's
-    33,272 DOFs: 18 % of the refined solve, whose error estimate pairs shapes across five grids)."""
+    """Point probes of one basis: the matrix of skfem's ``CellBasis.probes``, or, on the structured grid of boxes
+    (``_box_grid``: the box scenes' hexahedra), each point's element found by bisection in the grid's planes (skfem
+    searches a tetrahedral split of the mesh, rebuilt at every call: 0.15 s a call on the glass plate's 33,272
+    DOFs), its reference coordinates by the element's affine map (no Newton iteration), and the values of the
+    scalar basis functions only, each copied to the components of the vector ones (scikit-fem evaluates every
+    vector function's scalar with its gradient: ~3x the work)."""
 
-    def __init__(self, basis):
-        self.basis = basis
-        self._find = _box_grid(basis.mesh)
+    def __init__(self, basis, find=None):
+        self.basis, self._find = basis, find
 
     def probes(self, x: np.ndarray) -> sp.coo_matrix:
         """(components x points, DOFs) matrix of the basis functions' values at the points ``x`` (3, n) [m];
         ValueError for a point in no element."""
+        from skfem.element import ElementVector
+
         b = self.basis
         if self._find is None:
             return b.probes(x)
         cells = self._find(x)
-        local = b.mapping.invF(x[:, :, np.newaxis], tind=cells)
-        values = np.array([b.elem.gbasis(b.mapping, local, k, tind=cells)[0] for k in range(b.Nbfun)])
-        components = values[0].size // x.shape[1]
-        rows = np.tile(np.arange(components * x.shape[1]), b.Nbfun)
-        cols = b.element_dofs[:, np.tile(cells, components)].ravel()
-        return sp.coo_matrix((values.ravel(), (rows, cols)), shape=(components * x.shape[1], b.N))
+        # the box's trilinear map is affine: x = F(0) + J X, J's columns F(e_k) - F(0)
+        F = b.mapping.F(np.array([[0.0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]), tind=cells)  # (3, n, 4)
+        J = F[:, :, 1:] - F[:, :, :1]
+        local = np.linalg.solve(J.transpose(1, 0, 2), (x - F[:, :, 0]).T[:, :, None])[:, :, 0].T[:, :, None]
+        scalar, dim = (b.elem.elem, b.elem.dim) if isinstance(b.elem, ElementVector) else (b.elem, 1)
+        count, n = b.Nbfun // dim, x.shape[1]
+        values = np.array([scalar.gbasis(b.mapping, local, i, tind=cells)[0] for i in range(count)])
+        # vector function dim i + c is scalar i in component c (scikit-fem's ElementVector numbering)
+        rows = np.broadcast_to(np.arange(dim * n).reshape(1, dim, n), (count, dim, n))
+        cols = b.element_dofs.reshape(count, dim, -1)[:, :, cells]
+        data = np.broadcast_to(values.reshape(count, 1, n), (count, dim, n))
+        return sp.coo_matrix((data.ravel(), (rows.ravel(), cols.ravel())), shape=(dim * n, b.N))
 
 
 def _box_grid(mesh):
@@ -314,15 +326,6 @@ def _box_grid(mesh):
         return found
 
     return find
-
-
-@dataclass(frozen=True, eq=False)
-class Constraints:
-    """x_full = T @ x_free; ``floating`` electrodes each carry one potential unknown (last columns)."""
-
-    T: sp.csr_matrix
-    potential_scale: float
-    floating: tuple[str, ...]
 
 
 def element_for(settings):

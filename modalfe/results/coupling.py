@@ -14,8 +14,23 @@ def k_eff(fr: float, fa: float) -> float:
     return math.sqrt(max(fa**2 - fr**2, 0.0) / fa**2)
 
 
+PARTNER_MAC = 0.5  # least shape likeness (mass-weighted MAC) of an open-circuit partner on the same model
+
+
 def antiresonance(short_mode, open_modes):
-    """The open-circuit partner of ``short_mode``: same label, nearest frequency above it."""
+    """The open-circuit partner of ``short_mode``. Solved on the same model: the open mode whose shape is most like
+    it, (x_o^T M x_s)^2 / (x_o^T M x_o x_s^T M x_s) (the open circuit only adds the floating potentials' stiffening:
+    ~1 for the partner, ~0 for the others, M-orthogonal partners of other modes); SolverError where none reaches
+    ``PARTNER_MAC`` (the partner was not among the modes solved). On another model: the same label, nearest in
+    frequency."""
+    if open_modes.model is short_mode.model:
+        weighted = short_mode.model.M @ short_mode.shape
+        likeness = [float(m.shape @ weighted) ** 2 / (m.modal_mass * short_mode.modal_mass) for m in open_modes]
+        best = max(range(len(likeness)), key=likeness.__getitem__, default=None)
+        if best is None or likeness[best] < PARTNER_MAC:
+            raise SolverError(f"no open-circuit mode with the shape of {short_mode.label} at "
+                              f"{short_mode.frequency:.6g} Hz among the {len(likeness)} solved")
+        return open_modes[best]
     same = [m for m in open_modes if m.label == short_mode.label]
     if not same:
         raise SolverError(f"no open-circuit mode labelled '{short_mode.label}'")

@@ -91,6 +91,25 @@ def open_circuit_modes(short: Modes, *, near: float, count: int, solver: str = "
                         solver=solver)
 
 
+def open_circuit_partner(short: Modes, mode, *, near: float, solver: str = "auto"):
+    """The open-circuit mode of ``mode`` of ``short`` (its antiresonance, ``modalfe.results.coupling.antiresonance``),
+    solved near ``near`` [Hz] with as few modes as hold it: the open circuit raises each mode by its coupling, rarely
+    past another mode, so the partner is among the open modes nearest the shift as many as the short modes at
+    least as near as ``mode``, plus two; where it is not, twice the modes, up to ``short``'s count."""
+    from modalfe.results.coupling import antiresonance
+
+    sigma = near**2
+    rank = sum(abs(m.frequency**2 - sigma) <= abs(mode.frequency**2 - sigma) for m in short)
+    count = min(rank + 2, max(len(short), 1))
+    while True:
+        try:
+            return antiresonance(mode, open_circuit_modes(short, near=near, count=count, solver=solver))
+        except SolverError:
+            if count >= len(short):
+                raise
+            count = min(2 * count, len(short))
+
+
 def single_threaded_blas():
     """Context with one BLAS thread. numpy's OpenBLAS threads spin while they wait; on a small machine shared
     with MKL PARDISO's threads and other processes, the small dense operations of a solve (the labels'

@@ -4,18 +4,33 @@ circuit, solve the eigen problem near the target and label each mode from its sh
 from __future__ import annotations
 
 import weakref
+from dataclasses import dataclass
 
 import numpy as np
+import scipy.sparse as sp
 
 from modalfe.models.build import build_model
 from modalfe.results.labels import unique_labels
 from modalfe.results.modes import Mode, Modes
 from modalfe.solve.eigen import eigenpairs
 
-_KEPT_FACTORS = 3  # short-circuit factorizations kept for an open-circuit solve of the same model and shift
-# (weak reference to the model, short-circuit unknowns, (solve, shift)), newest first: a factorization lives no
-# longer than its model in ``modalfe.models.build``'s cache
-_SHORT_FACTORS: list = []
+_KEPT_FACTORS = 3  # short-circuit solves kept for an open-circuit solve of the same model
+
+
+@dataclass(frozen=True)
+class _ShortSolve:
+    """A short-circuit solve of a driven model kept for its open circuit (``modes_of``): the projected pencil (A, B),
+    whose blocks the open circuit borders with its floating potentials, and the factorization (solve, shift) of
+    A - shift B. The model is held weakly: the entry lives no longer than the model in ``modalfe.models.build``'s
+    cache."""
+
+    model: weakref.ref
+    A: sp.csr_matrix
+    B: sp.csr_matrix
+    factor: tuple
+
+
+_SHORT_SOLVES: list[_ShortSolve] = []  # newest first
 
 
 def solve_level(scene, analysis, *, fidelity: str = "solid", size_factor: float = 1.0, solver: str = "auto",
@@ -27,21 +42,24 @@ def solve_level(scene, analysis, *, fidelity: str = "solid", size_factor: float 
 
 
 def modes_of(model, analysis, *, fidelity: str, solver: str = "auto", timings: dict | None = None) -> Modes:
-    """Modes of an assembled ``model`` (solid, plate or beam) for ``analysis``. An open-circuit solve at the shift
-    of a short-circuit one of the same model reuses its factorization (``open_circuit_solve``)."""
-    T = model.constraints(analysis.circuit).T
-    A = (T.T @ model.K @ T).tocsr()
-    B = (T.T @ model.M @ T).tocsr()
-    _SHORT_FACTORS[:] = [entry for entry in _SHORT_FACTORS if entry[0]() is not None]
+    """Modes of an assembled ``model`` (solid, plate or beam) for ``analysis``. An open-circuit solve of a model solved
+    in short circuit borders that solve's matrices (``Constraints.project``) and, at its shift, reuses its
+    factorization (``open_circuit_solve``)."""
+    _SHORT_SOLVES[:] = [kept for kept in _SHORT_SOLVES if kept.model() is not None]
+    constraints = model.constraints(analysis.circuit)
+    short = [kept for kept in _SHORT_SOLVES if kept.model() is model] if analysis.circuit == "open" else []
+    A = constraints.project(model.K, picked=short[0].A if short else None)
+    B = constraints.project(model.M, picked=short[0].B if short else None)
     factor = None
-    if analysis.circuit == "open" and analysis.band is None:
-        factor = next((open_circuit_solve(A, n_short, f) for kept, n_short, f in _SHORT_FACTORS
-                       if kept() is model and f[1] == (2 * np.pi * analysis.near) ** 2), None)
+    if analysis.band is None:
+        factor = next((open_circuit_solve(A, kept.A.shape[0], kept.factor) for kept in short
+                       if kept.factor[1] == (2 * np.pi * analysis.near) ** 2), None)
     solution = eigenpairs(A, B, analysis, solver, factor)
     driven = "drive" in model.scene.electrodes.values()  # else the open circuit is the short one: nothing to reuse
     if analysis.circuit == "short" and driven and solution.factor is not None:
-        _SHORT_FACTORS.insert(0, (weakref.ref(model), A.shape[0], solution.factor))
-        del _SHORT_FACTORS[_KEPT_FACTORS:]
+        _SHORT_SOLVES.insert(0, _ShortSolve(weakref.ref(model), A, B, solution.factor))
+        del _SHORT_SOLVES[_KEPT_FACTORS:]
+    T = constraints.T
     shapes = T @ solution.vectors
     frequencies = [float(np.sqrt(max(lam, 0.0)) / (2 * np.pi)) for lam in solution.values]
     # unique in the solve; degenerate pairs in their clearest basis; modes carried by attached masses yield

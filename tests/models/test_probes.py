@@ -53,3 +53,31 @@ def test_the_grid_search_stands_aside_on_tetrahedra():
 
     assert _probing(Basis(MeshTet1.init_tensor(*[np.linspace(0, 1, 3)] * 3), ElementTetP1(), intorder=1))._find \
         is None
+
+
+@pytest.mark.parametrize("order", [3, 4])
+def test_the_grid_probes_of_oriented_lagrange_hexahedra_are_skfems(order):
+    """Quartic and cubic Lagrange hexahedra (``ElementHexGLL``, oriented per element): the grid's affine reference
+    coordinates and the scalar values copied to the vector components give skfem's own probe matrix (Newton's
+    inverse map, every vector function evaluated), at random points of the Cu-Be plate's quarter and at its
+    vertices."""
+    import dataclasses
+
+    from modalfe.models.build import build_model
+    from modalfe.report.report import working_windows
+    from modalfe.scene import load_scene
+
+    scene = working_windows(load_scene("cube_plate"))[0].scene
+    mesh_settings = dataclasses.replace(scene.mesh, order=order, family="lagrange", min_layers=1)
+    model, _ = build_model(dataclasses.replace(scene, mesh=mesh_settings), "solid", size_factor=3.0)
+    probing = model._displacement_probing
+    assert probing._find is not None and probing.basis is model.u_basis
+    mesh = model.mesh.mesh
+    rng = np.random.default_rng(order)
+    corners = mesh.p[:, mesh.t]  # (3, 8, elements): a random point in each of (up to) 300 elements
+    picked = rng.choice(mesh.t.shape[1], min(300, mesh.t.shape[1]), replace=False)
+    lo, hi = corners.min(axis=1)[:, picked], corners.max(axis=1)[:, picked]
+    points = model._inside(np.hstack([lo + rng.uniform(0, 1, lo.shape) * (hi - lo), mesh.p[:, ::23]]))
+    ours, skfems = probing.probes(points).tocsr(), probing.basis.probes(points).tocsr()
+    assert ours.shape == skfems.shape
+    assert abs(ours - skfems).max() <= 1e-12

@@ -1,5 +1,5 @@
-"""An open-circuit solve at the shift of a short-circuit one reuses its factorization (bordered by the floating
-electrode's potential) and gives the modes a fresh factorization gives."""
+"""An open-circuit solve of a model solved in short circuit borders that solve's matrices and, at its shift, reuses
+its factorization (bordered by the floating electrode's potential), and gives the modes a fresh solve gives."""
 
 import numpy as np
 
@@ -13,7 +13,7 @@ def test_open_circuit_reuses_the_short_circuit_factorization():
     options = {"near": 21.7e3, "count": 6, "fidelity": "solid", "error_estimate": False}
     short = solve_modes(scene, **options)
     reused = solve_modes(scene, circuit="open", **options)
-    levels._SHORT_FACTORS.clear()
+    levels._SHORT_SOLVES.clear()
     fresh = solve_modes(scene, circuit="open", **options)
     assert reused.timings["solver"] == "reused" and fresh.timings["solver"] != "reused"
     # the same linear algebra up to round-off (ARPACK's tolerance 1e-8 bounds the eigenvalues' difference)
@@ -49,17 +49,17 @@ def test_a_kept_factorization_does_not_keep_its_model_alive():
 
     from modalfe.models.build import clear_cache
 
-    levels._SHORT_FACTORS.clear()
+    levels._SHORT_SOLVES.clear()
     modes = solve_modes(load_scene("ciliary_beam"), near=21.7e3, count=4, fidelity="solid", error_estimate=False)
     model = weakref.ref(modes.model)
-    assert [kept() for kept, _, _ in levels._SHORT_FACTORS] == [model()]
+    assert [kept.model() for kept in levels._SHORT_SOLVES] == [model()]
     del modes
     clear_cache()
     gc.collect()
     assert model() is None  # only the build cache held it; the kept factorization did not
-    assert [kept() for kept, _, _ in levels._SHORT_FACTORS] == [None]  # a dead entry, dropped at the next solve
+    assert [kept.model() for kept in levels._SHORT_SOLVES] == [None]  # a dead entry, dropped at the next solve
     solve_modes(load_scene("ciliary_beam"), near=15e3, count=4, fidelity="beam", error_estimate=False)
-    assert all(kept() is not None for kept, _, _ in levels._SHORT_FACTORS)
+    assert all(kept.model() is not None for kept in levels._SHORT_SOLVES)
 
 
 def test_two_floating_electrodes_reuse_gives_the_fresh_modes():
@@ -81,7 +81,7 @@ def test_two_floating_electrodes_reuse_gives_the_fresh_modes():
     options = {"near": 47e3, "count": 6, "fidelity": "solid", "error_estimate": False}
     solve_modes(scene, **options)
     reused = solve_modes(scene, circuit="open", **options)
-    levels._SHORT_FACTORS.clear()
+    levels._SHORT_SOLVES.clear()
     fresh = solve_modes(scene, circuit="open", **options)
     assert reused.timings["solver"] == "reused" and fresh.timings["solver"] != "reused"
     assert reused.model.constraints("open").floating == ("top_left", "top_right")
@@ -106,3 +106,28 @@ def test_a_factorization_solves_strided_and_block_right_hand_sides():
         assert np.linalg.norm(A @ X - B) <= 1e-10 * np.linalg.norm(B), name
         for j in range(3):  # a column of a C-ordered array is strided
             assert np.allclose(solve(B[:, j]), X[:, j], rtol=1e-10, atol=1e-12), name
+
+
+def test_the_open_circuit_partner_is_found_among_few_modes_by_shape(monkeypatch):
+    # the partner by shape (mass-weighted MAC on the same model) from a solve of a few modes is the label-paired
+    # one of the solve of all the short circuit's modes; modes that do not hold it are refused, not paired
+    import pytest
+
+    from modalfe.errors import SolverError
+    from modalfe.results.coupling import antiresonance
+    from modalfe.solve import api
+
+    scene = load_scene("ciliary_beam")
+    short = solve_modes(scene, near=21.7e3, count=10, fidelity="solid", error_estimate=False)
+    mode = short.nearest(21.7e3)
+    asked = []
+    solve_open = api.open_circuit_modes
+    monkeypatch.setattr(api, "open_circuit_modes", lambda s, **kw: asked.append(kw["count"]) or solve_open(s, **kw))
+    partner = api.open_circuit_partner(short, mode, near=21.7e3)
+    every = solve_open(short, near=21.7e3, count=10)
+    labelled = min((m for m in every if m.label == mode.label), key=lambda m: abs(m.frequency - mode.frequency))
+    assert asked and asked[0] < 10
+    assert partner.frequency == pytest.approx(labelled.frequency, rel=1e-8) and partner.frequency > mode.frequency
+    far = solve_open(short, near=2 * mode.frequency, count=2)  # two modes far above: not the partner
+    with pytest.raises(SolverError, match="no open-circuit mode with the shape"):
+        antiresonance(mode, far)

@@ -47,3 +47,20 @@ def test_a_residual_above_the_threshold_turns_refinement_on(monkeypatch):
     assert solve._ps.iparm[7] == 2  # MKL's two steps on every solve from then on
     b = np.random.default_rng(5).standard_normal(K.shape[0])
     assert np.linalg.norm(K @ solve(b) - b) <= 1e-10 * np.linalg.norm(b)
+
+
+def test_upper_triangle_is_scipys_triu():
+    import scipy.sparse as sp
+
+    rng = np.random.default_rng(5)
+    keep = (np.arange(300) != 7).astype(float)  # row 7 empty
+    R = sp.csr_matrix(sp.diags(keep) @ sp.random(300, 300, density=0.03, random_state=6, format="csr"))
+    R.eliminate_zeros()
+    assert R[7].nnz == 0
+    for A in (R, R + R.T, _shifted(2, 3.0)):
+        expected = sp.triu(A, format="csr")
+        upper = linalg.upper_triangle(sp.csr_matrix(A))
+        assert upper.shape == A.shape and (upper != expected).nnz == 0
+    duplicated = sp.csr_matrix((rng.standard_normal(4), [1, 1, 2, 0], [0, 2, 3, 4]), shape=(3, 3))  # (0, 1) twice
+    assert not duplicated.has_canonical_format
+    assert np.array_equal(linalg.upper_triangle(duplicated).toarray(), sp.triu(duplicated).toarray())

@@ -1,0 +1,63 @@
+"""The map from a model's free unknowns to its full DOF vector (supports, grounded and floating electrodes), and
+the projection of a full matrix onto the free unknowns that every solve starts from."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+import scipy.sparse as sp
+
+
+@dataclass(frozen=True, eq=False)
+class Constraints:
+    """x_full = T @ x_free; ``floating`` electrodes each carry one potential unknown (last columns)."""
+
+    T: sp.csr_matrix
+    potential_scale: float
+    floating: tuple[str, ...]
+
+    @cached_property
+    def _picked(self) -> tuple[np.ndarray, np.ndarray, sp.csr_matrix] | None:
+        """(rows, scales, rest): T's columns before the floating electrodes', each taking one full DOF (a free
+        displacement, a scaled interior potential), as that DOF's row and scale; ``rest`` the floating electrodes'
+        columns (each a sum of DOFs, or one DOF on a reduced model). None if a column before them is not one DOF."""
+        Tc = sp.csc_matrix(self.T)
+        n_picked = Tc.shape[1] - len(self.floating)
+        if not np.all(np.diff(Tc.indptr[: n_picked + 1]) == 1):
+            return None
+        first = Tc.indptr[:n_picked]
+        return Tc.indices[first], Tc.data[first], sp.csr_matrix(Tc[:, n_picked:])
+
+    def project(self, X: sp.spmatrix, *, picked: sp.csr_matrix | None = None) -> sp.csr_matrix:
+        """T^T X T (CSR) of a full (ndofs, ndofs) matrix ``X``: the picked block by row and column indexing, scaled,
+        bordered by the few ``rest`` columns and rows. Same result as the sparse triple product, which for quartic
+        elements (~550 nonzeros a row) took ~4x as long (0.45 s against 0.12 s on the Cu-Be plate's 32,184 DOFs).
+        ``picked``: that block when already made (an open circuit's is the short circuit's whole projection). Any
+        other T: the triple product."""
+        X = sp.csr_matrix(X)
+        if self._picked is None:
+            return (self.T.T @ X @ self.T).tocsr()
+        rows, scales, rest = self._picked
+        if picked is None:
+            picked = X[rows][:, rows]
+            picked.data *= scales[picked.indices]
+            picked.data *= np.repeat(scales, np.diff(picked.indptr))
+        elif picked.shape != (len(rows), len(rows)):
+            raise ValueError(f"picked: a {picked.shape} block for {len(rows)} picked unknowns")
+        if rest.shape[1] == 0:
+            return picked
+        right = sp.csr_matrix(sp.diags(scales) @ (X @ rest)[rows])
+        below = sp.csr_matrix(rest.T) @ X  # CSR by CSR: a CSC left factor would convert X whole
+        bottom = sp.hstack([below[:, rows] @ sp.diags(scales), below @ rest], format="csr")
+        # [picked, right; bottom] by one insertion: right's few entries at the end of their rows, bottom's after the
+        # last row (a general hstack and vstack copy the block through slower paths: 0.32 s against 0.05 s here)
+        at = np.concatenate([picked.indptr[np.repeat(np.arange(len(rows)), np.diff(right.indptr)) + 1],
+                             np.full(bottom.nnz, picked.nnz)])
+        data = np.insert(picked.data, at, np.concatenate([right.data, bottom.data]))
+        indices = np.insert(picked.indices, at, np.concatenate([right.indices + len(rows), bottom.indices]))
+        top_indptr = picked.indptr + right.indptr
+        indptr = np.concatenate([top_indptr, top_indptr[-1] + bottom.indptr[1:]])
+        n = len(rows) + rest.shape[1]
+        return sp.csr_matrix((data, indices, indptr), shape=(n, n))

@@ -36,7 +36,6 @@ the angle is ``?``.
 from __future__ import annotations
 
 import itertools
-from collections import Counter
 
 import numpy as np
 
@@ -267,13 +266,12 @@ def _line_count(lines: np.ndarray, peak: float) -> tuple[int, float]:
     voting = np.flatnonzero(amplitude >= _LINE * peak)
     if len(voting) == 0:
         return 0, 0.0
-    counts = dict(zip(voting.tolist(), _flip_counts(lines[voting], _SMALL * amplitude[voting]).tolist()))
+    counts = _flip_counts(lines[voting], _SMALL * amplitude[voting])
     quarter = len(lines) / 4
-    outer = [counts[i] for i in voting if i < quarter or i >= len(lines) - quarter] or list(counts.values())
-    tally = Counter(outer)
-    top = max(tally.values())
-    count = min(c for c, k in tally.items() if k == top)
-    return count, sum(c == count for c in counts.values()) / len(voting)
+    outer = counts[(voting < quarter) | (voting >= len(lines) - quarter)]
+    values, tally = np.unique(outer if len(outer) else counts, return_counts=True)
+    count = int(values[np.argmax(tally)])  # the most common; the smallest on a tie (np.unique sorts)
+    return count, float(np.mean(counts == count))
 
 
 def _islands(W: np.ndarray, peak: float) -> int:

@@ -89,3 +89,19 @@ def test_the_largest_window_starts_first_and_the_rows_keep_the_order_asked():
     rows = run_report(["tile_eq5", "honeycomb_tile", "ciliary_beam"], progress=False, jobs=2, error_estimate=False)
     assert [(r.scene, r.mode) for r in rows] == [("tile_eq5", "(0,0)"), ("honeycomb_tile", "heave"),
                                                  ("honeycomb_tile", "(1,1)"), ("ciliary_beam", "bending-z 6")]
+
+
+def test_workers_fork_only_from_a_process_without_mkl_threads():
+    # a fork copies no thread: a parent that has loaded MKL (PARDISO's OpenMP threads) spawns fresh interpreters
+    import subprocess
+    import sys
+
+    script = ("from modalfe.report.report import _start_method; a = _start_method(); "
+              "from modalfe.solve.linalg import factorize; import scipy.sparse as sp; "
+              "factorize(sp.identity(3, format='csr')); print(a, _start_method())")
+    first, then = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                                 check=True).stdout.split()
+    from modalfe.solve.linalg import available_solvers
+
+    assert first == "fork"
+    assert then == ("spawn" if "pardiso" in available_solvers() else "fork")

@@ -51,6 +51,10 @@ class Constraints:
         right = sp.csr_matrix(sp.diags(scales) @ (X @ rest)[rows])
         below = sp.csr_matrix(rest.T) @ X  # CSR by CSR: a CSC left factor would convert X whole
         bottom = sp.hstack([below[:, rows] @ sp.diags(scales), below @ rest], format="csr")
+        n = len(rows) + rest.shape[1]
+        if right.nnz == 0 and bottom.nnz == 0:  # (a mass matrix: no inertia on the potentials) picked's arrays, shared
+            indptr = np.concatenate([picked.indptr, np.full(rest.shape[1], picked.nnz, dtype=picked.indptr.dtype)])
+            return sp.csr_matrix((picked.data, picked.indices, indptr), shape=(n, n))
         # [picked, right; bottom] by one insertion: right's few entries at the end of their rows, bottom's after the
         # last row (a general hstack and vstack copy the block through slower paths: 0.32 s against 0.05 s here)
         at = np.concatenate([picked.indptr[np.repeat(np.arange(len(rows)), np.diff(right.indptr)) + 1],
@@ -59,5 +63,4 @@ class Constraints:
         indices = np.insert(picked.indices, at, np.concatenate([right.indices + len(rows), bottom.indices]))
         top_indptr = picked.indptr + right.indptr
         indptr = np.concatenate([top_indptr, top_indptr[-1] + bottom.indptr[1:]])
-        n = len(rows) + rest.shape[1]
         return sp.csr_matrix((data, indices, indptr), shape=(n, n))

@@ -11,7 +11,8 @@ Procedures, 1996, sec. 10.2.4 and 11.6), less the negative eigenvalues of A's bl
 inertia (the potential: -K_phiphi), which the condensed problem does not have (Haynsworth's inertia
 additivity of the Schur complement). The band is cut into windows holding at most ``WINDOW_MODES`` modes by
 those counts; each window is solved at the midpoint of its eigenvalue interval, where its modes are exactly
-the nearest ones, and the modes found in it must equal its count, or the solve fails saying so.
+the nearest ones (a bottom window with no eigenvalue below it at its lower end, whose count's factorization serves),
+and the modes found in it must equal its count, or the solve fails saying so.
 """
 
 from __future__ import annotations
@@ -25,7 +26,7 @@ import scipy.sparse as sp
 from scipy.sparse.linalg import ArpackError, ArpackNoConvergence, LinearOperator, eigsh
 
 from modalfe.errors import SolverError
-from modalfe.solve.linalg import factorize, negative_eigenvalue_count
+from modalfe.solve.linalg import checked, counted_factorization, factorize, negative_eigenvalue_count
 
 log = logging.getLogger(__name__)
 
@@ -122,7 +123,7 @@ def band_eigenpairs(A, B, band: tuple[float, float], solver: str = "auto") -> Ei
     low = (2 * np.pi * f1) ** 2 if f1 > RIGID_FRACTION * f2 else -RIGID_FRACTION * top
     offset = _massless_negatives(A, B, solver)
     counter = _SturmCounter(A, B, solver, offset)
-    low, below_low = counter.count_near(low, outward=-1)
+    low, below_low = counter.count_near(low, outward=-1, keep=True)
     top, below_top = counter.count_near(top, outward=+1)
     if below_top - below_low <= 0:
         raise SolverError(f"no modes in the band {f1:g}-{f2:g} Hz (Sturm count 0)")
@@ -131,8 +132,9 @@ def band_eigenpairs(A, B, band: tuple[float, float], solver: str = "auto") -> Ei
 
 def _interval(A, B, low, below_low, top, below_top, solver, counter) -> EigenSolution:
     """Every eigenpair with lam in (low, top], whose Sturm counts are given: windows of at most ``WINDOW_MODES``
-    modes, each solved at its midpoint, missing modes (a multiple eigenvalue Lanczos met once) sought again
-    with the found ones deflated; SolverError if the count is still not met."""
+    modes, each solved at its midpoint (or its lower end, ``_SturmCounter.bottom_solve``), missing modes (a multiple
+    eigenvalue Lanczos met once) sought again with the found ones deflated; SolverError if the count is still not
+    met."""
     t0 = time.perf_counter()
     expected = below_top - below_low
     stack, windows = [(low, below_low, top, below_top)], []
@@ -151,11 +153,15 @@ def _interval(A, B, low, below_low, top, below_top, solver, counter) -> EigenSol
     for a, ca, b, cb in windows:
         t = time.perf_counter()
         mid = 0.5 * (a + b)
-        if mid < 1e2 * counter.scale:
-            # a window at ~0 Hz (rigid-body modes): a shift below it, where its modes are the nearest
-            # (a shift amid a free body's rigid modes is singular, see ``_lowest``)
-            mid = min(a, 0.0) - 1e2 * counter.scale
-        solve, used, moved = _factor_nudged(A, B, mid, solver)
+        bottom = counter.bottom_solve(a, ca) if mid >= 1e2 * counter.scale else None
+        if bottom is not None:
+            (solve, used), moved = bottom, a
+        else:
+            if mid < 1e2 * counter.scale:
+                # a window at ~0 Hz (rigid-body modes): a shift below it, where its modes are the nearest
+                # (a shift amid a free body's rigid modes is singular, see ``_lowest``)
+                mid = min(a, 0.0) - 1e2 * counter.scale
+            solve, used, moved = _factor_nudged(A, B, mid, solver)
         t_fact += time.perf_counter() - t
         t = time.perf_counter()
         want = cb - ca
@@ -200,21 +206,39 @@ def _massless_negatives(A, B, solver: str) -> int:
 
 
 class _SturmCounter:
-    """Sturm counts at shifts moved off the eigenvalues they would sit on."""
+    """Sturm counts at shifts moved off the eigenvalues they would sit on; the factorization of the last count asked
+    to be kept (``kept``: (shift, PARDISO solve), or None)."""
 
     def __init__(self, A, B, solver, offset):
         self.A, self.B, self.solver, self.offset = A, B, solver, offset
         self.scale = _shift_scale(A, B)
+        self.kept = None
 
-    def count_near(self, sigma: float, outward: int) -> tuple[float, int]:
+    def count_near(self, sigma: float, outward: int, *, keep: bool = False) -> tuple[float, int]:
         """(shift used, count below it): ``sigma``, else moved ``outward`` (+1 up, -1 down) by growing steps."""
         for step in (0.0, *(abs(x) for x in NUDGES)):
             shift = sigma + outward * step * max(abs(sigma), self.scale)
             try:
-                return shift, negative_eigenvalue_count(self.A - shift * self.B, solver=self.solver) - self.offset
+                negative, factor = counted_factorization(self.A - shift * self.B, solver=self.solver)
             except SolverError as exc:
                 log.info("Sturm count at %.6g: %s; moving the shift", shift, exc)
+                continue
+            if keep:
+                self.kept = None if factor is None else (shift, factor)
+            return shift, negative - self.offset
         raise SolverError(f"band: no regular shift found near {np.sqrt(abs(sigma)) / (2 * np.pi):.6g} Hz")
+
+    def bottom_solve(self, a: float, below_a: int):
+        """(solve, solver name) of A - a B from the count kept at ``a``, for a window (a, b] with no finite eigenvalue
+        below a >= 0: its modes are then the ones nearest a, and shift-invert there finds them as at its midpoint,
+        one factorization fewer (a band's three: the counts at both ends and the window's shift). None otherwise:
+        modes below a (a free body's rigid ones at ~0) would be nearer a than the window's top."""
+        if self.kept is None or self.kept[0] != a or below_a != 0 or a < 0:
+            return None
+        try:
+            return checked(self.A - a * self.B, self.kept[1], "pardiso"), "pardiso"
+        except SolverError:
+            return None
 
 
 def _shift_scale(A, B) -> float:

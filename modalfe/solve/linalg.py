@@ -74,20 +74,26 @@ def factorize(A: sp.spmatrix, *, solver: str = "auto"):
             last = exc
             log.warning("%s factorization failed: %s", name, exc)
             continue
-        rng = np.random.default_rng(0)
-        b = rng.standard_normal(A.shape[0])
+        return checked(A, solve, name), name
+    raise SolverError(f"the shifted matrix is singular or ill-conditioned ({last}); move the shift")
+
+
+def checked(A: sp.csr_matrix, solve, name: str):
+    """``solve`` (a factorization of ``A`` by the solver ``name``) once its relative residual on a generic right-hand
+    side is below 1e-6; a PARDISO one whose bare residual reaches ``REFINED_ABOVE`` refines its solves from now on.
+    SolverError if ``A`` is singular to working precision (a singular matrix defeats every direct solver alike)."""
+    rng = np.random.default_rng(0)
+    b = rng.standard_normal(A.shape[0])
+    x = solve(b)
+    residual = np.linalg.norm(A @ x - b) / np.linalg.norm(b)
+    if name == "pardiso" and not residual < REFINED_ABOVE:
+        solve.refine()
         x = solve(b)
         residual = np.linalg.norm(A @ x - b) / np.linalg.norm(b)
-        if name == "pardiso" and not residual < REFINED_ABOVE:
-            solve.refine()
-            x = solve(b)
-            residual = np.linalg.norm(A @ x - b) / np.linalg.norm(b)
-        if np.all(np.isfinite(x)) and residual < 1e-6:
-            return solve, name
-        # a singular matrix defeats every direct solver alike: no point trying the next one
-        raise SolverError(f"the shifted matrix is singular to working precision ({name}: relative residual "
-                          f"{residual:.1e}); move the shift")
-    raise SolverError(f"the shifted matrix is singular or ill-conditioned ({last}); move the shift")
+    if np.all(np.isfinite(x)) and residual < 1e-6:
+        return solve
+    raise SolverError(f"the shifted matrix is singular to working precision ({name}: relative residual "
+                      f"{residual:.1e}); move the shift")
 
 
 def _pardiso(A: sp.csr_matrix):
@@ -127,10 +133,17 @@ def negative_eigenvalue_count(A: sp.spmatrix, *, solver: str = "auto") -> int:
     pivoting gives P A P^T = L U with U = D L^T, whose diagonal signs are the inertia (Golub & Van Loan,
     Matrix Computations, 4th ed., sec. 4.1 and 8.1). SolverError if ``A`` is singular to working precision or
     the count cannot be certified (an off-diagonal pivot)."""
+    return counted_factorization(A, solver=solver)[0]
+
+
+def counted_factorization(A: sp.spmatrix, *, solver: str = "auto") -> tuple[int, object | None]:
+    """(``negative_eigenvalue_count`` of ``A``, the PARDISO factorization that counted it as an unchecked solve(b),
+    or None where SuperLU counted): a Sturm count's factorization can then also serve a shift-invert solve at
+    its shift (``checked`` first)."""
     A = sp.csr_matrix(A)
     n = A.shape[0]
     if n == 0:
-        return 0
+        return 0, None
     if solver in ("auto", "pardiso") and _mkl_found():
         try:
             factor = _pardiso(A)
@@ -140,7 +153,7 @@ def negative_eigenvalue_count(A: sp.spmatrix, *, solver: str = "auto") -> int:
             iparm = factor._ps.iparm
             positive, negative, perturbed = int(iparm[21]), int(iparm[22]), int(iparm[13])
             if perturbed == 0 and positive + negative == n:
-                return negative
+                return negative, factor
             log.info("pardiso perturbed %d pivots (inertia %d + %d of %d): SuperLU counts instead",
                      perturbed, positive, negative, n)
     from scipy.sparse.linalg import splu
@@ -155,7 +168,7 @@ def negative_eigenvalue_count(A: sp.spmatrix, *, solver: str = "auto") -> int:
     d = lu.U.diagonal()
     if not np.all(np.isfinite(d)) or np.min(np.abs(d)) <= 1e-14 * np.max(np.abs(d)):
         raise SolverError("the shifted matrix is singular to working precision (a zero pivot); move the shift")
-    return int(np.sum(d < 0))
+    return int(np.sum(d < 0)), None
 
 
 class _PardisoFactor:

@@ -143,3 +143,36 @@ def test_a_low_shift_returns_the_mode_nearest_it_not_the_lowest():
     nearest = band[np.argmin(np.abs(band - sigma))]
     assert nearest > 0.3 * sigma  # the check can fail: the nearest is the elastic mode, not a rigid one
     assert found.values == pytest.approx([nearest], rel=1e-8)  # both Lanczos-converged: round-off
+
+
+@pytest.mark.skipif("pardiso" not in available_solvers(), reason="the kept count's factorization is PARDISO's")
+def test_a_bottom_window_is_solved_on_its_count_factorization(monkeypatch):
+    # the clamped bimorph (piezo: potentials without inertia) has no mode below 50 Hz: the band's lower count
+    # factorization serves the window's solve (two factorizations, not three), with the modes of a shift at its
+    # midpoint and of the dense solution; a free plate's band from 0 Hz (rigid modes at its foot) keeps the midpoint
+    import modalfe.solve.eigen as eigen
+    import modalfe.solve.linalg as linalg
+
+    A, B = _pencil(scene_from_dict(BIMORPH))
+    band = (50.0, 40e3)
+    made = []
+    pardiso = linalg._pardiso
+    monkeypatch.setattr(linalg, "_pardiso", lambda M: made.append(M.shape) or pardiso(M))
+    reused = eigen.band_eigenpairs(A, B, band)
+    factorizations = len(made)
+    monkeypatch.setattr(eigen._SturmCounter, "bottom_solve", lambda self, a, below_a: None)
+    made.clear()
+    midpoint = eigen.band_eigenpairs(A, B, band)
+    assert factorizations == len(made) - 1
+    assert len(reused.values) == reused.expected == len(midpoint.values) >= 4
+    # ARPACK's tolerance 1e-8 on the inverted eigenvalue 1 / (lam - shift) bounds each solve's error by
+    # 1e-8 |lam - shift|: shifts at the band's foot and its middle, both below the top
+    top = (2 * np.pi * band[1]) ** 2
+    assert np.all(np.abs(reused.values - midpoint.values) <= 1e-8 * (reused.values + top))
+    monkeypatch.undo()
+    answers = []
+    bottom_solve = eigen._SturmCounter.bottom_solve
+    monkeypatch.setattr(eigen._SturmCounter, "bottom_solve",
+                        lambda self, a, below_a: answers.append(bottom_solve(self, a, below_a)) or answers[-1])
+    free = eigen.band_eigenpairs(*_pencil(free_plate_scene(mesh={"max_size": 5e-3})), (0.0, 1e5))
+    assert len(free.values) == 34 and answers and all(x is None for x in answers)  # rigid modes at its foot

@@ -7,23 +7,12 @@ import pytest
 import scipy.sparse as sp
 
 from modalfe.models.build import build_model
-from modalfe.scene import scene_from_dict
+from tests.oracles.cases import two_patch_bar_scene
 
 
 @pytest.fixture(scope="module")
 def model():
-    scene = scene_from_dict({
-        "name": "two-patch-bar", "units": "mm", "kind": "beam",
-        "parts": [{"name": "left", "region": "piezo", "material": "PZT-5A", "origin": [0, 0, 0],
-                   "size": [15, 2, 1], "poling": 1},
-                  {"name": "right", "region": "piezo", "material": "PZT-5A", "origin": [15, 0, 0],
-                   "size": [15, 2, 1], "poling": -1}],
-        "faces": {"top_left": ["left.zmax"], "top_right": ["right.zmax"], "bottom": ["left.zmin", "right.zmin"],
-                  "end": ["left.xmin"]},
-        "electrodes": {"top_left": "drive", "top_right": "drive", "bottom": "ground"},
-        "clamps": {"end": "xyz"},
-        "analysis": {"near": 47e3, "count": 6}, "mesh": {"max_size": 1.0, "elements_per_wavelength": 1.0},
-    })
+    scene = two_patch_bar_scene(faces={"end": ["left.xmin"]}, clamps={"end": "xyz"})
     return build_model(scene, "solid")[0]
 
 

@@ -69,3 +69,21 @@ def clamped_bar_scene(nu: float, max_size: float):
         "faces": {"clamp": ["bar.xmin"]}, "clamps": {"clamp": "xyz"},
         "analysis": {"near": 1500.0, "count": 2}, "mesh": reference_mesh(max_size, 1),
     })
+
+
+def two_patch_bar_scene(**extra):
+    """Two PZT-5A patches 15 x 2 x 1 mm end to end, poled + and -, each under its own driven top electrode (two
+    floating potentials in open circuit), one grounded bottom electrode; ``extra`` adds to the scene's fields."""
+    data = {
+        "name": "two-patch-bar", "units": "mm", "kind": "beam",
+        "parts": [{"name": "left", "region": "piezo", "material": "PZT-5A", "origin": [0, 0, 0],
+                   "size": [15, 2, 1], "poling": 1},
+                  {"name": "right", "region": "piezo", "material": "PZT-5A", "origin": [15, 0, 0],
+                   "size": [15, 2, 1], "poling": -1}],
+        "faces": {"top_left": ["left.zmax"], "top_right": ["right.zmax"], "bottom": ["left.zmin", "right.zmin"]},
+        "electrodes": {"top_left": "drive", "top_right": "drive", "bottom": "ground"},
+        "analysis": {"near": 47e3, "count": 6}, "mesh": {"max_size": 1.0, "elements_per_wavelength": 1.0},
+    }
+    for key, value in extra.items():
+        data[key] = {**data[key], **value} if isinstance(value, dict) and key in data else value
+    return scene_from_dict(data)

@@ -66,18 +66,9 @@ def test_two_floating_electrodes_reuse_gives_the_fresh_modes():
     # two driven electrode groups float as two unknowns: the border has two columns, each solved through the
     # short-circuit factorization (a strided column of a C-ordered array was read as contiguous memory by
     # PARDISO: open-circuit frequencies off by up to the coupling itself, silently)
-    from modalfe.scene import scene_from_dict
+    from tests.oracles.cases import two_patch_bar_scene
 
-    scene = scene_from_dict({
-        "name": "two-patch-bar", "units": "mm", "kind": "beam",
-        "parts": [{"name": "left", "region": "piezo", "material": "PZT-5A", "origin": [0, 0, 0],
-                   "size": [15, 2, 1], "poling": 1},
-                  {"name": "right", "region": "piezo", "material": "PZT-5A", "origin": [15, 0, 0],
-                   "size": [15, 2, 1], "poling": -1}],
-        "faces": {"top_left": ["left.zmax"], "top_right": ["right.zmax"], "bottom": ["left.zmin", "right.zmin"]},
-        "electrodes": {"top_left": "drive", "top_right": "drive", "bottom": "ground"},
-        "analysis": {"near": 47e3, "count": 6}, "mesh": {"max_size": 1.0, "elements_per_wavelength": 1.0},
-    })
+    scene = two_patch_bar_scene()
     options = {"near": 47e3, "count": 6, "fidelity": "solid", "error_estimate": False}
     solve_modes(scene, **options)
     reused = solve_modes(scene, circuit="open", **options)

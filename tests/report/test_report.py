@@ -93,6 +93,7 @@ def test_the_largest_window_starts_first_and_the_rows_keep_the_order_asked():
 
 def test_workers_fork_only_from_a_process_without_mkl_threads():
     # a fork copies no thread: a parent that has loaded MKL (PARDISO's OpenMP threads) spawns fresh interpreters
+    import json
     import subprocess
     import sys
 
@@ -105,3 +106,12 @@ def test_workers_fork_only_from_a_process_without_mkl_threads():
 
     assert first == "fork"
     assert then == ("spawn" if "pardiso" in available_solvers() else "fork")
+    # a fresh command's report forks its workers: the rows of the sequential report
+    script = ("import json; from modalfe.report.report import _start_method, run_report; assert _start_method() == "
+              "'fork'; rows = run_report(['tile_eq5', 'ciliary_beam'], progress=False, jobs=2); "
+              "print(json.dumps([(r.scene, r.mode, r.dofs, r.frequency_hz) for r in rows]))")
+    forked = json.loads(subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                                       check=True).stdout)
+    sequential = run_report(["tile_eq5", "ciliary_beam"], progress=False, jobs=1)
+    assert [tuple(r[:3]) for r in forked] == [(r.scene, r.mode, r.dofs) for r in sequential]
+    assert [r[3] for r in forked] == pytest.approx([r.frequency_hz for r in sequential], rel=1e-8)

@@ -237,8 +237,8 @@ def solve_estimated(scene, analysis, fidelity: str, *, size_factor: float = 1.0,
                     error_estimate: bool = True, frame=None, levels: list[Modes] | None = None) -> Modes:
     """Modes of one fidelity with discretization estimates: the solid's from ``solid_levels`` (lower orders or
     coarser grids; ``levels``: those grids solved already, used unless they leave a mode without a partner), a
-    reduced model's Richardson from levels 1.5x and 2.25x coarser (``modalfe.solve.estimates.richardson``; no
-    model error: ``with_model_errors`` adds it)."""
+    reduced model's Richardson from levels 1.5x and 2.25x coarser (``modalfe.solve.estimates.richardson``, which
+    pairs them by shape: solved unlabelled; no model error: ``with_model_errors`` adds it)."""
     if fidelity != "solid" and fidelity not in reduced_fidelities(scene):
         raise SceneError(f"fidelity: '{fidelity}' does not apply to a {scene.kind} scene "
                          f"(use {[*reduced_fidelities(scene), 'solid', 'auto']})")
@@ -268,8 +268,8 @@ def solve_estimated(scene, analysis, fidelity: str, *, size_factor: float = 1.0,
     if not error_estimate:
         return fine
     start = time.perf_counter()
-    coarse = solve(coarser(analysis), size_factor=size_factor * COARSE_FACTOR)
-    coarsest = solve(coarser(coarser(analysis)), size_factor=size_factor * COARSE_FACTOR**2)
+    coarse = solve(coarser(analysis), size_factor=size_factor * COARSE_FACTOR, labels=False)
+    coarsest = solve(coarser(coarser(analysis)), size_factor=size_factor * COARSE_FACTOR**2, labels=False)
     result = fine.with_error_estimates(richardson(fine, coarse, COARSE_FACTOR, coarsest, COARSE_FACTOR**2))
     method = f"h-refinement: Richardson through three {fidelity} meshes (elements x1, x1.5, x2.25)"
     seconds = time.perf_counter() - start

@@ -14,6 +14,7 @@ from modalfe.results.labels import unique_labels
 from modalfe.results.modes import Mode, Modes
 from modalfe.solve.eigen import eigenpairs
 
+UNLABELLED = "unlabelled"  # the label of every mode of a level solved without labels (``solve_level``)
 _KEPT_FACTORS = 3  # short-circuit solves kept for an open-circuit solve of the same model
 
 
@@ -34,14 +35,16 @@ _SHORT_SOLVES: list[_ShortSolve] = []  # newest first
 
 
 def solve_level(scene, analysis, *, fidelity: str = "solid", size_factor: float = 1.0, solver: str = "auto",
-                frame=None, min_layers: int | None = None) -> Modes:
+                frame=None, min_layers: int | None = None, labels: bool = True) -> Modes:
     """Modes of ``scene`` for ``analysis`` (near/count or band, circuit) at ``fidelity`` on one mesh level
-    (element sizes x ``size_factor``): mass-normalised full DOF shapes, labelled, no error estimate."""
+    (element sizes x ``size_factor``): mass-normalised full DOF shapes, labelled (``labels=False``: an estimate
+    level whose labels nobody reads, ``UNLABELLED``), no error estimate."""
     model, timings = build_model(scene, fidelity, size_factor=size_factor, frame=frame, min_layers=min_layers)
-    return modes_of(model, analysis, fidelity=fidelity, solver=solver, timings=timings)
+    return modes_of(model, analysis, fidelity=fidelity, solver=solver, timings=timings, labels=labels)
 
 
-def modes_of(model, analysis, *, fidelity: str, solver: str = "auto", timings: dict | None = None) -> Modes:
+def modes_of(model, analysis, *, fidelity: str, solver: str = "auto", timings: dict | None = None,
+             labels: bool = True) -> Modes:
     """Modes of an assembled ``model`` (solid, plate or beam) for ``analysis``. An open-circuit solve of a model solved
     in short circuit borders that solve's matrices (``Constraints.project``) and, at its shift, reuses its
     factorization (``open_circuit_solve``)."""
@@ -63,7 +66,8 @@ def modes_of(model, analysis, *, fidelity: str, solver: str = "auto", timings: d
     shapes = T @ solution.vectors
     frequencies = [float(np.sqrt(max(lam, 0.0)) / (2 * np.pi)) for lam in solution.values]
     # unique in the solve; degenerate pairs in their clearest basis; modes carried by attached masses yield
-    names = unique_labels(model, shapes, frequencies, model.attached_share(shapes))
+    names = (unique_labels(model, shapes, frequencies, model.attached_share(shapes)) if labels
+             else [(UNLABELLED, float("nan"))] * len(frequencies))
     modes = [Mode(i, f, name, shapes[:, i], model, analysis.circuit, wavelength=w)
              for i, (f, (name, w)) in enumerate(zip(frequencies, names))]
     seconds = {**(timings or {}), "factorization": solution.factorization_seconds,

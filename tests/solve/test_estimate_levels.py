@@ -70,3 +70,4 @@ def test_tetrahedra_one_layer_thick_state_no_estimate_without_solving_levels(mon
         assert fidelity.no_estimate_reason(scene_from_dict({**data, "mesh": {"element": "tet", "max_size": 6,
                                                                              "min_layers": layers}})) \
             == reason
+

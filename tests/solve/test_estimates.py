@@ -27,3 +27,19 @@ def test_ambiguous_requests_are_refused_naming_the_field(kwargs, field):
         solve_modes(free_plate_scene(), **kwargs)
     message = str(info.value)
     assert message.startswith(field) and "\n" not in message
+
+
+def test_a_level_solved_without_labels_has_the_labelled_frequencies_and_says_so():
+    # the reduced models' coarser Richardson levels are solved unlabelled (paired by shape, then dropped)
+    import numpy as np
+
+    from modalfe.scene import Analysis, load_scene
+    from modalfe.solve.levels import UNLABELLED, solve_level
+
+    scene = load_scene("tile_eq5")
+    analysis = Analysis(near=845.0, count=6)
+    labelled = solve_level(scene, analysis, fidelity="plate", size_factor=1.5)
+    bare = solve_level(scene, analysis, fidelity="plate", size_factor=1.5, labels=False)
+    assert np.allclose(bare.frequencies, labelled.frequencies, rtol=1e-8, atol=0)
+    assert {m.label for m in bare} == {UNLABELLED} and UNLABELLED not in {m.label for m in labelled}
+    assert all(np.isnan(m.wavelength) for m in bare)

@@ -25,7 +25,8 @@ def antiresonance(short_mode, open_modes):
     frequency."""
     if open_modes.model is short_mode.model:
         weighted = short_mode.model.M @ short_mode.shape
-        likeness = [float(m.shape @ weighted) ** 2 / (m.modal_mass * short_mode.modal_mass) for m in open_modes]
+        mass = float(short_mode.shape @ weighted)  # short_mode.modal_mass, from the product at hand
+        likeness = [float(m.shape @ weighted) ** 2 / (m.modal_mass * mass) for m in open_modes]
         best = max(range(len(likeness)), key=likeness.__getitem__, default=None)
         if best is None or likeness[best] < PARTNER_MAC:
             raise SolverError(f"no open-circuit mode with the shape of {short_mode.label} at "

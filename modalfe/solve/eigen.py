@@ -207,7 +207,7 @@ def _massless_negatives(A, B, solver: str) -> int:
 
 class _SturmCounter:
     """Sturm counts at shifts moved off the eigenvalues they would sit on; the factorization of the last count asked
-    to be kept (``kept``: (shift, PARDISO solve), or None)."""
+    to be kept (``kept``: (shift, A - shift B, PARDISO solve), or None)."""
 
     def __init__(self, A, B, solver, offset):
         self.A, self.B, self.solver, self.offset = A, B, solver, offset
@@ -219,12 +219,13 @@ class _SturmCounter:
         for step in (0.0, *(abs(x) for x in NUDGES)):
             shift = sigma + outward * step * max(abs(sigma), self.scale)
             try:
-                negative, factor = counted_factorization(self.A - shift * self.B, solver=self.solver)
+                shifted = self.A - shift * self.B
+                negative, factor = counted_factorization(shifted, solver=self.solver)
             except SolverError as exc:
                 log.info("Sturm count at %.6g: %s; moving the shift", shift, exc)
                 continue
             if keep:
-                self.kept = None if factor is None else (shift, factor)
+                self.kept = None if factor is None else (shift, shifted, factor)
             return shift, negative - self.offset
         raise SolverError(f"band: no regular shift found near {np.sqrt(abs(sigma)) / (2 * np.pi):.6g} Hz")
 
@@ -236,7 +237,7 @@ class _SturmCounter:
         if self.kept is None or self.kept[0] != a or below_a != 0 or a < 0:
             return None
         try:
-            return checked(self.A - a * self.B, self.kept[1], "pardiso"), "pardiso"
+            return checked(self.kept[1], self.kept[2], "pardiso"), "pardiso"
         except SolverError:
             return None
 

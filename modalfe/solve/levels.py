@@ -85,7 +85,7 @@ def open_circuit_solve(A_open, n_short: int, factor: tuple) -> tuple:
     short_solve, shift = factor
     if A_open.shape[0] == n_short:  # no floating electrode in this model: the same matrix
         return factor
-    b = A_open[:n_short, n_short:].toarray()
+    b = A_open[n_short:, :n_short].toarray().T  # A is symmetric: its last rows, not a column slice of every row
     c = A_open[n_short:, n_short:].toarray()
     W = short_solve(b).reshape(b.shape)
     schur = c - b.T @ W

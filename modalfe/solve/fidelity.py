@@ -15,7 +15,8 @@ A mode's ``error_estimate`` is the sum of the two, ``model_error`` the second, w
 with ``fidelity="beam"|"plate"`` asked directly alike (a reduced model's figure always includes its model error).
 
 ``auto`` tries the reduced model that suits the scene's kind (beam or plate) and answers with it when
-the estimated error of the modes asked about is within ``tol``; otherwise the 3-D solid answers,
+the estimated error of the modes asked about is within ``tol`` (the model error is read first: where it alone
+misses ``tol``, the reduced model's own estimate levels are not solved); otherwise the 3-D solid answers,
 reusing the cross-check's levels for its own error estimate (nothing is solved twice or for nothing), and refined
 while its own estimate exceeds ``tol`` (``refined_to_tol``): quadratic box hexahedra by the order first (quartic on
 a coarser grid, ``refinement_step``), other meshes by the grid; where the cross-check's levels forecast that the
@@ -35,9 +36,6 @@ import math
 import time
 from dataclasses import replace
 
-import numpy as np
-from scipy.spatial import cKDTree
-
 from modalfe.errors import SceneError, SolverError
 from modalfe.results.modes import Modes, select
 from modalfe.solve.estimates import (
@@ -46,24 +44,21 @@ from modalfe.solve.estimates import (
     LOWEST_P_LEVEL,
     MIN_ORDER,
     MIN_P_RATE,
-    OBSERVED_ORDERS,
     axis_ratio,
     coarse_level,
     coarser,
     level_layers,
     p_extrapolation,
     partner,
-    refinement_ratio,
     richardson,
-    sample_points,
     shape_partners,
     singular_field,
 )
 from modalfe.solve.levels import solve_level
+from modalfe.solve.reduced import reduced_estimates, solve_reduced_level, with_model_errors
 
 log = logging.getLogger(__name__)
 
-SOLVES_SYMMETRIC_PART = {"beam": False, "plate": True, "solid": True}  # else the whole device is solved
 CHECK_FACTORS = (COARSE_FACTOR, COARSE_FACTOR**2)  # the cross-check's two solid levels
 REFINE_RATIO = COARSE_FACTOR  # auto's refinement of a solid whose estimate exceeds tol: elements 1.5x smaller a step
 MAX_REFINE_STEPS = 3  # at most 1.5^3 = 3.4x smaller elements (~40x the DOFs) than the scene's mesh
@@ -102,7 +97,7 @@ def solve_at_fidelity(scene, analysis, *, fidelity: str, tol: float, check, size
     # a reduced model asked directly states its model error too: the same cross-check as ``auto``
     start = time.perf_counter()
     levels = solid_levels(scene, analysis, size_factor, solver)
-    checked = with_model_errors(modes, levels, scene)
+    checked = with_model_errors(modes, levels, scene, orders=uses_orders(scene))
     note = (f"{fidelity} model: error estimates are discretization (three levels) plus model error against a "
             f"3-D solid cross-check")
     return replace(checked, fidelity_note=note, cross_check=tuple(levels),
@@ -258,21 +253,10 @@ def solve_estimated(scene, analysis, fidelity: str, *, size_factor: float = 1.0,
             result = solid_estimates(fine, solid_levels(scene, analysis, size_factor, solver, frame), scene, step)
         return replace(result, timings=dict(fine.timings, error_estimate=time.perf_counter() - start))
 
-    def solve(a, **level):
-        if SOLVES_SYMMETRIC_PART[fidelity]:
-            return solve_level(scene, a, fidelity=fidelity, solver=solver, **level)
-        return _same_family(solve_level(scene, _widened(a, scene), fidelity=fidelity, solver=solver, **level), scene, a)
-
-    fine = solve(analysis, size_factor=size_factor)
+    fine = solve_reduced_level(scene, analysis, fidelity, solver=solver, size_factor=size_factor)
     if not error_estimate:
         return fine
-    start = time.perf_counter()
-    coarse = solve(coarser(analysis), size_factor=size_factor * COARSE_FACTOR, labels=False)
-    coarsest = solve(coarser(coarser(analysis)), size_factor=size_factor * COARSE_FACTOR**2, labels=False)
-    result = fine.with_error_estimates(richardson(fine, coarse, COARSE_FACTOR, coarsest, COARSE_FACTOR**2))
-    method = f"h-refinement: Richardson through three {fidelity} meshes (elements x1, x1.5, x2.25)"
-    seconds = time.perf_counter() - start
-    return replace(result, estimate_method=method, timings=dict(fine.timings, error_estimate=seconds))
+    return reduced_estimates(fine, scene, analysis, size_factor=size_factor, solver=solver)
 
 
 def solve_auto(scene, analysis, *, tol: float, check=None, size_factor: float = 1.0, solver: str = "auto") -> Modes:
@@ -288,13 +272,26 @@ def solve_auto(scene, analysis, *, tol: float, check=None, size_factor: float = 
 
     for fidelity in reduced_fidelities(scene):
         try:
-            reduced = solve_estimated(scene, analysis, fidelity, size_factor=size_factor, solver=solver)
+            fine = solve_estimated(scene, analysis, fidelity, size_factor=size_factor, solver=solver,
+                                   error_estimate=False)
         except (SceneError, SolverError, ImportError) as exc:
             reasons.append(f"{fidelity} model not applicable: {exc}")
             continue
         start = time.perf_counter()
-        checked = with_model_errors(reduced, solid_check(), scene)
-        checked = replace(checked, timings=dict(checked.timings, cross_check=time.perf_counter() - start))
+        # the model error alone first: where it misses tol, the discretization's levels would change nothing
+        alone, why = worst_checked(with_model_errors(fine, solid_check(), scene, orders=uses_orders(scene)), check)
+        if alone > tol:
+            reasons.append(f"{fidelity} model: {why.replace('estimated', 'model', 1)} > tol {percent(tol)}")
+            continue
+        cross_check = time.perf_counter() - start
+        try:
+            reduced = reduced_estimates(fine, scene, analysis, size_factor=size_factor, solver=solver)
+        except (SceneError, SolverError) as exc:
+            reasons.append(f"{fidelity} model not applicable: {exc}")
+            continue
+        start = time.perf_counter()
+        checked = with_model_errors(reduced, solid_check(), scene, orders=uses_orders(scene))
+        checked = replace(checked, timings=dict(checked.timings, cross_check=cross_check + time.perf_counter() - start))
         worst, why = worst_checked(checked, check)
         if worst <= tol:
             model = max((m.model_error for m in _checked_modes(checked, check)), default=0.0)
@@ -472,58 +469,6 @@ def refined_scene(scene, steps: int):
     return replace(scene, mesh=replace(scene.mesh, min_layers=layers))
 
 
-def with_model_errors(reduced: Modes, levels: list[Modes], scene) -> Modes:
-    """``reduced`` with each mode's model error against the solid extrapolated from its two estimate levels
-    (``solid_levels``), and its error estimate raised by it (inf where the solid has no partner mode)."""
-    solid_1, solid_2 = levels
-    extrapolate = _order_extrapolation(scene) if uses_orders(scene) else _grid_extrapolation(solid_1, solid_2, scene)
-    top = max(m.frequency for m in reduced)
-    # paired by shape at the reduced model's own sample points (inside the solid too)
-    to_solid = shape_partners(reduced, solid_1, sample_points(reduced))
-    within_solid = shape_partners(solid_1, solid_2)
-    modes = []
-    for mode in reduced:
-        if mode.frequency < 1e-6 * top:
-            modes.append(replace(mode, model_error=0.0))
-            continue
-        near = to_solid.get(mode.index)
-        far = within_solid.get(near[0].index) if near is not None else None
-        if far is None:
-            error = math.inf
-        else:
-            extrapolated, uncertainty = extrapolate(near[1], far[1])
-            error = (abs(mode.frequency - extrapolated) + uncertainty) / extrapolated
-        discretization = 0.0 if math.isnan(mode.error_estimate) else mode.error_estimate
-        modes.append(replace(mode, model_error=error, error_estimate=discretization + error))
-    return replace(reduced, modes=tuple(modes))
-
-
-def _grid_extrapolation(solid_1: Modes, solid_2: Modes, scene):
-    """(f_1, f_2) -> (solid frequency extrapolated to zero element size at ``CONVERGENCE_ORDER``, its uncertainty
-    [Hz]: how far it moves over the orders ``OBSERVED_ORDERS``) for levels of two grids."""
-    ratio = refinement_ratio(solid_1.model.mesh, solid_2.model.mesh, scene)
-
-    def extrapolate(f1: float, f2: float) -> tuple[float, float]:
-        step = f1 - f2
-        value = f1 + step / (ratio**CONVERGENCE_ORDER - 1)
-        return value, max(abs(step / (ratio**q - 1) - step / (ratio**CONVERGENCE_ORDER - 1)) for q in OBSERVED_ORDERS)
-
-    return extrapolate
-
-
-def _order_extrapolation(scene):
-    """(f_(p-1), f_(p-2)) -> (solid frequency, its uncertainty [Hz]) for levels of two orders on one grid: with
-    e_k = C k^-q and q >= ``MIN_P_RATE`` the exact value lies between f_(p-1) and its extrapolation at that rate;
-    the midpoint, and half the interval."""
-    top = scene.mesh.order - 1
-
-    def extrapolate(f1: float, f2: float) -> tuple[float, float]:
-        tail = (f1 - f2) / ((top / (top - 1)) ** MIN_P_RATE - 1)
-        return f1 + tail / 2, abs(tail) / 2
-
-    return extrapolate
-
-
 def _checked_modes(modes: Modes, check) -> list:
     if check is None:
         top = max(m.frequency for m in modes)
@@ -543,39 +488,6 @@ def worst_checked(modes: Modes, check, ceiling: float = math.inf) -> tuple[float
     worst = max(found, key=lambda m: m.error_estimate if not math.isnan(m.error_estimate) else math.inf)
     value = worst.error_estimate if not math.isnan(worst.error_estimate) else math.inf
     return value, f"estimated error {percent(value)} on {worst.label} at {worst.frequency:.6g} Hz"
-
-
-def _widened(analysis, scene):
-    """Twice the modes per mirror plane of the scene: about half are dropped as of the other parity."""
-    if not scene.mirror_axes or analysis.band is not None:
-        return analysis
-    return replace(analysis, count=analysis.count * 2 ** len(scene.mirror_axes))
-
-
-def _same_family(modes: Modes, scene, analysis) -> Modes:
-    """Keep the modes symmetric about every mirror plane of ``scene.symmetry`` and antisymmetric about every one of
-    ``scene.antisymmetry`` (the family the 3-D solid's reduced domain returns), then the ``count`` nearest the
-    target; renumbered from 0."""
-    kept = [m for m in modes if all(_parity(modes.model, m.shape, "xyz".index(a), scene) > 0 for a in scene.symmetry)
-            and all(_parity(modes.model, m.shape, "xyz".index(a), scene) < 0 for a in scene.antisymmetry)]
-    if analysis.band is None:
-        kept = sorted(sorted(kept, key=lambda m: abs(m.frequency - analysis.near))[: analysis.count],
-                      key=lambda m: m.frequency)
-    return replace(modes, modes=tuple(replace(m, index=i) for i, m in enumerate(kept)))
-
-
-def _parity(model, shape: np.ndarray, axis: int, scene) -> float:
-    """Correlation of a displacement field with its mirror image about the device's mid-plane normal
-    to ``axis``: +1 symmetric, -1 antisymmetric."""
-    points, u = model.label_field(shape)
-    lo, hi = scene.full_assembly().bounds
-    mirrored = points.copy()
-    mirrored[axis] = lo[axis] + hi[axis] - points[axis]
-    _, nearest = cKDTree(points.T).query(mirrored.T)
-    image = u[:, nearest].copy()
-    image[axis] *= -1
-    norm = float(np.sum(u * u))
-    return float(np.sum(u * image)) / norm if norm > 0 else 1.0
 
 
 def coupling_check_level(modes: Modes, mode, *, size_factor: float = 1.0, solver: str = "auto") -> tuple[float, float]:

@@ -147,7 +147,7 @@ def test_plate_model_error_estimate_covers_the_solid_difference(name, check):
 def test_auto_says_why_the_solid_answered_when_the_tolerance_is_tight():
     modes = solve_modes(load_scene("tile_eq5"), fidelity="auto", tol=1e-5, check=(("(0,0)", 845.0),))
     assert modes.fidelity == "solid"
-    assert "plate model: estimated error" in modes.fidelity_note and "> tol 0.0010%" in modes.fidelity_note
+    assert "plate model: model error" in modes.fidelity_note and "> tol 0.0010%" in modes.fidelity_note
 
 
 def test_reduced_models_refuse_what_they_cannot_represent():

@@ -160,3 +160,27 @@ def test_modes_above_the_frequency_the_mesh_resolves_are_not_refined_for():
     assert all(m.error_estimate <= 0.02 for m in modes if m.frequency <= 1000.0)
     assert "modes above the 1000 Hz the mesh resolves (mesh.max_frequency) are not refined for: estimated error " \
            "23.76% on (2,2)" in modes.fidelity_note
+
+
+def test_a_reduced_model_whose_model_error_alone_misses_tol_solves_no_estimate_levels(monkeypatch):
+    # tile_eq5's plate model is 0.54 % from the 3-D solid: at tol 0.1 % that alone rules it out, and its two coarser
+    # levels (Richardson) are not solved; at tol 5 % the plate answers with its discretization estimated
+    import modalfe.solve.reduced as reduced
+
+    solved = []
+    solve_level = reduced.solve_level
+
+    def counted(sc, analysis, **options):
+        solved.append(options.get("size_factor", 1.0))
+        return solve_level(sc, analysis, **options)
+
+    monkeypatch.setattr(reduced, "solve_level", counted)
+    check = (("(0,0)", 845.0),)
+    tight = solve_modes(load_scene("tile_eq5"), fidelity="auto", tol=0.001, check=check)
+    assert solved == [1.0] and tight.fidelity == "solid"
+    assert "plate model: model error" in tight.fidelity_note
+    solved.clear()
+    loose = solve_modes(load_scene("tile_eq5"), fidelity="auto", tol=0.05, check=check)
+    assert loose.fidelity == "plate" and len(solved) == 3
+    mode = select(loose, "(0,0)", 845.0)
+    assert mode.error_estimate > mode.model_error > 0  # discretization added to the model error

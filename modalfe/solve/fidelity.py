@@ -55,7 +55,7 @@ from modalfe.solve.estimates import (
     singular_field,
 )
 from modalfe.solve.levels import solve_level
-from modalfe.solve.reduced import reduced_estimates, solve_reduced_level, with_model_errors
+from modalfe.solve.reduced import model_errors, reduced_estimates, solve_reduced_level, with_model_errors
 
 log = logging.getLogger(__name__)
 
@@ -97,7 +97,7 @@ def solve_at_fidelity(scene, analysis, *, fidelity: str, tol: float, check, size
     # a reduced model asked directly states its model error too: the same cross-check as ``auto``
     start = time.perf_counter()
     levels = solid_levels(scene, analysis, size_factor, solver)
-    checked = with_model_errors(modes, levels, scene, orders=uses_orders(scene))
+    checked = with_model_errors(modes, model_errors(modes, levels, scene, orders=uses_orders(scene)))
     note = (f"{fidelity} model: error estimates are discretization (three levels) plus model error against a "
             f"3-D solid cross-check")
     return replace(checked, fidelity_note=note, cross_check=tuple(levels),
@@ -279,19 +279,18 @@ def solve_auto(scene, analysis, *, tol: float, check=None, size_factor: float = 
             continue
         start = time.perf_counter()
         # the model error alone first: where it misses tol, the discretization's levels would change nothing
-        alone, why = worst_checked(with_model_errors(fine, solid_check(), scene, orders=uses_orders(scene)), check)
-        if alone > tol:
-            reasons.append(f"{fidelity} model: {why.replace('estimated', 'model', 1)} > tol {percent(tol)}")
-            continue
+        errors = model_errors(fine, solid_check(), scene, orders=uses_orders(scene))
         cross_check = time.perf_counter() - start
+        alone, why = worst_checked(with_model_errors(fine, errors), check, what="model error")
+        if alone > tol:
+            reasons.append(f"{fidelity} model: {why} > tol {percent(tol)}")
+            continue
         try:
             reduced = reduced_estimates(fine, scene, analysis, size_factor=size_factor, solver=solver)
         except (SceneError, SolverError) as exc:
             reasons.append(f"{fidelity} model not applicable: {exc}")
             continue
-        start = time.perf_counter()
-        checked = with_model_errors(reduced, solid_check(), scene, orders=uses_orders(scene))
-        checked = replace(checked, timings=dict(checked.timings, cross_check=cross_check + time.perf_counter() - start))
+        checked = replace(with_model_errors(reduced, errors), timings=dict(reduced.timings, cross_check=cross_check))
         worst, why = worst_checked(checked, check)
         if worst <= tol:
             model = max((m.model_error for m in _checked_modes(checked, check)), default=0.0)
@@ -476,9 +475,10 @@ def _checked_modes(modes: Modes, check) -> list:
     return [select(modes, selector, near) for selector, near in check]
 
 
-def worst_checked(modes: Modes, check, ceiling: float = math.inf) -> tuple[float, str]:
-    """(largest estimated error of the checked modes, a phrase saying which); with no ``check`` (every mode), those
-    at most ``ceiling`` [Hz]."""
+def worst_checked(modes: Modes, check, ceiling: float = math.inf, *,
+                  what: str = "estimated error") -> tuple[float, str]:
+    """(largest estimated error of the checked modes, a phrase saying which, calling it ``what``); with no ``check``
+    (every mode), those at most ``ceiling`` [Hz]."""
     try:
         found = [m for m in _checked_modes(modes, check) if check is not None or m.frequency <= ceiling]
     except SolverError as exc:
@@ -487,7 +487,7 @@ def worst_checked(modes: Modes, check, ceiling: float = math.inf) -> tuple[float
         return 0.0, "no mode to check"
     worst = max(found, key=lambda m: m.error_estimate if not math.isnan(m.error_estimate) else math.inf)
     value = worst.error_estimate if not math.isnan(worst.error_estimate) else math.inf
-    return value, f"estimated error {percent(value)} on {worst.label} at {worst.frequency:.6g} Hz"
+    return value, f"{what} {percent(value)} on {worst.label} at {worst.frequency:.6g} Hz"
 
 
 def coupling_check_level(modes: Modes, mode, *, size_factor: float = 1.0, solver: str = "auto") -> tuple[float, float]:

@@ -52,31 +52,43 @@ def reduced_estimates(fine: Modes, scene, analysis, *, size_factor: float = 1.0,
     return replace(result, estimate_method=method, timings=dict(fine.timings, error_estimate=seconds))
 
 
-def with_model_errors(reduced: Modes, levels: list[Modes], scene, *, orders: bool) -> Modes:
-    """``reduced`` with each mode's model error against the solid extrapolated from its two estimate levels
-    (``modalfe.solve.fidelity.solid_levels``: two orders on one grid where ``orders``, else two grids), and its
-    error estimate raised by it (inf where the solid has no partner mode; a NaN estimate counts as none)."""
+def model_errors(reduced: Modes, levels: list[Modes], scene, *, orders: bool) -> dict[int, float]:
+    """{mode index: relative model error} of ``reduced`` against the solid extrapolated from its two estimate levels
+    (``modalfe.solve.fidelity.solid_levels``: two orders on one grid where ``orders``, else two grids), with that
+    extrapolation's uncertainty; inf where the solid has no partner mode, 0 for a rigid-body mode."""
     solid_1, solid_2 = levels
     extrapolate = _order_extrapolation(scene) if orders else _grid_extrapolation(solid_1, solid_2, scene)
-    top = max(m.frequency for m in reduced)
     # paired by shape at the reduced model's own sample points (inside the solid too)
     to_solid = shape_partners(reduced, solid_1, sample_points(reduced))
     within_solid = shape_partners(solid_1, solid_2)
-    modes = []
+    errors, rigid = {}, _rigid(reduced)
     for mode in reduced:
-        if mode.frequency < 1e-6 * top:
-            modes.append(replace(mode, model_error=0.0))
-            continue
         near = to_solid.get(mode.index)
         far = within_solid.get(near[0].index) if near is not None else None
-        if far is None:
-            error = math.inf
+        if mode.index in rigid:
+            errors[mode.index] = 0.0
+        elif far is None:
+            errors[mode.index] = math.inf
         else:
             extrapolated, uncertainty = extrapolate(near[1], far[1])
-            error = (abs(mode.frequency - extrapolated) + uncertainty) / extrapolated
-        discretization = 0.0 if math.isnan(mode.error_estimate) else mode.error_estimate
-        modes.append(replace(mode, model_error=error, error_estimate=discretization + error))
-    return replace(reduced, modes=tuple(modes))
+            errors[mode.index] = (abs(mode.frequency - extrapolated) + uncertainty) / extrapolated
+    return errors
+
+
+def with_model_errors(reduced: Modes, errors: dict[int, float]) -> Modes:
+    """``reduced`` with each mode's model error (``model_errors``) and, but for rigid-body modes, its error estimate
+    raised by it (a NaN estimate, no discretization estimate, counts as none)."""
+    rigid = _rigid(reduced)
+    modes = tuple(replace(m, model_error=errors[m.index]) if m.index in rigid else
+                  replace(m, model_error=errors[m.index], error_estimate=errors[m.index]
+                          + (0.0 if math.isnan(m.error_estimate) else m.error_estimate)) for m in reduced)
+    return replace(reduced, modes=modes)
+
+
+def _rigid(modes: Modes) -> set[int]:
+    """Indices of the rigid-body modes (below 1e-6 of the highest frequency): no model error to state."""
+    top = max(m.frequency for m in modes)
+    return {m.index for m in modes if m.frequency < 1e-6 * top}
 
 
 def _grid_extrapolation(solid_1: Modes, solid_2: Modes, scene):

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from modalfe.errors import SolverError
 
 
@@ -26,7 +28,9 @@ def antiresonance(short_mode, open_modes):
     if open_modes.model is short_mode.model:
         weighted = short_mode.model.M @ short_mode.shape
         mass = float(short_mode.shape @ weighted)  # short_mode.modal_mass, from the product at hand
-        likeness = [float(m.shape @ weighted) ** 2 / (m.modal_mass * mass) for m in open_modes]
+        X = np.column_stack([m.shape for m in open_modes]) if len(open_modes) else np.zeros((len(weighted), 0))
+        masses = np.einsum("ij,ij->j", X, short_mode.model.M @ X)  # the open modes' modal masses, one product
+        likeness = list((X.T @ weighted) ** 2 / (masses * mass))
         best = max(range(len(likeness)), key=likeness.__getitem__, default=None)
         if best is None or likeness[best] < PARTNER_MAC:
             raise SolverError(f"no open-circuit mode with the shape of {short_mode.label} at "

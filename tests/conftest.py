@@ -1,5 +1,7 @@
-"""Shared test set-up: a private mesh cache per test session, so tests never touch ~/.cache; the design
-studies' helper modules (studies/tile_design.py, studies/beam_design.py) importable as the studies import them."""
+"""Shared test set-up: a private mesh cache per test session, so tests never touch ~/.cache; no resolved answer
+kept from one test to the next (``modalfe.solve.resolved``: each test solves what it asks, as its solve counts
+expect; a test of the kept answers keeps them within itself); the design studies' helper modules
+(studies/tile_design.py, studies/beam_design.py) importable as the studies import them."""
 
 import sys
 from pathlib import Path
@@ -15,3 +17,11 @@ def _private_cache(tmp_path_factory):
     mp.setenv("MODALFE_CACHE", str(tmp_path_factory.mktemp("modalfe-cache")))
     yield
     mp.undo()
+
+
+@pytest.fixture(autouse=True)
+def _fresh_answers(_private_cache):
+    from modalfe.solve import resolved
+
+    resolved.clear(disk=True)
+    yield

@@ -11,6 +11,8 @@ from modalfe.cli.options import (
     frequency_or_zero,
     parse_overrides,
     positive_int,
+    solve_keywords,
+    solve_options,
 )
 from modalfe.errors import SceneError
 
@@ -33,6 +35,7 @@ def register(sub) -> None:
     p.add_argument("--plot", metavar="FILE", help="write the |Y|, |Z| and phase plot (PNG)")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene parameter")
     p.add_argument("--json", action="store_true")
+    solve_options(p)
     p.set_defaults(func=_admittance)
 
     p = sub.add_parser("table", help="mode table: effective masses, participation, fr/fa, k_eff, force factor")
@@ -40,10 +43,10 @@ def register(sub) -> None:
     p.add_argument("--near", type=frequency_or_zero, help="target frequency [Hz]")
     p.add_argument("--count", type=positive_int, help="number of modes nearest --near")
     p.add_argument("--band", type=_float, nargs=2, metavar=("F1", "F2"), help="all modes in [F1, F2] Hz")
-    p.add_argument("--no-error-estimate", action="store_true", help="skip the coarse-mesh solve")
     p.add_argument("--csv", metavar="FILE", help="write the table as CSV (units in the headers)")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene parameter")
     p.add_argument("--json", action="store_true")
+    solve_options(p)
     p.set_defaults(func=_table)
 
 
@@ -74,7 +77,7 @@ def _admittance(args) -> int:
     scene = load_scene(args.scene, **parse_overrides(args.set))
     result = admittance(scene, band, args.points, damping=args.damping, tan_delta=args.tan_delta,
                         per_mode=_mode_damping(args.mode_damping), direct=args.direct, residual=args.residual,
-                        progress=args.direct)
+                        progress=args.direct, **solve_keywords(args))
     if args.csv:
         result.write_csv(args.csv)
     if args.s1p:
@@ -122,7 +125,7 @@ def _table(args) -> int:
     if args.csv is not None:
         check_output_path("--csv", args.csv)
     scene = load_scene(args.scene, **parse_overrides(args.set))
-    table = mode_table(scene, near=args.near, count=args.count, band=band, error_estimate=not args.no_error_estimate)
+    table = mode_table(scene, near=args.near, count=args.count, band=band, **solve_keywords(args))
     if args.csv:
         table.write_csv(args.csv)
     if args.json:

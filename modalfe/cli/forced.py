@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import json
 
-from modalfe.cli.options import frequency, positive_float
+from modalfe.cli.options import frequency, positive_float, solve_keywords, solve_options, stated
 from modalfe.errors import SceneError
 
 
@@ -32,6 +32,7 @@ def register(subparsers) -> None:
     p.add_argument("--plot", metavar="FILE", help="write FRF and admittance plots (PNG)")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene parameter")
     p.add_argument("--json", action="store_true")
+    solve_options(p)
     p.set_defaults(func=_forced)
 
 
@@ -40,6 +41,7 @@ def _forced(args) -> int:
     from modalfe.response.figures import forced_figures
     from modalfe.response.forced import Damping
     from modalfe.response.loads import Load
+    from modalfe.results.coupling import k_eff
     from modalfe.scene import load_scene
 
     damping = Damping.parse(args.damping) if args.damping is not None else None
@@ -73,7 +75,7 @@ def _forced(args) -> int:
             raise SceneError(f"--stress: expected part names separated by commas, got '{args.stress}'")
     scene = load_scene(args.scene, **parse_overrides(args.set))
     fig = forced_figures(scene, selector=args.mode, near=args.near, damping=damping, outputs=outputs,
-                         full=args.full, load=load, stress=stress)
+                         full=args.full, load=load, stress=stress, **solve_keywords(args))
     if args.save_rom:
         fig.rom.save(args.save_rom)
     if args.plot:
@@ -82,7 +84,9 @@ def _forced(args) -> int:
         print(json.dumps(fig.to_json(), indent=2))
         return 0
     rom = fig.rom
-    print(f"{scene.name}: mode {rom.label} at {rom.frequency:.1f} Hz, {rom.damping_description} ({fig.damping_source})")
+    print(f"{scene.name}: mode {rom.label} at {rom.frequency:.2f} Hz (stated error {stated(fig.error_estimate)}), "
+          f"{rom.damping_description} ({fig.damping_source})")
+    print(f"  {fig.resolution}")
     unit = fig.load_unit
     print(f"  reduced model at {rom.reference}: m {rom.modal_mass:.4g} kg, k {rom.stiffness:.4g} N/m, "
           f"c {rom.damping:.4g} N s/m, force factor {rom.force_factor:.4g} N/{unit}")
@@ -92,7 +96,9 @@ def _forced(args) -> int:
         return 0
     bvd = rom.bvd
     print(f"  BVD: C0 {bvd['C0']:.4g} F, R1 {bvd['R1']:.4g} ohm, L1 {bvd['L1']:.4g} H, C1 {bvd['C1']:.4g} F; "
-          f"fa {rom.antiresonance:.1f} Hz, k_eff {rom.k_eff:.4f}")
+          f"one-mode fa {rom.antiresonance:.1f} Hz, k_eff {rom.k_eff:.4f}")
+    print(f"  open circuit (same model): fa {fig.antiresonance:.2f} Hz, "
+          f"k_eff {k_eff(rom.frequency, fig.antiresonance):.4f}")
     print(f"  amplitude build-up time constant {1e3 * fig.time_constant:.3f} ms")
     for o, a in fig.amplitude_per_volt.items():
         peak, avg = fig.acceleration[o]

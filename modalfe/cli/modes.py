@@ -8,13 +8,13 @@ import math
 from modalfe.cli.options import (
     _float,
     check_band,
-    fidelity_options,
     frequency_or_zero,
     parse_overrides,
     positive_int,
+    solve_keywords,
+    solve_options,
 )
 from modalfe.errors import SceneError
-from modalfe.report.report import REPORT_TOL
 
 
 def register(sub) -> None:
@@ -22,11 +22,9 @@ def register(sub) -> None:
     p.add_argument("--scene", action="append", help="only this built-in scene (repeatable)")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene parameter")
     p.add_argument("--json", action="store_true", help="machine-readable rows")
-    p.add_argument("--no-error-estimate", action="store_true",
-                   help="skip the coarse-mesh solve (solid and reduced fidelities; auto always estimates)")
     p.add_argument("--jobs", type=positive_int,
                    help="devices solved at once, one process each (default: one per core)")
-    fidelity_options(p, REPORT_TOL)
+    solve_options(p)
     p.set_defaults(func=_report)
 
     p = sub.add_parser("modes", help="eigenmodes of a built-in scene or a TOML scene file")
@@ -37,17 +35,15 @@ def register(sub) -> None:
     p.add_argument("--circuit", choices=("short", "open"), help="electrodes grounded or driven one floating")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene parameter")
     p.add_argument("--json", action="store_true")
-    p.add_argument("--no-error-estimate", action="store_true",
-                   help="skip the coarse-mesh solve (solid and reduced fidelities; auto always estimates)")
-    fidelity_options(p)
+    solve_options(p)
     p.set_defaults(func=_modes)
 
 
 def _report(args) -> int:
     from modalfe.report.report import format_rows, run_report
 
-    rows = run_report(args.scene, progress=not args.json, error_estimate=not args.no_error_estimate,
-                      overrides=parse_overrides(args.set), fidelity=args.fidelity, tol=args.tol, jobs=args.jobs)
+    rows = run_report(args.scene, progress=not args.json, overrides=parse_overrides(args.set), jobs=args.jobs,
+                      **solve_keywords(args))
     if args.json:
         print(json.dumps([r.to_json() for r in rows], indent=2))
     else:
@@ -66,7 +62,7 @@ def _modes(args) -> int:
         raise SceneError("--count: --band returns every mode in the band; --count goes with --near")
     scene = load_scene(args.scene, **parse_overrides(args.set))
     modes = solve_modes(scene, near=args.near, count=args.count, band=band, circuit=args.circuit,
-                        error_estimate=not args.no_error_estimate, fidelity=args.fidelity, tol=args.tol)
+                        **solve_keywords(args))
     rows = [{"index": m.index, "frequency_hz": m.frequency, "label": m.label,
              "error_estimate": None if not math.isfinite(m.error_estimate) else m.error_estimate,
              "error_unresolved": m.error_estimate == float("inf"),
@@ -87,7 +83,7 @@ def _modes(args) -> int:
         print(f"error estimates: {modes.estimate_method}")
     print(f"{'#':>3} {'f [Hz]':>12} {'label':<14} {'err est':>8}")
     for r in rows:
-        err = ("unresolved" if r["error_unresolved"] else "n/a" if r["error_estimate"] is None
+        err = ("unresolved" if r["error_unresolved"] else "unknown" if r["error_estimate"] is None
                else f"{100 * r['error_estimate']:.3f}%")
         print(f"{r['index']:>3} {r['frequency_hz']:>12.2f} {r['label']:<14} {err:>8}")
     return 0

@@ -176,16 +176,33 @@ def parse_params(items: list[str]) -> dict[str, list[float]]:
     return params
 
 
-def fidelity_options(p: argparse.ArgumentParser, tol: float | None = None) -> None:
-    """--fidelity and --tol (default ``tol``, else ``modalfe.solve.api.DEFAULT_TOL``)."""
+def solve_options(p: argparse.ArgumentParser, *, tol_flag: str = "--tol") -> None:
+    """--fidelity, ``tol_flag`` (default ``modalfe.solve.api.DEFAULT_TOL``, one for every command) and
+    --no-error-estimate: how a command that solves modes is answered (``solve_keywords``)."""
     from modalfe.solve.api import DEFAULT_TOL, FIDELITIES
 
-    tol = DEFAULT_TOL if tol is None else tol
     p.add_argument("--fidelity", choices=FIDELITIES, default="auto",
-                   help="model: 1-D beam, 2-D plate, 3-D solid, or auto: the cheapest meeting --tol (default)")
-    p.add_argument("--tol", type=positive_float, default=tol,
-                   help=f"relative frequency error asked of --fidelity auto, which refines the solid (its element "
-                        f"order, then its grid) until its estimate meets it (default {tol:g})")
+                   help="model: 1-D beam, 2-D plate, 3-D solid (refined to the tolerance), or auto: the cheapest "
+                        "meeting the tolerance (default)")
+    p.add_argument(tol_flag, dest="solve_tol", type=positive_float, default=DEFAULT_TOL,
+                   help=f"relative frequency error the modes asked about are answered at: the solid is refined (its "
+                        f"element order, then its grid) until its stated error meets it (default {DEFAULT_TOL:g}, "
+                        f"the same in every command)")
+    p.add_argument("--no-error-estimate", action="store_true",
+                   help="the scene's own mesh solved once, no refinement: the error is unknown (for the expert who "
+                        "sets the mesh with --set mesh.*)")
+
+
+def solve_keywords(args: argparse.Namespace) -> dict:
+    """``solve_modes`` keywords from ``solve_options``' flags."""
+    return {"fidelity": args.fidelity, "tol": args.solve_tol, "error_estimate": not args.no_error_estimate}
+
+
+def stated(error: float) -> str:
+    """A stated relative error as printed everywhere: a percentage, ``unresolved`` (inf) or ``unknown`` (NaN)."""
+    if math.isnan(error):
+        return "unknown"
+    return "unresolved" if math.isinf(error) else f"{100 * error:.3f}%"
 
 
 def parse_names(text: str, flag: str = "--vary") -> list[str]:

@@ -6,7 +6,7 @@ import json
 import logging
 import time
 
-from modalfe.cli.options import frequency, positive_float
+from modalfe.cli.options import frequency, positive_float, solve_options
 
 log = logging.getLogger(__name__)
 DEFAULT_CONTACT_STIFFNESS = 9.7e6  # N/m per foot, seed 000 appendix (modalfe.contact.foot_model.KN)
@@ -24,11 +24,12 @@ def register(subparsers) -> None:
     p.add_argument("--part", default="plate", help="part whose bottom face carries the feet (default plate)")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene parameter")
     p.add_argument("--json", action="store_true", help="one JSON document on stdout")
+    solve_options(p)
     p.set_defaults(func=_place)
 
 
 def _place(args) -> int:
-    from modalfe.cli.options import parse_overrides
+    from modalfe.cli.options import parse_overrides, solve_keywords
     from modalfe.errors import SceneError
     from modalfe.geometry import builder_parameters
     from modalfe.response.placement import place_feet
@@ -49,7 +50,7 @@ def _place(args) -> int:
              len(before), selector, near)
     start = time.perf_counter()
     placement = place_feet(scene, selector=selector, near=near, contact_stiffness=args.contact_stiffness,
-                           part=args.part)
+                           part=args.part, **solve_keywords(args))
     seconds = time.perf_counter() - start
     log.info("placement done in %.1f s", seconds)
     feet = [{"foot": f"foot_{i}", "from_m": list(old), "to_m": list(new), "moved_m": moved}

@@ -6,7 +6,15 @@ from __future__ import annotations
 import json
 import math
 
-from modalfe.cli.options import frequency_or_zero, parse_names, parse_overrides, positive_int, scene_options
+from modalfe.cli.options import (
+    frequency_or_zero,
+    parse_names,
+    parse_overrides,
+    positive_int,
+    scene_options,
+    solve_keywords,
+    solve_options,
+)
 from modalfe.errors import SceneError
 
 
@@ -27,6 +35,7 @@ def register(sub) -> None:
     p.add_argument("--damping", help="with --amplitude: zeta=Z, Q=Q or rayleigh=ALPHA,BETA (default: the scene's)")
     p.add_argument("--outputs", help="with --amplitude: comma-separated face groups or mean:GROUP (default: the "
                    "scene's)")
+    solve_options(p)
     scene_options(p, _sensitivity)
 
 
@@ -34,7 +43,7 @@ def _sensitivity(args) -> int:
     from modalfe.response.sensitivity import amplitude_sensitivities, check_parameters, frequency_sensitivities
     from modalfe.results.modes import select
     from modalfe.scene import load_scene
-    from modalfe.solve.api import solve_modes
+    from modalfe.solve.api import open_circuit_modes, solid_modes, working_question
 
     names = parse_names(args.vary)
     scene = load_scene(args.scene, **parse_overrides(args.set))
@@ -43,10 +52,11 @@ def _sensitivity(args) -> int:
         if getattr(args, flag) is not None and not args.amplitude:
             raise SceneError(f"--{flag}: applies to --amplitude only")
     working = _working(scene, args) if args.amplitude else None
-    options = {"near": args.near if working is None else working[1], "count": args.count, "fidelity": "solid",
-               "error_estimate": False}
-    modes = solve_modes(scene, **options)
-    open_modes = solve_modes(scene, circuit="open", **options) if args.k_eff else None
+    question = ({"near": args.near, "count": args.count} if working is None else
+                working_question(scene, working[0], args.near))
+    modes = solid_modes(scene, needs="sensitivity", **question, **solve_keywords(args))
+    open_modes = open_circuit_modes(modes, near=modes.nearest(question.get("near") or modes[0].frequency).frequency,
+                                    count=len(modes)) if args.k_eff else None
     amplitude = None
     if working is None:
         found = frequency_sensitivities(modes, names, open_modes=open_modes)

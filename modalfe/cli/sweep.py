@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from modalfe.cli.options import frequency, parse_params, positive_int
+from modalfe.cli.options import frequency, parse_params, positive_int, solve_keywords, solve_options
 from modalfe.errors import SceneError
 
 
@@ -14,12 +14,14 @@ def register(subparsers) -> None:
     p.add_argument("--out", required=True, help="results table (CSV); rerunning resumes it")
     p.add_argument("--scheduler", help="address of an existing dask scheduler (default: a LocalCluster); "
                    "'inline' computes the points one after another in this process")
-    p.add_argument("--count", type=positive_int, default=6, help="modes solved near --near at each point (>= 1)")
+    p.add_argument("--count", type=positive_int,
+                   help="modes solved near --near at each point (default: the scene's analysis.count)")
     p.add_argument("--workers", type=positive_int, default=2, help="LocalCluster worker processes")
     p.add_argument("--mode", help="working-mode selector (default: the scene's first working mode)")
     p.add_argument("--near", type=frequency, help="frequency [Hz] to search near")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="fixed override for every point")
     p.add_argument("--json", action="store_true")
+    solve_options(p)
     p.set_defaults(func=_sweep)
 
 
@@ -39,9 +41,11 @@ def _sweep(args) -> int:
     if selector is None or near is None:
         raise SceneError("--mode/--near: the scene names no working mode")
     rows = sweep(args.scene, params, out=args.out, selector=selector, near=near, base=base,
-                 scheduler=args.scheduler, workers=args.workers, count=args.count, progress=not args.json)
+                 scheduler=args.scheduler, workers=args.workers, count=args.count or scene.analysis.count,
+                 progress=not args.json, resolution=solve_keywords(args))
     if args.json:
-        print(json.dumps([{k: r[k] for k in ("params", "status", "label", "frequency_hz", "tracked_label",
+        print(json.dumps([{k: r[k] for k in ("params", "status", "label", "frequency_hz", "error_estimate",
+                                             "tracked_label",
                                              "tracked_frequency_hz", "mac_previous", "crossing", "dofs", "seconds")}
                           for r in rows], indent=2))
         return 0
@@ -50,13 +54,14 @@ def _sweep(args) -> int:
     def number(value, spec: str) -> str:
         return format(value, spec) if value is not None else format("-", spec.split(".")[0].rstrip("fg"))
 
-    print("  ".join(f"{n:>14}" for n in names) + f"  {'f [Hz]':>12} {'label':<12} {'tracked f':>12} "
+    print("  ".join(f"{n:>14}" for n in names) + f"  {'f [Hz]':>12} {'err est':>8} {'label':<12} {'tracked f':>12} "
           f"{'MAC prev':>8}  crossing")
     for r in rows:
         values = "  ".join(f"{r['params'][n]:>14.6g}" for n in names)
         note = ("YES: " + (r["tracked_label"] or "nothing to follow")) if r["crossing"] else ""
         if r["status"] != "ok":
             note += f" ({r['status']})"
-        print(f"{values}  {number(r['frequency_hz'], '>12.1f')} {r['label'] or '-':<12} "
+        err = "unknown" if r.get("error_estimate") is None else f"{100 * r['error_estimate']:.3f}%"
+        print(f"{values}  {number(r['frequency_hz'], '>12.1f')} {err:>8} {r['label'] or '-':<12} "
               f"{number(r['tracked_frequency_hz'], '>12.1f')} {number(r['mac_previous'], '>8.3f')}  {note}")
     return 0

@@ -6,7 +6,7 @@ import logging
 import os
 import time
 
-from modalfe.cli.options import frequency, positive_int
+from modalfe.cli.options import frequency, positive_int, solve_options, stated
 
 log = logging.getLogger(__name__)
 
@@ -23,6 +23,7 @@ def register(subparsers) -> None:
                    help="iso+bottom (default): two panels, so that markers under the device (feet, electrodes "
                         "on the lower face) show as well as those on top")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene parameter")
+    solve_options(p)
     p.set_defaults(func=_show)
 
     p = subparsers.add_parser("export", help="write every computed mode to a VTU file (quadratic cells, part "
@@ -32,20 +33,22 @@ def register(subparsers) -> None:
     p.add_argument("--near", type=frequency)
     p.add_argument("--count", type=positive_int)
     p.add_argument("--set", action="append", metavar="KEY=VALUE")
+    solve_options(p)
     p.set_defaults(func=_export)
 
 
-def _modes(args):
-    from modalfe.cli.options import parse_overrides
+def _modes(args, question):
+    """(scene, the modes ``modes`` answers ``question(scene)`` with at the command's --tol): the solid's."""
+    from modalfe.cli.options import parse_overrides, solve_keywords
     from modalfe.models.estimate import estimate_size
     from modalfe.scene import load_scene
-    from modalfe.solve.api import solve_modes
+    from modalfe.solve.api import solid_modes
 
     scene = load_scene(args.scene, **parse_overrides(args.set))
-    near = args.near or (scene.working_modes[0].near if scene.working_modes else None)
-    log.info("%s: solving near %s Hz, %s", scene.name, near, estimate_size(scene).describe())
+    asked = question(scene)
+    log.info("%s: solving %s, %s", scene.name, asked, estimate_size(scene).describe())
     start = time.perf_counter()
-    modes = solve_modes(scene, near=near, count=getattr(args, "count", None), error_estimate=False)
+    modes = solid_modes(scene, needs=f"modalfe {args.command}", **asked, **solve_keywords(args))
     log_timings(modes, time.perf_counter() - start)
     return scene, modes
 
@@ -60,8 +63,14 @@ def _show(args) -> int:
     from modalfe.errors import SolverError
     from modalfe.plot.render import animate_mode, render_mode
     from modalfe.results.modes import select
+    from modalfe.solve.api import working_question
 
-    scene, modes = _modes(args)
+    def question(scene) -> dict:  # the working mode's (or the one named), as ``forced`` asks it
+        if args.mode is None or not args.mode.isdigit():
+            return working_question(scene, args.mode, args.near)
+        return {"near": args.near or mode_near(scene)}
+
+    scene, modes = _modes(args, question)
     if args.mode is None:
         if not scene.working_modes:
             raise SolverError("show: the scene names no working mode; give --mode")
@@ -85,7 +94,8 @@ def _show(args) -> int:
             plotter.show()
     log.info("rendered in %.2f s", time.perf_counter() - start)
     if out:
-        print(f"{scene.name}: {mode.label} at {mode.frequency:.1f} Hz -> {out}")
+        print(f"{scene.name}: {mode.label} at {mode.frequency:.2f} Hz (stated error {stated(mode.error_estimate)}) "
+              f"-> {out}")
     return 0
 
 
@@ -96,7 +106,7 @@ def mode_near(scene) -> float:
 def _export(args) -> int:
     from modalfe.report.export import export_vtu, table_path
 
-    scene, modes = _modes(args)
+    scene, modes = _modes(args, lambda scene: {"near": args.near, "count": args.count})
     path = export_vtu(modes, args.vtu)
     print(f"{scene.name}: {len(modes)} modes -> {path} (quadratic cells, part names, displacement [m] and "
           f"potential [V] per mode), frequency table -> {table_path(path)}")

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import time
 from collections import OrderedDict
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -15,6 +16,22 @@ MODEL_FIDELITIES = ("beam", "plate", "solid")
 _KEPT = 3  # per kind of model: a fine and a coarse model of the scene in use, plus one
 _MODELS: OrderedDict = OrderedDict()  # solid models
 _LAYERED: OrderedDict = OrderedDict()  # plate and beam models
+
+
+@dataclass(frozen=True)
+class Level:
+    """One discretization of a scene, all ``build_model`` needs besides the scene: the model ``fidelity``, the mesh
+    settings (``MeshSettings``: element order and family, thickness layers), element sizes x ``size_factor`` and
+    the solid's thickness layers when they override the settings' (``min_layers``, estimate levels)."""
+
+    fidelity: str
+    mesh: object
+    size_factor: float = 1.0
+    min_layers: int | None = None
+
+    def scene_of(self, scene):
+        """``scene`` meshed at this level's settings."""
+        return scene if scene.mesh == self.mesh else replace(scene, mesh=self.mesh)
 
 
 def clear_cache() -> None:

@@ -14,11 +14,8 @@ from dataclasses import asdict, dataclass, field, replace
 from modalfe.errors import SceneError, SolverError
 from modalfe.results.labels import RIGID_NAMES
 from modalfe.results.modes import select
+from modalfe.solve.api import DEFAULT_TOL
 
-# the report's tolerance (``fidelity="auto"``): every working mode stated to 0.5 %, as issue 17 asks; a fraction of
-# the 1-32 % by which its rows differ from the seeds' measured, analytic and FE targets, so that a row's deviation
-# is the model's and not the mesh's
-REPORT_TOL = 0.005
 REPORT_COUNT = 10  # modes asked around a target at least (the labels of a dense spectrum need neighbours)
 _MAX_COUNT = 80  # modes searched around a target before a working mode is declared missing
 
@@ -57,7 +54,7 @@ class ReportRow:
         return out
 
 
-def device_report(scene, *, error_estimate: bool = True, fidelity: str = "auto", tol: float = REPORT_TOL,
+def device_report(scene, *, error_estimate: bool = True, fidelity: str = "auto", tol: float = DEFAULT_TOL,
                   windows: Sequence[int] | None = None) -> list[ReportRow]:
     """Rows for each working mode of ``scene`` (of the ``working_windows`` numbered ``windows``; default all);
     solves once per window (a frequency window on the working modes' mirror family), and once more in open circuit
@@ -200,7 +197,7 @@ def kirchhoff_frequency(C, rho: float, thickness: float, wavelength: float) -> f
 
 
 def run_report(names: list[str] | None = None, *, progress: bool = True, error_estimate: bool = True,
-               overrides: dict | None = None, fidelity: str = "auto", tol: float = REPORT_TOL,
+               overrides: dict | None = None, fidelity: str = "auto", tol: float = DEFAULT_TOL,
                jobs: int | None = None) -> list[ReportRow]:
     """Report rows for the named built-in scenes (all of them by default), each at ``fidelity``, in the scenes'
     and their working modes' order; each window of each scene (``working_windows``) is one task, the tasks solved

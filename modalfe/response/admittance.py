@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -209,12 +209,13 @@ class Admittance:
 
 def admittance(scene, band: tuple[float, float], points: int, *, damping: str | None = None,
                tan_delta: float | None = None, per_mode: Mapping[str, str] | None = None, direct: bool = False,
-               residual: str = "centre", widen: float = WIDEN, progress: bool = False) -> Admittance:
+               residual: str = "centre", widen: float = WIDEN, progress: bool = False, **resolution) -> Admittance:
     """Y(f) of ``scene``'s driven electrodes at ``points`` frequencies evenly spaced over ``band`` [Hz]: modal
     superposition (every short-circuit mode in the band widened by ``widen``, residual of the others at
     ``residual``: ``centre`` or ``static``), or the direct damped FE solve (``direct``, a progress bar with
-    ``progress``). Losses from ``resolve_losses``; 3-D solid model."""
-    from modalfe.solve.api import solve_modes
+    ``progress``), both on the 3-D solid that ``modes`` answers the widened band with at ``resolution``
+    (``solve_modes``' tol, fidelity, error_estimate). Losses from ``resolve_losses``."""
+    from modalfe.solve.api import solid_modes
 
     frequency = frequency_grid(band, points)
     losses = resolve_losses(scene, damping=damping, tan_delta=tan_delta, per_mode=per_mode)
@@ -223,15 +224,12 @@ def admittance(scene, band: tuple[float, float], points: int, *, damping: str | 
     if not (math.isfinite(widen) and widen >= 1):
         raise SceneError(f"widen: must be >= 1, got {widen:g}")
     lo, hi = band[0] / widen, band[1] * widen
-    scene = replace(scene, mesh=replace(scene.mesh, max_frequency=max(scene.max_frequency, hi)))
+    modes = solid_modes(scene, needs="the admittance", band=(lo, hi), circuit="short", **resolution)
     if direct:
-        from modalfe.models.build import build_model
-
-        model, _ = build_model(scene, "solid")
-        return direct_admittance(model, frequency, losses, progress=progress)
-    modes = solve_modes(scene, band=(lo, hi), circuit="short", error_estimate=False, fidelity="solid")
+        return direct_admittance(modes.model, frequency, losses, progress=progress)
     return modal_admittance(modes, frequency, losses, residual=residual,
-                            note=f"short-circuit modes in [{lo:.6g}, {hi:.6g}] Hz (the band widened {widen:g}x)")
+                            note=f"short-circuit modes in [{lo:.6g}, {hi:.6g}] Hz (the band widened {widen:g}x); "
+                                 f"resolved: {modes.resolution}")
 
 
 def frequency_grid(band, points: int) -> np.ndarray:

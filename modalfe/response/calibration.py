@@ -41,7 +41,7 @@ from modalfe.response.sensitivity import (
 )
 from modalfe.response.tuning import check_variables
 from modalfe.results.modes import select
-from modalfe.solve.api import solve_modes
+from modalfe.solve.api import solid_modes, solve_modes
 from modalfe.solve.estimates import partner
 from modalfe.solve.levels import modes_of
 
@@ -200,15 +200,22 @@ class _Point:
 def calibrate(scene, measurements: Sequence[Measurement], parameters: Sequence[str], *,
               bounds: Mapping[str, tuple[float, float]] | None = None, max_iterations: int = 20,
               tol: float = 1e-5, start: Mapping[str, float] | None = None,
-              progress: Callable[[int, Iterate], None] | None = None) -> Calibration:
+              progress: Callable[[int, Iterate], None] | None = None,
+              resolution: Mapping | None = None) -> Calibration:
     """Fit ``parameters`` of ``scene`` to ``measurements`` (module docstring: Levenberg-Marquardt in ln |p|, one
-    3-D solid solve per trial point, at most ``max_iterations``), within ``bounds`` (name -> (low, high), same sign
-    as the value). Names as for ``frequency_sensitivities``; a ``*`` in the group of ``springs.GROUP...``,
+    3-D solid solve per trial point, at most ``max_iterations`` a stage), within ``bounds`` (name -> (low, high),
+    same sign as the value). Names as for ``frequency_sensitivities``; a ``*`` in the group of ``springs.GROUP...``,
     ``masses.GROUP`` or ``materials.NAME.KEY`` ties every matching group to one value (``springs.foot_*.z``: all
     feet alike), which they must share at the start. Each measured mode is found by label nearest its current
     predicted frequency (the measured one at the start). Converged when the Gauss-Newton step moves no ln p by more
     than ``tol``. ``start``: values to start from (name -> value, a pattern's value set on all it matches) instead
-    of the scene's. The mesh resolves the highest measured frequency (``mesh.max_frequency`` raised if below it)."""
+    of the scene's. The mesh resolves the highest measured frequency (``mesh.max_frequency`` raised if below it).
+
+    Two stages: the fit on the scene's own mesh, then from its estimates on the resolved model (the answer
+    ``modes`` gives for the measured modes at ``resolution``: ``solve_modes``' tol, fidelity, error_estimate); the
+    posterior takes each predicted frequency's stated error as a model uncertainty beside the measurement's,
+    sigma^2 = sigma_measured^2 + (error x f)^2 (Kennedy & O'Hagan, J. R. Stat. Soc. B 63 (2001) 425: the model's
+    own inadequacy as a further variance)."""
     measurements = tuple(measurements)
     if not measurements or not all(isinstance(m, Measurement) for m in measurements):
         raise SceneError("measured: give one or more measurements")
@@ -226,57 +233,96 @@ def calibrate(scene, measurements: Sequence[Measurement], parameters: Sequence[s
                                     for member in s.members})
         specs = _parameters(scene, parameters, dict(bounds or {}))
     quantities, measured, sigma = _data(measurements)
-    values = _values(scene, specs)
-    start = time.perf_counter()
-    point = _evaluate(scene, specs, measurements, np.log(np.abs(values)), [m.frequency for m in measurements],
-                      jacobian=True)
-    iterates = []
-    radius = INITIAL_RADIUS
-    low, high = np.array([s.low for s in specs]), np.array([s.high for s in specs])
-    converged, reason = False, f"not converged after {max_iterations} solves"
+    x = np.log(np.abs(_values(scene, specs)))
+    iterates: list[Iterate] = []
+    fit = _Fit(scene, specs, measurements, measured, sigma, max_iterations, tol, progress, iterates)
+    point, chi2, converged, reason = fit.run(x, [m.frequency for m in measurements], resolved=None)
+    if not converged:
+        return _result(specs, point, quantities, measured, sigma, chi2, tuple(iterates), converged,
+                       f"{reason} (on the scene's own mesh, before the resolved model)")
+    point, chi2, converged, reason = fit.run(point.x, list(point.predicted[:len(measurements)]),
+                                             resolved=dict(resolution or {}), previous=point.modes)
+    errors = np.array([mode.error_estimate for mode in point.modes] + [math.nan] * (len(measured) - len(point.modes)))
+    model_sigma = np.where(np.isfinite(errors), np.nan_to_num(errors, posinf=0.0) * point.predicted, 0.0)
+    total = np.sqrt(sigma**2 + model_sigma**2)
+    unstated = [m.label for m, e in zip(measurements, errors) if not np.isfinite(e)]
+    reason += "; on the resolved model, its stated discretization error added to each frequency's sigma"
+    if unstated:
+        reason += f" (not estimated for {', '.join(unstated)}: measured sigma only)"
+    return _result(specs, point, quantities, measured, total, _chi2(point.predicted, measured, total),
+                   tuple(iterates), converged, reason)
 
-    def record(p: _Point, chi2: float, accepted: bool) -> None:
-        nonlocal start
-        iterate = Iterate(dict(zip([s.name for s in specs], _values(p.scene, specs).tolist())), chi2, accepted,
-                          radius, time.perf_counter() - start)
-        iterates.append(iterate)
-        start = time.perf_counter()
-        if progress is not None:
-            progress(len(iterates), iterate)
 
-    chi2 = _chi2(point.predicted, measured, sigma)
-    record(point, chi2, True)
-    while True:
-        r = (point.predicted - measured) / sigma
-        J = point.jacobian / sigma[:, None]
-        step, held = _bounded_step(J, r, math.inf, point.x, low, high)
-        if chi2 == 0 or np.max(np.abs(step), initial=0.0) <= tol:
-            names = [s.name for s, h in zip(specs, held) if h]
-            converged, reason = True, "the Gauss-Newton step is below tol" + (
-                f"; held on their bounds (the data pull them beyond): {', '.join(names)}" if names else "")
-            break
-        if len(iterates) >= max_iterations:
-            break
-        step, _ = _bounded_step(J, r, radius, point.x, low, high)
-        x = point.x + step
-        predicted_chi2 = float(np.sum((r + J @ step) ** 2))
-        near = _near(point, measurements, step)
-        trial = _evaluate(scene, specs, measurements, x, near, jacobian=False, previous=point.modes)
-        trial_chi2 = _chi2(trial.predicted, measured, sigma)
-        ratio = (chi2 - trial_chi2) / max(chi2 - predicted_chi2, 1e-300)
-        accepted = ratio > _ACCEPT
-        if accepted:
-            point, chi2 = _evaluate(scene, specs, measurements, x, near, jacobian=True, found=trial), trial_chi2
-        norm = float(np.linalg.norm(step))
-        record(trial, trial_chi2, accepted)
-        if ratio < 0.25:
-            radius = 0.25 * norm
-        elif ratio > 0.75 and norm >= 0.99 * radius:
-            radius = min(2 * radius, MAX_RADIUS)
-        if radius <= tol:
-            reason = "the trust region shrank below tol (the model does not follow its linearisation)"
-            break
-    return _result(specs, point, quantities, measured, sigma, chi2, tuple(iterates), converged, reason)
+@dataclass
+class _Fit:
+    """The Levenberg-Marquardt loop of ``calibrate`` (module docstring), run on the scene's own mesh or on the
+    resolved model; ``iterates`` collects every trial point of both."""
+
+    scene: object
+    specs: list
+    measurements: tuple
+    measured: np.ndarray
+    sigma: np.ndarray
+    max_iterations: int
+    tol: float
+    progress: Callable | None
+    iterates: list
+
+    def run(self, x: np.ndarray, near: list[float], *, resolved: Mapping | None,
+            previous: tuple = ()) -> tuple[_Point, float, bool, str]:
+        """(point, chi2, converged, reason) of the fit from ln |p| = ``x``, each measured mode sought near ``near``."""
+        scene, specs, measurements, measured, sigma, tol = (self.scene, self.specs, self.measurements, self.measured,
+                                                            self.sigma, self.tol)
+        started = len(self.iterates)
+        clock = time.perf_counter()
+        point = _evaluate(scene, specs, measurements, x, near, jacobian=True, previous=previous, resolved=resolved)
+        radius = INITIAL_RADIUS
+        low, high = np.array([s.low for s in specs]), np.array([s.high for s in specs])
+        converged, reason = False, f"not converged after {self.max_iterations} solves"
+
+        def record(p: _Point, chi2: float, accepted: bool) -> None:
+            nonlocal clock
+            iterate = Iterate(dict(zip([s.name for s in specs], _values(p.scene, specs).tolist())), chi2, accepted,
+                              radius, time.perf_counter() - clock)
+            self.iterates.append(iterate)
+            clock = time.perf_counter()
+            if self.progress is not None:
+                self.progress(len(self.iterates), iterate)
+
+        chi2 = _chi2(point.predicted, measured, sigma)
+        record(point, chi2, True)
+        while True:
+            r = (point.predicted - measured) / sigma
+            J = point.jacobian / sigma[:, None]
+            step, held = _bounded_step(J, r, math.inf, point.x, low, high)
+            if chi2 == 0 or np.max(np.abs(step), initial=0.0) <= tol:
+                names = [s.name for s, h in zip(specs, held) if h]
+                converged, reason = True, "the Gauss-Newton step is below tol" + (
+                    f"; held on their bounds (the data pull them beyond): {', '.join(names)}" if names else "")
+                break
+            if len(self.iterates) - started >= self.max_iterations:
+                break
+            step, _ = _bounded_step(J, r, radius, point.x, low, high)
+            x = point.x + step
+            predicted_chi2 = float(np.sum((r + J @ step) ** 2))
+            near = _near(point, measurements, step)
+            trial = _evaluate(scene, specs, measurements, x, near, jacobian=False, previous=point.modes,
+                              resolved=resolved)
+            trial_chi2 = _chi2(trial.predicted, measured, sigma)
+            ratio = (chi2 - trial_chi2) / max(chi2 - predicted_chi2, 1e-300)
+            accepted = ratio > _ACCEPT
+            if accepted:
+                point, chi2 = _evaluate(scene, specs, measurements, x, near, jacobian=True, found=trial), trial_chi2
+            norm = float(np.linalg.norm(step))
+            record(trial, trial_chi2, accepted)
+            if ratio < 0.25:
+                radius = 0.25 * norm
+            elif ratio > 0.75 and norm >= 0.99 * radius:
+                radius = min(2 * radius, MAX_RADIUS)
+            if radius <= tol:
+                reason = "the trust region shrank below tol (the model does not follow its linearisation)"
+                break
+        return point, chi2, converged, reason
 
 
 def latin_hypercube(bounds: Mapping[str, tuple[float, float]], count: int, *, seed: int = 0) -> list[dict]:
@@ -380,12 +426,12 @@ def _near(point: _Point, measurements: Sequence[Measurement], step: np.ndarray) 
 
 
 def _evaluate(scene, specs, measurements, x, near, *, jacobian: bool, found: _Point | None = None,
-              previous: tuple = ()) -> _Point:
+              previous: tuple = (), resolved: Mapping | None = None) -> _Point:
     """The model at ln |p| = ``x``: predicted frequencies (and wavelengths) of the measured modes, each selected by
     label nearest ``near`` [Hz] (or by shape to ``previous``, ``_solve``), from one solve plus one eigen solve of
     the same model per measured frequency outside the first solve's span; with ``jacobian``, d y / d ln p too
-    (reusing ``found``'s solve)."""
-    point = found if found is not None else _solve(_at(scene, specs, x), measurements, near, x, previous)
+    (reusing ``found``'s solve); ``resolved``: on the resolved model (``_solve``)."""
+    point = found if found is not None else _solve(_at(scene, specs, x), measurements, near, x, previous, resolved)
     if not jacobian:
         return point
     members = [member for spec in specs for member in spec.members]
@@ -412,12 +458,19 @@ def _evaluate(scene, specs, measurements, x, near, *, jacobian: bool, found: _Po
     return replace(point, jacobian=np.column_stack(columns))
 
 
-def _solve(scene, measurements, near, x, previous: tuple = ()) -> _Point:
-    """One solve near the first measured mode, more eigen solves of its model for measured modes outside its span.
-    Each measured mode by label nearest ``near``; where no mode carries the label (a mode mixed with a neighbour
-    in a veering takes another pattern), the one most alike in shape (MAC) to its match at the last accepted point
-    (``previous``)."""
-    first = solve_modes(scene, near=_SHIFT * near[0], count=CALIBRATE_COUNT, fidelity="solid", error_estimate=False)
+def _solve(scene, measurements, near, x, previous: tuple = (), resolved: Mapping | None = None) -> _Point:
+    """One solve near the first measured mode, more eigen solves of its model for measured modes outside its span;
+    with ``resolved`` (``solve_modes`` keywords) the first on the model resolved for it, the others of its window
+    with their stated errors (those of further solves of that model: none). Each measured mode by label nearest
+    ``near``; where no
+    mode carries the label (a mode mixed with a neighbour in a veering takes another pattern), the one most alike
+    in shape (MAC) to its match at the last accepted point (``previous``)."""
+    if resolved is None:
+        first = solve_modes(scene, near=_SHIFT * near[0], count=CALIBRATE_COUNT, fidelity="solid",
+                            error_estimate=False)
+    else:
+        first = solid_modes(scene, needs="calibrate", near=_SHIFT * near[0], count=CALIBRATE_COUNT,
+                            mode=measurements[0].label, **resolved)
     solves = [first]
     chosen = []
     for m, f in zip(measurements, near):

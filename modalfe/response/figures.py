@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from modalfe.errors import SceneError, SolverError
+from modalfe.results.coupling import k_eff
 
 
 @dataclass(frozen=True)
@@ -25,6 +26,10 @@ class ForcedFigures:
     no admittance (None) and no voltage target; ``velocity`` output -> peak omega A per unit load [m/s];
     ``absolute_acceleration`` (base acceleration) output -> |-omega^2 u_rel + a_base| per unit base acceleration;
     ``stress``: peaks per part at resonance (``modalfe.response.stress``) and ``limits`` the load reaching each.
+    ``error_estimate``: the stated relative error of the mode's frequency (NaN: not estimated) on the discretization
+    ``resolution`` describes (the answer ``modes`` gives for the same question). ``antiresonance`` [Hz]: fa of the
+    mode's open-circuit partner on the same model (as ``table`` and ``report`` give it); the BVD's fa is the one-mode
+    circuit's approximation of it.
     """
 
     scene: str
@@ -48,6 +53,9 @@ class ForcedFigures:
     absolute_acceleration: dict[str, float] = field(default_factory=dict)
     stress: list | None = None
     limits: list | None = None
+    error_estimate: float = float("nan")
+    resolution: str = ""
+    antiresonance: float | None = None
 
     def to_json(self) -> dict:
         rom = self.rom
@@ -59,7 +67,8 @@ class ForcedFigures:
             "reduced_model": {"reference": rom.reference, "modal_mass_kg": rom.modal_mass,
                               "stiffness_n_per_m": rom.stiffness, "damping_n_s_per_m": rom.damping,
                               "force_factor_n_per_v": rom.force_factor},
-            "bvd": rom.bvd, "antiresonance_hz": rom.antiresonance, "k_eff": rom.k_eff,
+            "bvd": rom.bvd, "bvd_antiresonance_hz": rom.antiresonance, "antiresonance_hz": self.antiresonance,
+            "k_eff": k_eff(rom.frequency, self.antiresonance), "bvd_k_eff": rom.k_eff,
             "amplitude_per_volt_m": self.amplitude_per_volt, "volts_for": self.volts_for,
             "amplitude_at": self.amplitude_at, "peak_amplitude_per_volt_m": self.peak_amplitude_per_volt,
             "acceleration_per_volt": {k: {"peak": v[0], "half_period_average": v[1]}
@@ -80,7 +89,8 @@ class ForcedFigures:
         for o, a in self.absolute_acceleration.items():
             outputs[o]["absolute_acceleration_per_unit_base_acceleration"] = a
         extra = {"load": self.load_description, "load_source": self.load_source, "load_unit": unit,
-                 "outputs_per_load": outputs}
+                 "outputs_per_load": outputs, "frequency_error_estimate": _finite(self.error_estimate),
+                 "resolution": self.resolution}
         if self.stress is not None:
             extra["stress_at_resonance_per_load"] = [
                 {"part": p.part, "material": p.material,
@@ -112,14 +122,16 @@ class ForcedFigures:
 
 def forced_figures(scene, *, selector: str | None = None, near: float | None = None, damping=None,
                    outputs=None, span: float = 0.02, points: int = 41, full: bool = False, load=None,
-                   stress=None) -> ForcedFigures:
+                   stress=None, **resolution) -> ForcedFigures:
     """Reduce the working mode and derive the device figures; ``full`` adds the direct FE FRF. ``load``
     (``modalfe.response.loads.Load``; default: the scene's ``drive.load``) is checked before any solve;
-    ``stress``: True (every part) or part names for the peak stress and field at resonance."""
+    ``stress``: True (every part) or part names for the peak stress and field at resonance. The mode is the one
+    ``modes`` gives for the scene's question about it (``modalfe.solve.api.working_question``), solved at
+    ``resolution`` (``solve_modes``' tol, fidelity, error_estimate) on the 3-D solid."""
     from modalfe.response.forced import Damping, harmonic_response, reduce
     from modalfe.response.loads import Load, check_forcing
     from modalfe.results.modes import select
-    from modalfe.solve.api import solve_modes
+    from modalfe.solve.api import open_circuit_partner, solid_modes, sought_near, working_question
 
     if load is None:
         load, load_source = scene.drive.load, scene.drive.load_source
@@ -137,15 +149,14 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
 
     if not scene.working_modes and selector is None:
         raise SolverError("forced: the scene names no working mode; give --mode and --near")
-    wm = scene.working_modes[0] if scene.working_modes else None
     if near is not None:
         from modalfe.scene.values import number
 
         number("near", near, unit="Hz", positive=True)
     if selector is not None and (not isinstance(selector, str) or not selector.strip()):
         raise SceneError(f"mode: must be a label such as '(0,6)' or 'bending-z 6', got {selector!r}")
-    selector = selector or wm.selector
-    near = near or wm.near
+    question = working_question(scene, selector, near)
+    selector, near = question["mode"], sought_near(scene, selector, near)
     if damping is not None:
         if not isinstance(damping, Damping):
             raise SceneError(f"damping: must be a Damping (Damping.parse('Q=150')), got {damping!r}")
@@ -155,9 +166,10 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
     outputs = tuple(outputs or scene.drive.outputs)
     if not outputs:
         raise SolverError("forced: no outputs; give --outputs (face groups) or set drive.outputs")
-    modes = solve_modes(scene, near=near, count=10, error_estimate=False)
+    modes = solid_modes(scene, needs="the forced response", **question, **resolution)
     mode = select(modes, selector, near)
     rom = reduce(mode, outputs=outputs, damping=damping, load=None if voltage else load)
+    fa = open_circuit_partner(modes, mode, near=mode.frequency).frequency if voltage else None
     amp = {o: float(abs(rom.frf(rom.frequency, o))) for o in rom.shapes}
     omega = rom.omega
     accel = {o: (omega**2 * a, 2 / np.pi * omega**2 * a) for o, a in amp.items()}
@@ -222,7 +234,12 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
     return ForcedFigures(scene.name, rom, source, amp, volts_for, accel,
                          rom.envelope_time_constant, f, rom.frf(f), rom.admittance(f) if voltage else None, frf_full,
                          notes, amplitude_at, peak, load.describe() if not voltage else
-                         "voltage on the driven electrodes", load_source, load.unit, velocity, absolute, peaks, limits)
+                         "voltage on the driven electrodes", load_source, load.unit, velocity, absolute, peaks, limits,
+                         mode.error_estimate, modes.resolution, fa)
+
+
+def _finite(x: float) -> float | None:
+    return float(x) if np.isfinite(x) else None
 
 
 def _face_peak(mode, rom) -> tuple[float, tuple[float, float]]:

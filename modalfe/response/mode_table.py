@@ -14,12 +14,13 @@ and fractions are those of the solved part.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
-from modalfe.errors import SceneError
+from modalfe.errors import SceneError, SolverError
 from modalfe.response.loads import rigid_translation
+from modalfe.results.coupling import antiresonance, k_eff
 
 OPEN_MARGIN = 1.1  # the open-circuit band reaches 10 % higher (fa - fr is a few % for k_eff up to ~0.4)
 CSV_COLUMNS = (
@@ -97,25 +98,19 @@ def effective_masses(modes) -> tuple[np.ndarray, np.ndarray]:
 
 
 def mode_table(scene, *, near: float | None = None, count: int | None = None,
-               band: tuple[float, float] | None = None, error_estimate: bool = True) -> ModeTable:
+               band: tuple[float, float] | None = None, **resolution) -> ModeTable:
     """The mode table of ``scene`` (3-D solid): ``count`` modes nearest ``near`` [Hz] or every mode in ``band``
-    (default: the scene's analysis). fa from one open-circuit solve on the same mesh, paired by label (nearest
-    frequency) or, failing that, by nearest frequency."""
-    from modalfe.results.coupling import k_eff
-    from modalfe.solve.api import solve_modes
+    (default: the scene's analysis), the answer ``modes`` gives for that question at ``resolution``
+    (``solve_modes``' tol, fidelity, error_estimate). fa from one open-circuit solve on the same model, each short
+    mode's partner by shape (``modalfe.results.coupling.antiresonance``)."""
+    from modalfe.solve.api import open_circuit_modes, solid_modes
 
-    a = scene.analysis
+    short = solid_modes(scene, needs="the mode table", near=near, count=count, band=band, **resolution)
     if band is None and near is None:
-        near, band = a.near, a.band
-        count = count or a.count
-    top = band[1] if band is not None else None
-    if top is not None:  # one mesh for both circuits: it resolves the open-circuit band's top too
-        scene = replace(scene, mesh=replace(scene.mesh, max_frequency=max(scene.max_frequency, OPEN_MARGIN * top)))
-    short = solve_modes(scene, near=near, count=count, band=band, circuit="short", error_estimate=error_estimate,
-                        fidelity="solid")
+        band = scene.analysis.band
     model = short.model
     driven = "drive" in scene.electrodes.values() and model.n_phi > 0
-    notes = []
+    notes = [f"resolved: {short.resolution}"]
     if scene.symmetry:
         notes.append(f"solved on the part of the device on one side of its {'/'.join(scene.symmetry)} mid-plane(s): "
                      f"masses and fractions refer to the solved part, and the modes listed are the symmetric ones "
@@ -131,29 +126,26 @@ def mode_table(scene, *, near: float | None = None, count: int | None = None,
     opens = ()
     if driven:
         if band is not None:
-            opens = solve_modes(scene, band=(band[0], OPEN_MARGIN * band[1]), circuit="open", error_estimate=False,
-                                fidelity="solid")
+            opens = open_circuit_modes(short, band=(band[0], OPEN_MARGIN * band[1]))
         else:
-            opens = solve_modes(scene, near=near, count=(count or a.count) + 2, circuit="open", error_estimate=False,
-                                fidelity="solid")
-        notes.append("fa: open-circuit mode of the same label nearest above fr (else the nearest unpaired "
-                     "frequency); k_eff = sqrt(1 - fr^2/fa^2), IEEE Std 176-1987")
+            opens = open_circuit_modes(short, near=near or scene.analysis.near, count=len(short) + 2)
+        notes.append("fa: the open-circuit mode of the same shape on the same model (largest mass-weighted MAC); "
+                     "k_eff = sqrt(1 - fr^2/fa^2), IEEE Std 176-1987")
         load = model.voltage_load(1.0)
     else:
         notes.append("no driven electrode: no fa, k_eff or force factor")
     gamma, total = effective_masses(short)
     meff = gamma**2
     cum = np.cumsum(meff, axis=0) / np.where(total > 0, total, np.inf)
-    used = set()
     rows = []
     for i, m in enumerate(short):
         fa = ke = theta = force = None
         if driven:
-            partner = _partner(m, opens, used)
-            if partner is not None:
-                used.add(id(partner))
-                fa = partner.frequency
-                ke = k_eff(m.frequency, fa) if m.frequency > 0 else None
+            try:
+                fa = antiresonance(m, opens).frequency
+            except SolverError:
+                fa = None
+            ke = k_eff(m.frequency, fa) if fa is not None and m.frequency > 0 else None
             theta = float(m.shape @ load)
             umax = float(np.max(np.abs(model.nodal_displacement(m.shape))))
             force = theta / umax if umax > 0 else None
@@ -166,14 +158,3 @@ def mode_table(scene, *, near: float | None = None, count: int | None = None,
         })
     return ModeTable(scene.name, tuple(rows), {d: float(total[k]) for k, d in enumerate("xyz")}, short.dofs,
                      tuple(notes))
-
-
-def _partner(mode, opens, used):
-    """The open-circuit mode paired with short-circuit ``mode``: same label nearest at or above it, else the
-    nearest unused one within 10 %."""
-    free = [o for o in opens if id(o) not in used]
-    same = [o for o in free if o.label == mode.label and o.frequency >= mode.frequency * (1 - 1e-9)]
-    if same:
-        return min(same, key=lambda o: o.frequency - mode.frequency)
-    near = [o for o in free if abs(o.frequency - mode.frequency) <= 0.1 * max(mode.frequency, 1.0)]
-    return min(near, key=lambda o: abs(o.frequency - mode.frequency)) if near else None

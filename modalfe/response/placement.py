@@ -152,26 +152,30 @@ class FootPlacement:
 
 
 def place_feet(scene, *, selector: str, near: float, contact_stiffness: float,
-               part: str = "plate") -> FootPlacement:
+               part: str = "plate", **resolution) -> FootPlacement:
     """Put the scene's feet on in-phase antinodes of the working mode (nearest to where they are),
-    then re-solve with the feet free and with ``contact_stiffness`` [N/m] under each foot."""
+    then re-solve with the feet free and with ``contact_stiffness`` [N/m] under each foot; each solve the 3-D solid
+    that ``modes`` answers that scene with at ``resolution`` (``solve_modes``' tol, fidelity, error_estimate)."""
     from modalfe.results.modes import select
-    from modalfe.solve.api import solve_modes
+    from modalfe.solve.api import solid_modes, working_question
+
+    def working(device):  # the mode as ``modes`` answers the device's question about it
+        modes = solid_modes(device, needs="foot placement", **working_question(device, selector, near), **resolution)
+        return select(modes, selector, near)
 
     feet = tuple(scene.params.get("feet", _default_feet(scene)))
     if not feet:
         raise SolverError("place_feet: the scene has no feet")
     size = scene.params.get("foot_size", 3e-3)
     bare = scene.with_overrides(feet=())
-    modes = solve_modes(bare, near=near, count=8, error_estimate=False)
-    mode = select(modes, selector, near)
+    mode = working(bare)
     placed = feet_on_antinodes(mode, feet, part=part, foot_size=size)
     moved = [float(np.hypot(px - x, py - y)) for (px, py), (x, y) in zip(placed, feet)]
     with_feet = scene.with_overrides(feet=tuple(placed))
-    f_feet = select(solve_modes(with_feet, near=near, count=8, error_estimate=False), selector, near).frequency
+    f_feet = working(with_feet).frequency
     springs = {f"springs.foot_{i}": [0.0, 0.0, contact_stiffness] for i in range(1, len(placed) + 1)}
     contact = with_feet.with_overrides(**springs)
-    f_contact = select(solve_modes(contact, near=near, count=8, error_estimate=False), selector, near).frequency
+    f_contact = working(contact).frequency
     return FootPlacement(tuple(placed), tuple(moved), mode.frequency, f_feet, f_contact, contact_stiffness)
 
 

@@ -91,6 +91,8 @@ class Iterate:
     seconds: float
     accepted: bool = True
     notes: tuple[str, ...] = ()
+    errors: tuple[float, ...] = ()  # each target mode's stated relative error (NaN: not estimated, own mesh)
+    resolved: bool = False  # solved on the resolved model (``tune``'s second stage), else the scene's own mesh
 
 
 @dataclass(frozen=True)
@@ -144,16 +146,43 @@ class _Point:
 def tune(scene, targets: Sequence[FrequencyTarget], parameters: Sequence[str], *, tol: float = 1e-3,
          bounds: Mapping[str, tuple[float, float]] | None = None, maximize: str | None = None,
          separation: float | None = None, replace_feet: bool = False, max_iterations: int = 12,
-         progress: Callable[[int, Iterate], None] | None = None) -> TuningResult:
+         progress: Callable[[int, Iterate], None] | None = None, resolution: Mapping | None = None) -> TuningResult:
     """Change ``parameters`` (``frequency_sensitivities`` names, real and non-zero) until every target mode lies
     within ``tol`` (relative) of its frequency, optionally maximizing k_eff of the first, keeping its
     ``separation`` from its neighbours and its feet on its antinodes (module docstring). ``bounds``: name ->
-    (low, high) [its unit]. ``progress(k, iterate)`` after each evaluation (kept or rejected). Ends after
-    ``max_iterations`` evaluations at most."""
+    (low, high) [its unit]. ``progress(k, iterate)`` after each evaluation (kept or rejected).
+
+    Two stages: iterates on the scene's own mesh (cheap, no error estimate) until the targets are met there, then,
+    from that design, iterates on the resolved model (the answer ``modes`` gives for each target mode at
+    ``resolution``: ``solve_modes``' tol, fidelity, error_estimate; tol default ``tol``) until every target is met
+    within ``tol`` *including* its mode's stated error; only then converged. ``max_iterations`` evaluations at most
+    in each stage."""
     targets = tuple(targets)
     names = list(dict.fromkeys(parameters))
     _check(scene, targets, list(parameters), tol, bounds, maximize, separation, replace_feet)
-    bounds = dict(bounds or {})
+    options = {"targets": targets, "names": names, "tol": tol, "bounds": dict(bounds or {}),
+               "separation": separation, "replace_feet": replace_feet, "max_iterations": max_iterations}
+    cheap = _descend(scene, maximize=maximize, resolved=None, progress=progress, **options)
+    if not cheap.converged:
+        return replace(cheap, reason=f"{cheap.reason} (on the scene's own mesh, before the resolved model)")
+    done = len(cheap.iterates)
+
+    def onward(k: int, it: Iterate) -> None:
+        if progress is not None:
+            progress(done + k, it)
+
+    resolved = {"tol": tol, **(resolution or {})}
+    checked = _descend(cheap.scene, maximize=None, resolved=resolved, progress=onward, **options)
+    reason = f"{checked.reason} on the resolved model, stated error included"
+    if maximize:
+        reason += f"; k_eff maximized on the scene's own mesh ({cheap.reason})"
+    return replace(checked, iterates=cheap.iterates + checked.iterates, reason=reason, maximize=maximize)
+
+
+def _descend(scene, *, targets, names, tol, bounds, maximize, separation, replace_feet, max_iterations, progress,
+             resolved: Mapping | None) -> TuningResult:
+    """One stage of ``tune``: its iterates from ``scene``, each solved on the scene's own mesh (``resolved`` None) or
+    on the model resolved at ``resolved`` (``solve_modes`` keywords)."""
     low = np.array([bounds.get(n, (-math.inf, math.inf))[0] for n in names])
     high = np.array([bounds.get(n, (-math.inf, math.inf))[1] for n in names])
     iterates: list[Iterate] = []
@@ -179,7 +208,8 @@ def tune(scene, targets: Sequence[FrequencyTarget], parameters: Sequence[str], *
     base = scene  # the kept design's scene the last step was taken from (its feet re-placed)
     for _ in range(max_iterations):
         try:
-            point = _evaluate(scene, targets, names, near, maximize is not None, separation, replace_feet, notes)
+            point = _evaluate(scene, targets, names, near, maximize is not None, separation, replace_feet, notes,
+                              resolved)
         except SolverError as exc:  # a target mode lost after a step: the step halved, from the kept design
             if kept is None or not np.any(taken):
                 raise
@@ -317,23 +347,28 @@ def _feet(scene) -> tuple[tuple[float, float], ...]:
     return tuple((float(x), float(y)) for x, y in feet)
 
 
-def _evaluate(scene, targets, names, near, need_k, separation, replace_feet, notes) -> _Point:
-    """Solve ``scene`` near each target (one solve serves every target inside its span of modes; with ``need_k``
-    an open-circuit solve beside the first), take the sensitivities, re-place the feet (``replace_feet``: a
-    solve without feet, ``_feet_on_antinodes``) and build the iterate."""
+def _evaluate(scene, targets, names, near, need_k, separation, replace_feet, notes, resolved=None) -> _Point:
+    """Solve ``scene`` near each target (with ``need_k`` the open circuit of the same model beside the first): on its
+    own mesh, where one solve serves every target inside its span of modes, or, with ``resolved`` (``solve_modes``
+    keywords), each target on the model ``modes`` resolves that mode on; take the sensitivities, re-place the feet
+    (``replace_feet``: a solve without feet, ``_feet_on_antinodes``) and build the iterate."""
+    from modalfe.solve.api import open_circuit_modes, solid_modes
+
     start = time.perf_counter()
     solves: list = []  # (modes, Sensitivities)
     rows, found = [], []
     extra = 0
     for i, (t, f) in enumerate(zip(targets, near)):
-        use = next((k for k, (modes, _) in enumerate(solves)
-                    if modes.frequencies.min() <= f <= modes.frequencies.max()), None)
+        use = next((k for k, (modes, _) in enumerate(solves)  # resolved: each target mode's own question
+                    if resolved is None and modes.frequencies.min() <= f <= modes.frequencies.max()), None)
         if use is None:
-            modes = solve_modes(scene, near=f, count=TUNE_COUNT, fidelity="solid", error_estimate=False)
+            if resolved is None:
+                modes = solve_modes(scene, near=f, count=TUNE_COUNT, fidelity="solid", error_estimate=False)
+            else:
+                modes = solid_modes(scene, needs="tune", near=f, count=TUNE_COUNT, mode=t.label, **resolved)
             open_modes = None
             if need_k and i == 0:
-                open_modes = solve_modes(scene, near=f, count=TUNE_COUNT, circuit="open", fidelity="solid",
-                                         error_estimate=False)
+                open_modes = open_circuit_modes(modes, near=f, count=TUNE_COUNT)
                 extra = 1
             solves.append((modes, frequency_sensitivities(modes, names, open_modes=open_modes)))
             use = len(solves) - 1
@@ -371,14 +406,17 @@ def _evaluate(scene, targets, names, near, need_k, separation, replace_feet, not
     iterate = Iterate(dict(zip(names, sens0.values.tolist())), frequencies,
                       tuple(dict(zip(names, row.tolist())) for row in J), k, gap,
                       _feet(scene) if has_feet(scene) else (), len(solves) + extra, time.perf_counter() - start,
-                      True, tuple(notes))
+                      True, tuple(notes), tuple(float(mode.error_estimate) for mode, _, _ in found),
+                      resolved is not None)
     return _Point(scene, iterate, r, J, neighbours, g, placed)
 
 
 def _met(point: _Point, tol: float, separation: float | None) -> bool:
-    """Every target within ``tol`` and the first target's neighbours at least ``separation`` away, to ``tol`` / 2
-    of a frequency (an active separation row lands on its limit only as closely as the targets on theirs)."""
-    within = bool(np.all(np.abs(np.expm1(point.r)) <= tol))
+    """Every target within ``tol``, its mode's stated error included (where estimated), and the first target's
+    neighbours at least ``separation`` away, to ``tol`` / 2 of a frequency (an active separation row lands on its
+    limit only as closely as the targets on theirs)."""
+    errors = np.array([e if not math.isnan(e) else 0.0 for e in point.iterate.errors] or [0.0] * len(point.r))
+    within = bool(np.all(np.abs(np.expm1(point.r)) + errors <= tol))
     return within and all(sigma * (d - math.log1p(sigma * separation)) >= -tol / 2 for sigma, d, _ in point.neighbours)
 
 

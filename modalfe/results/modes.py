@@ -74,6 +74,7 @@ class Modes:
     levels (finer coarse level first) that a reduced model's model error was measured against, else empty;
     mesh_frequency : the highest frequency [Hz] the mesh resolves at the scene's elements per wavelength;
     estimate_method : how the error estimates were made (p- or h-refinement), empty when not estimated
+    level : the discretization solved (``modalfe.models.build.Level``), None for a model built elsewhere
     """
 
     modes: tuple[Mode, ...]
@@ -86,6 +87,7 @@ class Modes:
     cross_check: tuple[Modes, ...] = ()
     mesh_frequency: float = float("nan")
     estimate_method: str = ""
+    level: object = None
 
     def __len__(self) -> int:
         return len(self.modes)
@@ -99,6 +101,13 @@ class Modes:
     @property
     def frequencies(self) -> np.ndarray:
         return np.array([m.frequency for m in self.modes])
+
+    @property
+    def resolution(self) -> str:
+        """One line on how these modes were resolved: DOFs, model, which fidelity answered and how the errors were
+        estimated."""
+        parts = [f"{self.dofs} DOFs, {self.fidelity} model", self.fidelity_note, self.estimate_method]
+        return "; ".join(p for p in parts if p)
 
     def labelled(self, label: str, near: float | None = None) -> Mode:
         """The mode with this label (nearest ``near`` [Hz] if several); if none carries it exactly, a mode of its

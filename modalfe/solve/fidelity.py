@@ -85,14 +85,30 @@ def reduced_fidelities(scene) -> list[str]:
     return {"beam": ["beam"], "plate": ["plate"]}.get(scene.kind, [])
 
 
+NOT_ESTIMATED = ("none: error not estimated (error_estimate off, --no-error-estimate): the scene's own mesh solved "
+                 "once, its error unknown")
+
+
 def solve_at_fidelity(scene, analysis, *, fidelity: str, tol: float, check, size_factor: float = 1.0,
                       solver: str = "auto", error_estimate: bool = True, frame=None) -> Modes:
-    """Modes at ``fidelity`` (``beam``, ``plate``, ``solid`` or ``auto``); ``auto`` always estimates errors."""
+    """Modes at ``fidelity`` (``beam``, ``plate``, ``solid`` or ``auto``) whose stated error of the ``check``ed modes
+    meets ``tol``: ``auto`` the cheapest fidelity (``solve_auto``), ``solid`` the solid refined to ``tol``
+    (``refined_to_tol``), a reduced model on its own mesh with its discretization and model error. Without
+    ``error_estimate``: the scene's own mesh once (``auto``: the solid), every error unknown (NaN,
+    ``NOT_ESTIMATED``)."""
+    if not error_estimate:
+        fine = solve_estimated(scene, analysis, "solid" if fidelity == "auto" else fidelity, size_factor=size_factor,
+                               solver=solver, error_estimate=False, frame=frame)
+        return replace(fine, estimate_method=NOT_ESTIMATED)
     if fidelity == "auto":
+        if frame is not None:
+            raise SolverError("frame: rotating the device is supported at solid fidelity only")
         return solve_auto(scene, analysis, tol=tol, check=check, size_factor=size_factor, solver=solver)
-    modes = solve_estimated(scene, analysis, fidelity, size_factor=size_factor, solver=solver,
-                            error_estimate=error_estimate, frame=frame)
-    if fidelity == "solid" or not error_estimate:
+    if fidelity == "solid" and frame is None:
+        solid = solve_auto(scene, analysis, tol=tol, check=check, size_factor=size_factor, solver=solver, fidelities=())
+        return replace(solid, fidelity_note=solid.fidelity_note.replace("auto: solid answered", "solid asked", 1))
+    modes = solve_estimated(scene, analysis, fidelity, size_factor=size_factor, solver=solver, frame=frame)
+    if fidelity == "solid":  # a rotated device: its own mesh, estimated (``solid_levels`` rotated alike)
         return modes
     # a reduced model asked directly states its model error too: the same cross-check as ``auto``
     start = time.perf_counter()
@@ -259,9 +275,13 @@ def solve_estimated(scene, analysis, fidelity: str, *, size_factor: float = 1.0,
     return reduced_estimates(fine, scene, analysis, size_factor=size_factor, solver=solver)
 
 
-def solve_auto(scene, analysis, *, tol: float, check=None, size_factor: float = 1.0, solver: str = "auto") -> Modes:
-    """The cheapest fidelity whose estimated error on the checked modes is within ``tol``; the solid's estimate
-    levels are solved once, as the reduced models' cross-check and, if the solid answers, for its own estimate."""
+def solve_auto(scene, analysis, *, tol: float, check=None, size_factor: float = 1.0, solver: str = "auto",
+               fidelities: tuple[str, ...] | None = None) -> Modes:
+    """The cheapest fidelity of the reduced ``fidelities`` (default ``reduced_fidelities``; () for the solid alone)
+    and the solid whose estimated error on the checked modes is within ``tol``; the solid's estimate levels are
+    solved once, as the reduced models' cross-check, for the forecast of where the solid starts and, if the solid
+    answers, for its own estimate. The solid's ladder (start, steps) is the same whichever reduced models were
+    tried, so that ``auto`` and ``solid`` answer a question the solid answers on the same discretization."""
     reasons = []
     levels = []  # the solid's estimate levels, solved at most once
 
@@ -270,7 +290,7 @@ def solve_auto(scene, analysis, *, tol: float, check=None, size_factor: float = 
             levels.extend(solid_levels(scene, analysis, size_factor, solver))
         return levels
 
-    for fidelity in reduced_fidelities(scene):
+    for fidelity in reduced_fidelities(scene) if fidelities is None else fidelities:
         try:
             fine = solve_estimated(scene, analysis, fidelity, size_factor=size_factor, solver=solver,
                                    error_estimate=False)
@@ -299,7 +319,9 @@ def solve_auto(scene, analysis, *, tol: float, check=None, size_factor: float = 
             return replace(checked, fidelity_note=note, cross_check=tuple(solid_check()))
         reasons.append(f"{fidelity} model: {why} > tol {percent(tol)}")
     reason = no_estimate_reason(scene, size_factor)
-    forecast = scene_grid_forecast(scene, levels, check) if reason is None else 0.0
+    forecast = 0.0
+    if reason is None and raises_order(scene) and reuses_grids(scene):  # else no forecast (``scene_grid_forecast``)
+        forecast = scene_grid_forecast(scene, solid_check(), check)
     start = first_step(scene, forecast, tol, size_factor)
     skipped = ""
     if start:  # the scene's own grid (and maybe the first step) would miss tol
@@ -320,7 +342,7 @@ def solve_auto(scene, analysis, *, tol: float, check=None, size_factor: float = 
     solid, refined = refined_to_tol(scene, analysis, solid, tol=tol, check=check, size_factor=size_factor,
                                     solver=solver, levels=levels, start=max(start, 1))
     note = "auto: solid answered" + (f" ({'; '.join(reasons)})" if reasons else " (no reduced model for a "
-                                     f"{scene.kind} scene)")
+                                     f"{scene.kind} scene)" if fidelities is None else "")
     return replace(solid, fidelity_note=note + skipped + refined)
 
 
@@ -379,11 +401,8 @@ def refined_to_tol(scene, analysis, solid: Modes | None, *, tol: float, check, s
         grids = {} if solid is None else {_grid(scene.mesh.min_layers, size_factor): solid}
         for level, factor in zip(levels, CHECK_FACTORS):
             grids[_grid(level_layers(scene.mesh.min_layers, factor), size_factor * factor)] = level
-    # every mode listed (no ``check``): those the scene's mesh is made to resolve; a mode above mesh.max_frequency
-    # is outside the scene's range (``solve_modes``), refining for it would size the mesh for another range
-    ceiling = scene.max_frequency if math.isfinite(scene.max_frequency) and scene.max_frequency > 0 else math.inf
     worst, why = ((math.inf, "own grid (not solved, first_step)") if solid is None
-                  else worst_checked(solid, check, ceiling))
+                  else worst_checked(solid, check))
     steps, stopped = (0 if solid is not None else start - 1), ""
     while worst > tol and (math.isfinite(worst) or solid is None) and steps < MAX_REFINE_STEPS:
         finer, factor = refinement_step(scene, steps + 1, size_factor)
@@ -402,7 +421,7 @@ def refined_to_tol(scene, analysis, solid: Modes | None, *, tol: float, check, s
         if grids is not None:
             grids[_grid(finer.mesh.min_layers, factor)] = solid
         steps, last = steps + 1, (finer, factor)
-        worst, why = worst_checked(solid, check, ceiling)
+        worst, why = worst_checked(solid, check)
     if solid is None:
         raise SolverError(f"auto: no refinement step could be solved{stopped}")
     note = ""
@@ -416,10 +435,6 @@ def refined_to_tol(scene, analysis, solid: Modes | None, *, tol: float, check, s
         if not stopped and math.isfinite(worst) and steps == MAX_REFINE_STEPS:
             stopped = f" at the most refinement allowed (MAX_REFINE_STEPS = {MAX_REFINE_STEPS})"
         note += f"; its {why} exceeds tol {percent(tol)}{stopped}"
-    above, why_above = worst_checked(solid, None) if check is None else (0.0, "")
-    if above > tol and above > worst:
-        note += (f"; modes above the {ceiling:.6g} Hz the mesh resolves (mesh.max_frequency) are not refined for: "
-                 f"{why_above}")
     return solid, note
 
 
@@ -472,15 +487,14 @@ def _checked_modes(modes: Modes, check) -> list:
     if check is None:
         top = max(m.frequency for m in modes)
         return [m for m in modes if m.frequency >= 1e-6 * top]
-    return [select(modes, selector, near) for selector, near in check]
+    return [modes.nearest(near) if selector is None else select(modes, selector, near) for selector, near in check]
 
 
-def worst_checked(modes: Modes, check, ceiling: float = math.inf, *,
-                  what: str = "estimated error") -> tuple[float, str]:
-    """(largest estimated error of the checked modes, a phrase saying which, calling it ``what``); with no ``check``
-    (every mode), those at most ``ceiling`` [Hz]."""
+def worst_checked(modes: Modes, check, *, what: str = "estimated error") -> tuple[float, str]:
+    """(largest estimated error of the checked modes (every mode with no ``check``), a phrase saying which, calling
+    it ``what``)."""
     try:
-        found = [m for m in _checked_modes(modes, check) if check is not None or m.frequency <= ceiling]
+        found = _checked_modes(modes, check)
     except SolverError as exc:
         return math.inf, f"working mode not found ({exc})"
     if not found:

@@ -4,12 +4,12 @@ circuit, solve the eigen problem near the target and label each mode from its sh
 from __future__ import annotations
 
 import weakref
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import scipy.sparse as sp
 
-from modalfe.models.build import build_model
+from modalfe.models.build import Level, build_model
 from modalfe.results.labels import unique_labels
 from modalfe.results.modes import Mode, Modes
 from modalfe.solve.eigen import eigenpairs
@@ -40,7 +40,8 @@ def solve_level(scene, analysis, *, fidelity: str = "solid", size_factor: float 
     (element sizes x ``size_factor``): mass-normalised full DOF shapes, labelled (``labels=False``: an estimate
     level whose labels nobody reads, ``UNLABELLED``), no error estimate."""
     model, timings = build_model(scene, fidelity, size_factor=size_factor, frame=frame, min_layers=min_layers)
-    return modes_of(model, analysis, fidelity=fidelity, solver=solver, timings=timings, labels=labels)
+    modes = modes_of(model, analysis, fidelity=fidelity, solver=solver, timings=timings, labels=labels)
+    return modes if frame is not None else replace(modes, level=Level(fidelity, scene.mesh, size_factor, min_layers))
 
 
 def modes_of(model, analysis, *, fidelity: str, solver: str = "auto", timings: dict | None = None,

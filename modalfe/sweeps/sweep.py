@@ -42,11 +42,12 @@ log = logging.getLogger(__name__)
 MAC_CROSSING = 0.8  # below this the tracked mode is not the same shape any more (Allemang 2003: MAC > 0.9 consistent)
 GRID = (12, 6)  # samples of the normal displacement over the main part's top face (relative coordinates)
 # the table's fixed columns; the swept parameters' columns go between DEFINITION and RESULT
-DEFINITION = ["point", "point_id", "scene", "scene_sha256", "overrides", "selector", "near_hz", "count", "extra_fn"]
-RESULT = ["status", "label", "frequency_hz", "tracked_label", "tracked_frequency_hz", "mac_previous", "crossing",
-          "dofs", "seconds", "extra", "candidates"]
+DEFINITION = ["point", "point_id", "scene", "scene_sha256", "overrides", "selector", "near_hz", "count", "extra_fn",
+              "resolution"]
+RESULT = ["status", "label", "frequency_hz", "error_estimate", "tracked_label", "tracked_frequency_hz",
+          "mac_previous", "crossing", "dofs", "seconds", "extra", "candidates"]
 COLUMNS = DEFINITION + RESULT
-_JSON = ("overrides", "extra", "candidates")
+_JSON = ("overrides", "extra", "candidates", "resolution")
 
 
 def grid_values(spec: str) -> list[float]:
@@ -82,13 +83,14 @@ def _canonical(value) -> str:
 
 
 def definition(scene_ref, base: Mapping | None, selector: str, near: float, count: int,
-               extra: Callable | None = None, scene=None) -> dict:
+               extra: Callable | None = None, scene=None, resolution: Mapping | None = None) -> dict:
     """What defines every row of a sweep besides its point's parameters (``scene``: the loaded scene, whose
-    geometry file counts too)."""
+    geometry file counts too; ``resolution``: ``solve_modes``' tol, fidelity, error_estimate)."""
     name, digest = scene_identity(scene_ref, scene)
     return {"scene": name, "scene_sha256": digest, "overrides": json.loads(_canonical(dict(base or {}))),
             "selector": str(selector), "near_hz": float(near), "count": int(count),
-            "extra_fn": f"{extra.__module__}.{extra.__qualname__}" if extra is not None else ""}
+            "extra_fn": f"{extra.__module__}.{extra.__qualname__}" if extra is not None else "",
+            "resolution": json.loads(_canonical(dict(resolution or {})))}
 
 
 def point_id(params: Mapping, context: Mapping | None = None) -> str:
@@ -108,22 +110,24 @@ def mac(a: np.ndarray, b: np.ndarray) -> float:
 
 
 def evaluate_point(scene_ref: str, params: dict, base: dict, selector: str, near: float, count: int = 6,
-                   extra: Callable | None = None) -> dict:
-    """Solve one point: the labelled working mode and its ``count`` nearest candidates (shapes sampled).
+                   extra: Callable | None = None, resolution: Mapping | None = None) -> dict:
+    """Solve one point: the labelled working mode and its ``count`` nearest candidates (shapes sampled), the answer
+    ``modes`` gives for that question at ``resolution`` (``solve_modes``' tol, fidelity, error_estimate), with the
+    working mode's stated error.
 
     Never raises a modalfe error: a working mode not found among the candidates gives status ``not found``
     (the tracking then follows the shape), a failed point status ``error`` with the one-line reason."""
     from modalfe.errors import SolverError
     from modalfe.results.modes import select
     from modalfe.scene import load_scene
-    from modalfe.solve.api import solve_modes
+    from modalfe.solve.api import solid_modes
 
     start = time.perf_counter()
-    row = {"params": params, "status": "ok", "label": "", "frequency_hz": None, "candidates": [], "dofs": 0,
-           "extra": {}}
+    row = {"params": params, "status": "ok", "label": "", "frequency_hz": None, "error_estimate": None,
+           "candidates": [], "dofs": 0, "extra": {}}
     try:
         scene = load_scene(scene_ref, **{**base, **params})
-        modes = solve_modes(scene, near=near, count=count, error_estimate=False)
+        modes = solid_modes(scene, needs="the sweep", near=near, count=count, mode=selector, **(resolution or {}))
         full = scene.full_assembly()
         main = full.main_part
         lo, hi = full.bounds
@@ -149,6 +153,7 @@ def evaluate_point(scene_ref: str, params: dict, base: dict, selector: str, near
             row["status"] = f"not found: {_one_line(exc)}"
         else:
             row["label"], row["frequency_hz"] = working.label, working.frequency
+            row["error_estimate"] = working.error_estimate if np.isfinite(working.error_estimate) else None
             row["extra"] = extra(working) if extra is not None else {}
     except ModalfeError as exc:
         row["status"] = f"error: {type(exc).__name__}: {_one_line(exc)}"
@@ -216,7 +221,8 @@ def _decode(raw: Mapping[str, str], names: Sequence[str]) -> dict:
            "scene_sha256": raw["scene_sha256"], "overrides": json.loads(raw["overrides"] or "{}"),
            "selector": raw["selector"], "near_hz": number(raw["near_hz"]), "count": number(raw["count"], int),
            "extra_fn": raw["extra_fn"], "status": raw["status"], "label": raw["label"],
-           "frequency_hz": number(raw["frequency_hz"]), "tracked_label": raw["tracked_label"],
+           "frequency_hz": number(raw["frequency_hz"]), "error_estimate": number(raw.get("error_estimate")),
+           "resolution": json.loads(raw.get("resolution") or "{}"), "tracked_label": raw["tracked_label"],
            "tracked_frequency_hz": number(raw["tracked_frequency_hz"]), "mac_previous": number(raw["mac_previous"]),
            "crossing": {"True": True, "False": False}.get(raw["crossing"]), "dofs": number(raw["dofs"], int),
            "seconds": number(raw["seconds"]), "extra": json.loads(raw["extra"] or "{}"),
@@ -325,10 +331,11 @@ def table_lock(path: Path) -> Iterator[None]:
 
 def sweep(scene_ref: str, params: Mapping[str, Sequence], *, out: str | Path, selector: str, near: float,
           base: Mapping | None = None, scheduler: str | None = None, workers: int = 2, count: int = 6,
-          extra: Callable | None = None, progress: bool = True) -> list[dict]:
+          extra: Callable | None = None, progress: bool = True, resolution: Mapping | None = None) -> list[dict]:
     """Run (or resume) a sweep over the Cartesian product of ``params``; returns tracked rows in grid order
     (see the module docstring for the table). ``scheduler``: address of an existing dask scheduler, ``"inline"``
-    to compute in this process, else a LocalCluster of ``workers`` single-threaded processes."""
+    to compute in this process, else a LocalCluster of ``workers`` single-threaded processes. Each point is the
+    answer ``modes`` gives at ``resolution`` (``solve_modes``' tol, fidelity, error_estimate; default its own)."""
     out = Path(out)
     check_workers(workers)
     if isinstance(count, bool) or not isinstance(count, (int, np.integer)) or count < 1:
@@ -350,7 +357,7 @@ def sweep(scene_ref: str, params: Mapping[str, Sequence], *, out: str | Path, se
     for p in (points[0], points[-1]):  # bad parameter names or values fail here, in one line
         scene = load_scene(scene_ref, **{**base, **p})
     columns = [parameter_column(scene, n) for n in names]
-    context = definition(scene_ref, base, selector, near, count, extra, scene)
+    context = definition(scene_ref, base, selector, near, count, extra, scene, resolution)
     keys = [point_id(p, context) for p in points]
     try:
         out.parent.mkdir(parents=True, exist_ok=True)
@@ -382,8 +389,8 @@ def sweep(scene_ref: str, params: Mapping[str, Sequence], *, out: str | Path, se
             done[keys[i]] = row
 
         if todo:
-            _compute(todo, scene_ref, base, selector, near, count, extra, scheduler, workers, finish,
-                     len(points) if progress else 0)
+            question = (scene_ref, base, selector, near, count, extra, resolution)
+            _compute(todo, question, scheduler, workers, finish, len(points) if progress else 0)
         rows = track([{**done[k], "point": i} for i, k in enumerate(keys)], selector)
         grid = set(keys)
         others, seen = [], set()
@@ -395,8 +402,10 @@ def sweep(scene_ref: str, params: Mapping[str, Sequence], *, out: str | Path, se
     return rows
 
 
-def _compute(todo, scene_ref, base, selector, near, count, extra, scheduler, workers, finish, total) -> None:
-    """Evaluate the ``todo`` points (index, params), calling ``finish(index, row)`` as each ends."""
+def _compute(todo, question: tuple, scheduler, workers, finish, total) -> None:
+    """Evaluate the ``todo`` points (index, params), calling ``finish(index, row)`` as each ends; ``question``: the
+    arguments of ``evaluate_point`` (scene_ref, base, selector, near, count, extra, resolution) but the point's."""
+    scene_ref, base, *rest = question
     bar = None
     if total:
         from tqdm import tqdm
@@ -405,7 +414,7 @@ def _compute(todo, scene_ref, base, selector, near, count, extra, scheduler, wor
     try:
         if scheduler == INLINE:
             for i, p in todo:
-                finish(i, evaluate_point(scene_ref, p, base, selector, near, count, extra))
+                finish(i, evaluate_point(scene_ref, p, base, *rest))
                 if bar is not None:
                     bar.update()
             return
@@ -413,7 +422,7 @@ def _compute(todo, scene_ref, base, selector, near, count, extra, scheduler, wor
 
         with dask_client(scheduler, workers) as client:
             futures = submit_all(client, evaluate_point,
-                                 [(i, (scene_ref, p, base, selector, near, count, extra)) for i, p in todo])
+                                 [(i, (scene_ref, p, base, *rest)) for i, p in todo])
             for future in as_completed(futures):
                 finish(futures[future], future.result())
                 if bar is not None:
@@ -454,11 +463,11 @@ def track(rows: list[dict], selector: str) -> list[dict]:
 
 
 def coupling_extra(working) -> dict:
-    """k_eff of the working mode (an open-circuit solve beside the short-circuit one)."""
+    """k_eff of the working mode, its fa from the open circuit of the same model paired by shape."""
     from modalfe.results.coupling import antiresonance, k_eff
-    from modalfe.solve.api import solve_modes
+    from modalfe.solve.api import open_circuit_modes
 
-    open_modes = solve_modes(working.scene, near=working.frequency, count=4, circuit="open", error_estimate=False)
+    open_modes = open_circuit_modes(working, near=working.frequency, count=4)
     return {"k_eff": k_eff(working.frequency, antiresonance(working, open_modes).frequency)}
 
 

@@ -40,11 +40,11 @@ def test_same_device_in_metres_and_millimetres_has_the_same_frequencies():
 
 
 def test_frequency_moves_smoothly_with_a_small_parameter_change():
-    base = solve_modes(load_scene("ciliary_beam"), near=22e3, count=4, error_estimate=True)
+    base = solve_modes(load_scene("ciliary_beam"), near=22e3, count=4, fidelity="solid")
     mode = base.labelled("bending-z 6")
     moved = solve_modes(load_scene("ciliary_beam", x0=0.0681), near=22e3, count=4,
-                        error_estimate=False).labelled("bending-z 6")
-    # a 0.1 mm shift of the sheets remeshes the beam: the jump stays inside the stated error estimate
+                        fidelity="solid").labelled("bending-z 6")
+    # a 0.1 mm shift of the sheets remeshes the beam: at one tolerance the jump stays inside the stated error
     assert abs(moved.frequency / mode.frequency - 1) < mode.error_estimate
 
 

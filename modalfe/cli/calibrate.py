@@ -8,7 +8,15 @@ import json
 import math
 import sys
 
-from modalfe.cli.options import parse_bound, parse_names, parse_overrides, positive_int, scene_options
+from modalfe.cli.options import (
+    parse_bound,
+    parse_names,
+    parse_overrides,
+    positive_int,
+    scene_options,
+    solve_keywords,
+    solve_options,
+)
 from modalfe.errors import ModalfeError, SceneError
 
 
@@ -30,6 +38,7 @@ def register(sub) -> None:
                    "runs the starts one after another in this process")
     p.add_argument("--workers", type=positive_int, help="LocalCluster worker processes (default: one per start, at "
                    "most the CPU count)")
+    solve_options(p)
     scene_options(p, _calibrate)
 
 
@@ -47,7 +56,7 @@ def _calibrate(args) -> int:
               f"wavelengths (3-D solid, Levenberg-Marquardt in ln p)", flush=True)
     if args.starts == 1:
         result = calibrate(scene, measured, names, bounds=bounds, max_iterations=args.max_iterations,
-                           progress=None if args.json else _iterate_line)
+                           progress=None if args.json else _iterate_line, resolution=solve_keywords(args))
         starts = [result]
     else:
         result, starts = _multistart(args, scene, measured, names, bounds)
@@ -71,7 +80,7 @@ def _multistart(args, scene, measured, names, bounds):
     if missing:
         raise SceneError(f"--starts: needs --bounds for every varied parameter; {missing[0]} has none")
     starts = latin_hypercube({name: bounds[name] for name in names}, args.starts)
-    task = functools.partial(_from_start, scene, measured, names, bounds, args.max_iterations)
+    task = functools.partial(_from_start, scene, measured, names, bounds, args.max_iterations, solve_keywords(args))
 
     def finished(i, outcome) -> None:
         if not args.json:
@@ -88,11 +97,12 @@ def _multistart(args, scene, measured, names, bounds):
     return min(done, key=lambda r: r.chi2), results
 
 
-def _from_start(scene, measured, names, bounds, max_iterations, start):
+def _from_start(scene, measured, names, bounds, max_iterations, resolution, start):
     """One start of ``--starts`` (a module-level function, so dask can send it to a worker)."""
     from modalfe.response.calibration import calibrate
 
-    return calibrate(scene, measured, names, bounds=bounds, max_iterations=max_iterations, start=start)
+    return calibrate(scene, measured, names, bounds=bounds, max_iterations=max_iterations, start=start,
+                     resolution=resolution)
 
 
 def _iterate_line(k: int, it) -> None:

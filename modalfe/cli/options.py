@@ -176,18 +176,20 @@ def parse_params(items: list[str]) -> dict[str, list[float]]:
     return params
 
 
-def solve_options(p: argparse.ArgumentParser, *, tol_flag: str = "--tol") -> None:
-    """--fidelity, ``tol_flag`` (default ``modalfe.solve.api.DEFAULT_TOL``, one for every command) and
-    --no-error-estimate: how a command that solves modes is answered (``solve_keywords``)."""
+def solve_options(p: argparse.ArgumentParser, *, tol: bool = True) -> None:
+    """--fidelity, --tol (default ``modalfe.solve.api.DEFAULT_TOL``, one for every command; ``tol`` False: the
+    command's own --tol sets it, as ``tune``'s) and --no-error-estimate: how a command that solves modes is answered
+    (``solve_keywords``)."""
     from modalfe.solve.api import DEFAULT_TOL, FIDELITIES
 
     p.add_argument("--fidelity", choices=FIDELITIES, default="auto",
                    help="model: 1-D beam, 2-D plate, 3-D solid (refined to the tolerance), or auto: the cheapest "
                         "meeting the tolerance (default)")
-    p.add_argument(tol_flag, dest="solve_tol", type=positive_float, default=DEFAULT_TOL,
-                   help=f"relative frequency error the modes asked about are answered at: the solid is refined (its "
-                        f"element order, then its grid) until its stated error meets it (default {DEFAULT_TOL:g}, "
-                        f"the same in every command)")
+    if tol:
+        p.add_argument("--tol", dest="solve_tol", type=positive_float, default=DEFAULT_TOL,
+                       help=f"relative frequency error the modes asked about are answered at: the solid is refined "
+                            f"(its element order, then its grid) until its stated error meets it (default "
+                            f"{DEFAULT_TOL:g}, the same in every command)")
     p.add_argument("--no-error-estimate", action="store_true",
                    help="the scene's own mesh solved once, no refinement: the error is unknown (for the expert who "
                         "sets the mesh with --set mesh.*)")
@@ -195,7 +197,8 @@ def solve_options(p: argparse.ArgumentParser, *, tol_flag: str = "--tol") -> Non
 
 def solve_keywords(args: argparse.Namespace) -> dict:
     """``solve_modes`` keywords from ``solve_options``' flags."""
-    return {"fidelity": args.fidelity, "tol": args.solve_tol, "error_estimate": not args.no_error_estimate}
+    given = {"tol": args.solve_tol} if hasattr(args, "solve_tol") else {}
+    return {"fidelity": args.fidelity, "error_estimate": not args.no_error_estimate, **given}
 
 
 def stated(error: float) -> str:

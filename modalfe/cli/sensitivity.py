@@ -66,6 +66,7 @@ def _sensitivity(args) -> int:
                                             damping=damping, open_modes=open_modes)
         found = amplitude.modal
     rows = [{"index": mode.index, "frequency_hz": mode.frequency, "label": mode.label,
+             "error_estimate": _number(mode.error_estimate),
              "k_eff": _number(found.k_eff[i]),
              "parameters": {name: {"df_dp": _number(found.dfrequency[i, j]), "dlnf_dlnp": _number(found.relative[i, j]),
                                    "dk_eff_dp": _number(found.dk_eff[i, j])} for j, name in enumerate(names)}}

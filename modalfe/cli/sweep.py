@@ -41,7 +41,7 @@ def _sweep(args) -> int:
     if selector is None or near is None:
         raise SceneError("--mode/--near: the scene names no working mode")
     rows = sweep(args.scene, params, out=args.out, selector=selector, near=near, base=base,
-                 scheduler=args.scheduler, workers=args.workers, count=args.count or scene.analysis.count,
+                 scheduler=args.scheduler, workers=args.workers, count=args.count,
                  progress=not args.json, resolution=solve_keywords(args))
     if args.json:
         print(json.dumps([{k: r[k] for k in ("params", "status", "label", "frequency_hz", "error_estimate",

@@ -18,6 +18,8 @@ from modalfe.cli.options import (
     parse_target,
     positive_int,
     scene_options,
+    solve_keywords,
+    solve_options,
 )
 from modalfe.errors import SceneError
 
@@ -31,7 +33,9 @@ def register(sub) -> None:
                    help="parameters changed (as for modalfe sensitivity): builder parameters, materials.NAME.KEY, "
                         "springs.GROUP, masses.GROUP, parts.NAME.origin|size.x|y|z")
     p.add_argument("--bounds", action="append", metavar="NAME=LOW:HIGH", help="limits of a parameter (repeatable)")
-    p.add_argument("--tol", type=float, default=1e-3, help="relative distance to the targets (default 1e-3)")
+    p.add_argument("--tol", type=float, default=1e-3,
+                   help="relative distance to the targets, the resolved model's stated error included (default 1e-3; "
+                        "the model is resolved to half of it)")
     p.add_argument("--maximize", choices=("k_eff",), help="maximize the first target mode's coupling k_eff")
     p.add_argument("--separation", metavar="FRACTION|PERCENT%",
                    help="least relative distance of the first target mode to its neighbours, e.g. 3%%")
@@ -48,6 +52,7 @@ def register(sub) -> None:
     p.add_argument("--workers", type=positive_int, help="with --starts: LocalCluster worker processes "
                                                         "(default: one per start, at most the CPU count)")
     p.add_argument("--out", metavar="DESIGN.toml", help="write the final design as a scene file")
+    solve_options(p, tol=False)
     scene_options(p, _tune)
 
 
@@ -82,7 +87,8 @@ def _tune(args) -> int:
             raise SceneError(f"--bounds: --starts {args.starts} spreads the starts inside the bounds; give "
                              f"--bounds {missing[0]}=LOW:HIGH")
     options = {"tol": args.tol, "bounds": bounds, "maximize": args.maximize, "separation": separation,
-               "replace_feet": replace_feet, "max_iterations": args.max_iterations}
+               "replace_feet": replace_feet, "max_iterations": args.max_iterations,
+               "resolution": solve_keywords(args)}
 
     def progress(k, it) -> None:
         if not args.json:

@@ -152,7 +152,8 @@ def _material_loss_sources(scene, what: str) -> str:
 class Admittance:
     """Admittance of the driven electrodes (whole device): frequency [Hz], Y [S] complex; method; losses (each
     with its source); capacitance_blocked C_0 [F] (u = 0, lossless); modes: per mode used, label, frequency_hz,
-    theta (modal force per volt [N/(V kg^0.5)]) and its loss; notes."""
+    error_estimate (relative, None: not estimated), theta (modal force per volt [N/(V kg^0.5)]) and its loss;
+    notes."""
 
     scene: str
     frequency: np.ndarray
@@ -224,7 +225,9 @@ def admittance(scene, band: tuple[float, float], points: int, *, damping: str | 
     if not (math.isfinite(widen) and widen >= 1):
         raise SceneError(f"widen: must be >= 1, got {widen:g}")
     lo, hi = band[0] / widen, band[1] * widen
-    modes = solid_modes(scene, needs="the admittance", band=(lo, hi), circuit="short", **resolution)
+    # the working modes in the band drive the resolution, as ``modes`` resolves them: one fr in every command
+    working = tuple((wm.selector, wm.near) for wm in scene.working_modes if lo <= wm.near <= hi) or None
+    modes = solid_modes(scene, needs="the admittance", band=(lo, hi), circuit="short", check=working, **resolution)
     if direct:
         return direct_admittance(modes.model, frequency, losses, progress=progress)
     return modal_admittance(modes, frequency, losses, residual=residual,
@@ -404,8 +407,9 @@ def modal_admittance(modes, frequency, losses: Losses, *, residual: str = "centr
     where = "the band's centre" if sigma else "zero frequency (static)"
     method = (f"modal superposition of {len(used)} short-circuit modes, residual of the others at {where} "
               f"(mode-acceleration), {modes.dofs} DOFs")
-    rows = tuple({"label": m.label, "frequency_hz": m.frequency, "theta_N_per_V_sqrtkg": float(t), "loss": s}
-                 for m, t, s in zip(used, theta, text))
+    rows = tuple({"label": m.label, "frequency_hz": m.frequency,
+                  "error_estimate": m.error_estimate if math.isfinite(m.error_estimate) else None,
+                  "theta_N_per_V_sqrtkg": float(t), "loss": s} for m, t, s in zip(used, theta, text))
     return Admittance(model.scene.name, f, 1j * w * factor * q, method, tuple(losses.describe()), factor * C0,
                       modes.dofs, rows, tuple(notes))
 

@@ -110,12 +110,14 @@ def solve_modes(
 
 def asked_modes(scene: Scene, analysis: Analysis, mode: str | None = None) -> Check | None:
     """The modes a question asks about, as (selector, near Hz) pairs (None: every mode of a band): the scene's
-    working modes in it (near the same frequency, or in the band), so that every command asking the scene's own
-    question resolves the same modes; else ``mode`` near the question's frequency; else the mode nearest
-    ``near`` (``NEAREST``)."""
+    working modes sought at its frequency, or ``own_working_modes`` when it is the scene's own question (its
+    analysis), so that every command asking the same question resolves the same modes; else ``mode`` near the
+    question's frequency; else the mode nearest ``near`` (``NEAREST``), or every mode of a band."""
+    own = analysis.near == scene.analysis.near and analysis.band == scene.analysis.band
     members = tuple((wm.selector, wm.near) for wm in scene.working_modes
-                    if (analysis.band is not None and analysis.band[0] <= wm.near <= analysis.band[1])
-                    or (analysis.near is not None and math.isclose(wm.near, analysis.near, rel_tol=1e-9)))
+                    if analysis.near is not None and math.isclose(wm.near, analysis.near, rel_tol=1e-9))
+    if own:
+        members = members or own_working_modes(scene)
     if members and (mode is None or any(mode == selector for selector, _ in members)):
         return members
     if analysis.band is not None:
@@ -123,16 +125,35 @@ def asked_modes(scene: Scene, analysis: Analysis, mode: str | None = None) -> Ch
     return ((NEAREST if mode is None else mode), analysis.near),
 
 
+# a scene's own window (its analysis.near) is about its working mode nearest that frequency when within this relative
+# distance (the ciliary beam's analysis near 24 kHz, its bending-z 6 sought near 24.2 kHz); farther, about none
+OWN_WINDOW = 0.1
+
+
+def own_working_modes(scene: Scene) -> Check:
+    """The working modes the scene's own question (its ``analysis``) asks about, as (selector, near Hz): those in
+    its band, else those sought nearest its ``near`` (within ``OWN_WINDOW``)."""
+    a = scene.analysis
+    if a.band is not None:
+        return tuple((wm.selector, wm.near) for wm in scene.working_modes if a.band[0] <= wm.near <= a.band[1])
+    if a.near is None or not scene.working_modes:
+        return ()
+    nearest = min(abs(wm.near - a.near) for wm in scene.working_modes)
+    return tuple((wm.selector, wm.near) for wm in scene.working_modes
+                 if abs(wm.near - a.near) == nearest and nearest <= OWN_WINDOW * a.near)
+
+
 def working_question(scene: Scene, selector: str | None = None, near: float | None = None) -> dict:
-    """``solve_modes`` keywords that ask the scene's own question about the mode ``selector`` (default: its first
-    working mode) sought near ``near`` [Hz] (default: ``sought_near``): the scene's band where the mode lies in it,
-    else its window (``analysis.count`` modes) around that frequency; with ``mode`` set, so that the answer is the
-    one ``modes`` gives for that window."""
+    """``solve_modes`` keywords that ask about the mode ``selector`` (default: the scene's first working mode)
+    sought near ``near`` [Hz] (default: ``sought_near``): the scene's own question (its analysis) where that asks
+    about the mode (``own_working_modes``), so that the answer is the one ``modes`` gives; else the window of
+    ``analysis.count`` modes around the frequency; with ``mode`` set."""
     target = sought_near(scene, selector, near)
     selector = selector or scene.working_modes[0].selector
     a = scene.analysis
-    if near is None and a.band is not None and a.band[0] <= target <= a.band[1]:
-        return {"band": a.band, "mode": selector}
+    if near is None and any(selector == s for s, _ in own_working_modes(scene)):
+        return {"band": a.band, "mode": selector} if a.band is not None else \
+            {"near": a.near, "count": a.count, "mode": selector}
     return {"near": target, "count": a.count, "mode": selector}
 
 

@@ -35,10 +35,12 @@ from pathlib import Path
 import numpy as np
 
 from modalfe.errors import ModalfeError, SceneError
+from modalfe.solve.api import DEFAULT_TOL
 from modalfe.sweeps.multistart import INLINE, check_workers, dask_client, submit_all
 
 log = logging.getLogger(__name__)
 
+DEFAULT_RESOLUTION = {"fidelity": "auto", "tol": DEFAULT_TOL, "error_estimate": True}  # ``solve_modes``' own
 MAC_CROSSING = 0.8  # below this the tracked mode is not the same shape any more (Allemang 2003: MAC > 0.9 consistent)
 GRID = (12, 6)  # samples of the normal displacement over the main part's top face (relative coordinates)
 # the table's fixed columns; the swept parameters' columns go between DEFINITION and RESULT
@@ -330,15 +332,16 @@ def table_lock(path: Path) -> Iterator[None]:
 # ---- the sweep -----------------------------------------------------------------------------------------------
 
 def sweep(scene_ref: str, params: Mapping[str, Sequence], *, out: str | Path, selector: str, near: float,
-          base: Mapping | None = None, scheduler: str | None = None, workers: int = 2, count: int = 6,
+          base: Mapping | None = None, scheduler: str | None = None, workers: int = 2, count: int | None = None,
           extra: Callable | None = None, progress: bool = True, resolution: Mapping | None = None) -> list[dict]:
     """Run (or resume) a sweep over the Cartesian product of ``params``; returns tracked rows in grid order
     (see the module docstring for the table). ``scheduler``: address of an existing dask scheduler, ``"inline"``
     to compute in this process, else a LocalCluster of ``workers`` single-threaded processes. Each point is the
-    answer ``modes`` gives at ``resolution`` (``solve_modes``' tol, fidelity, error_estimate; default its own)."""
+    answer ``modes`` gives at ``resolution`` (``solve_modes``' tol, fidelity, error_estimate; default its own), with
+    ``count`` modes (default the scene's ``analysis.count``, as ``modes`` asks)."""
     out = Path(out)
     check_workers(workers)
-    if isinstance(count, bool) or not isinstance(count, (int, np.integer)) or count < 1:
+    if count is not None and (isinstance(count, bool) or not isinstance(count, (int, np.integer)) or count < 1):
         raise SceneError(f"count: must be an integer >= 1, got {count!r}")
     if not (isinstance(near, (int, float)) and np.isfinite(near) and near > 0):
         raise SceneError(f"--near: must be a positive frequency [Hz], got {near!r}")
@@ -357,6 +360,8 @@ def sweep(scene_ref: str, params: Mapping[str, Sequence], *, out: str | Path, se
     for p in (points[0], points[-1]):  # bad parameter names or values fail here, in one line
         scene = load_scene(scene_ref, **{**base, **p})
     columns = [parameter_column(scene, n) for n in names]
+    count = scene.analysis.count if count is None else count
+    resolution = {**DEFAULT_RESOLUTION, **(resolution or {})}
     context = definition(scene_ref, base, selector, near, count, extra, scene, resolution)
     keys = [point_id(p, context) for p in points]
     try:

@@ -32,17 +32,17 @@ def test_json_reports_the_solves_and_the_final_design(strip, tmp_path, capsys):
     assert out["k_eff"] is None and out["feet"] == [] and out["out"] == str(design)
     scene = load_scene(design)
     assert scene.full_assembly().part("strip").size[0] == out["parameters"]["parts.strip.size.x"]
-    # verified on the resolved model at tune's tol: what ``modes --tol 1e-3`` answers for the mode, error included
-    mode = solve_modes(scene, near=1300.0, count=4, mode="(0,2)", fidelity="solid", tol=1e-3).labelled("(0,2)")
+    # verified on the model resolved to half tune's tol: what ``modes --tol 5e-4`` answers, its error included
+    mode = solve_modes(scene, near=1300.0, count=4, mode="(0,2)", fidelity="solid", tol=5e-4).labelled("(0,2)")
     assert mode.frequency == pytest.approx(out["frequency_hz"], rel=1e-9)
     assert abs(mode.frequency / 1300 - 1) + mode.error_estimate <= 1e-3
 
 
 def test_the_log_has_one_line_per_evaluation_and_two_targets(strip, capsys):
-    """f ~ sqrt(E) for every mode on any mesh: two targets, the resolved model's frequencies (tune's tol 1e-3) scaled
-    alike by 1.05, are met by E alone."""
+    """f ~ sqrt(E) for every mode on any mesh: two targets, the resolved model's frequencies (half tune's tol 1e-3)
+    scaled alike by 1.05, are met by E alone."""
     scene = load_scene(strip)
-    f2, f3 = (solve_modes(scene, near=near, count=6, mode=label, fidelity="solid", tol=1e-3).labelled(label).frequency
+    f2, f3 = (solve_modes(scene, near=near, count=6, mode=label, fidelity="solid", tol=5e-4).labelled(label).frequency
               for label, near in (("(0,2)", 1442.2), ("(0,3)", 3983.6)))
     assert main(["tune", strip, "--target", f"(0,2)={1.05 * f2:.6f}", "--target", f"(0,3)={1.05 * f3:.6f}",
                  "--vary", "materials.steel.E", "--separation", "3%"]) == 0

@@ -34,6 +34,11 @@ def _strip(E: float = E, nu: float = NU, length: float = LENGTH):
     })
 
 
+# the data of ``_truth`` are exact on the scene's own mesh: fitted there (the second stage on the same mesh), the
+# algebra is checked without the discretization offset the resolved model would add
+OWN_MESH = {"error_estimate": False}
+
+
 def _truth(labels, *, relative_sigma=1e-3, wavelength_sigma=None, near=4000.0, count=10):
     """Exact measurements of the strip at the true parameters (same mesh generator, so zero residual there)."""
     modes = solve_modes(_strip(), near=near, count=count, fidelity="solid", error_estimate=False)
@@ -99,7 +104,7 @@ def test_inconsistent_data_scale_the_covariance_by_the_residual_variance():
     for sigma, scaled in ((1e-3, True), (5e-2, False)):
         measured = [Measurement(m.label, m.frequency * (1 + shift), sigma * m.frequency)
                     for m, shift in zip(exact, (0.01, -0.01, 0.0))]
-        result = calibrate(_strip(E=1.1 * E), measured, ["materials.steel.E"])
+        result = calibrate(_strip(E=1.1 * E), measured, ["materials.steel.E"], resolution=OWN_MESH)
         chi2_dof = result.chi2 / result.dof
         J = result.predicted * 0.5 / np.array([m.sigma for m in measured])  # d ln f / d ln E = 1/2
         expected = math.sqrt((chi2_dof if scaled else 1.0) / np.sum(J**2)) * result.values[0]
@@ -115,9 +120,9 @@ def test_a_value_the_bounds_exclude_is_held_on_the_bound_and_said():
     model's frequency is that of 210 GPa (f ~ sqrt(E) exactly, K linear in E; to the sensitivities' 1e-4)."""
     (exact,) = _truth(["(0,2)"])
     measured = [Measurement("(0,2)", exact.frequency * math.sqrt(1.1), 1.0)]
-    result = calibrate(_strip(), measured, ["materials.steel.E"], bounds={"materials.steel.E": (150e9, 210e9)})
-    assert result.converged and result.reason.endswith("held on their bounds (the data pull them beyond): "
-                                                       "materials.steel.E")
+    result = calibrate(_strip(), measured, ["materials.steel.E"], bounds={"materials.steel.E": (150e9, 210e9)},
+                       resolution=OWN_MESH)
+    assert result.converged and "held on their bounds (the data pull them beyond): materials.steel.E" in result.reason
     assert result.values[0] == pytest.approx(210e9, rel=1e-12)
     assert result.predicted[0] == pytest.approx(exact.frequency * math.sqrt(1.05), rel=1e-4)
 
@@ -245,3 +250,18 @@ def test_a_mode_whose_label_vanishes_is_found_by_its_shape():
     assert point.modes[0].frequency == pytest.approx(previous.frequency, rel=1e-9)  # the same scene and mesh
     with pytest.raises(SolverError, match=r"^calibrate: the measured mode \(5,5\) is not found"):
         _solve(scene, lost, [previous.frequency], np.zeros(1))
+
+
+def test_uncertainties_include_the_resolved_models_stated_error():
+    """The second stage fits on the model resolved to 0.5 %: each frequency's sigma becomes sqrt(sigma_measured^2 +
+    (stated error x f)^2), so a measurement far sharper than the model's error no longer claims a sharp E; on the
+    scene's own mesh (no estimate) the sigma stays the measured one and the result says so."""
+    measured = _truth(["(0,2)"], relative_sigma=1e-5)
+    resolved = calibrate(_strip(E=1.1 * E), measured, ["materials.steel.E"])
+    own = calibrate(_strip(E=1.1 * E), measured, ["materials.steel.E"], resolution=OWN_MESH)
+    (mode_error,) = np.sqrt(resolved.sigma**2 - np.array([m.sigma for m in measured]) ** 2) / resolved.predicted
+    assert 0 < mode_error <= 0.005 and "stated discretization error added" in resolved.reason
+    assert own.sigma[0] == measured[0].sigma and "not estimated for (0,2)" in own.reason
+    # sd of ln E ~ 2 sigma / f: the stated error dominates the 1e-5 measurement
+    assert resolved.sd[0] / resolved.values[0] == pytest.approx(2 * mode_error, rel=0.05)
+    assert resolved.sd[0] > 50 * own.sd[0]

@@ -25,6 +25,7 @@ from modalfe.response.tuning import (
     tune,
 )
 from modalfe.scene import load_scene, scene_from_dict
+from modalfe.solve.api import solve_modes
 from modalfe.sweeps.multistart import INLINE, run_starts
 
 F0 = 1442.2  # the strip's (0,2) mode on this mesh [Hz]
@@ -70,9 +71,12 @@ def test_length_to_a_target_follows_the_beam_scaling():
     Measured: 2 solves, 1199.94 Hz at 65.776 mm."""
     steps = []
     result = tune(_strip(), _one("(0,2)", 1200.0), [LENGTH], progress=lambda k, it: steps.append((k, it.frequencies)))
-    assert result.converged and result.reason == "within tol"
-    assert abs(result.final.frequencies[0] / 1200.0 - 1) <= 1e-3 and result.residual <= 1e-3
-    assert len(result.iterates) <= 3 and [k for k, _ in steps] == list(range(1, len(result.iterates) + 1))
+    assert result.converged and result.reason.startswith("within tol on the model resolved to 0.05 %")
+    # verified on the resolved model: the residual and the stated error together within tol
+    assert result.final.resolved and result.residual + result.final.errors[0] <= 1e-3
+    cheap = [it for it in result.iterates if not it.resolved]
+    assert len(cheap) <= 3 and len(result.iterates) - len(cheap) <= 2
+    assert [k for k, _ in steps] == list(range(1, len(result.iterates) + 1))
     assert result.final.values[LENGTH] == pytest.approx(0.060 * math.sqrt(F0 / 1200.0), rel=5e-4)
     assert result.scene.full_assembly().part("strip").size[0] == pytest.approx(result.final.values[LENGTH])
 
@@ -92,16 +96,23 @@ def test_two_targets_two_parameters():
     """(0,2) bending (d ln f / d ln L ~ -2, d ln f / d ln t ~ +1) and (1,1) twisting (Saint-Venant: f ~ t / (w L),
     so ~ -1 and ~ +1) are independent in (L, t): +5 % and -3 % are both met."""
     targets = [FrequencyTarget("(0,2)", 1.05 * F0), FrequencyTarget("(1,1)", 0.97 * 5100.7)]
-    result = tune(_strip(), targets, [LENGTH, THICKNESS])
-    assert result.converged and result.residual <= 1e-3
+    # the twisting mode's model states 0.25 % at the most refinement allowed: tol 0.5 % (resolved to 0.25 %)
+    result = tune(_strip(), targets, [LENGTH, THICKNESS], tol=5e-3)
+    assert result.converged and max(abs(f / t.frequency - 1) + e for f, t, e in
+                                    zip(result.final.frequencies, targets, result.final.errors)) <= 5e-3
     assert len(result.final.frequencies) == 2 and result.solves <= 2 * len(result.iterates)
+    # at the default 0.1 % it cannot be verified, and says so
+    strict = tune(_strip(), targets, [LENGTH, THICKNESS])
+    assert not strict.converged and "stated error is not below tol ((1,1)" in strict.reason
 
 
 def test_more_targets_than_parameters():
     """f ~ sqrt(E) exactly at fixed nu (K linear in E): one modulus meets two targets scaled alike (least squares
     is exact), but not two targets scaled differently: the run says the targets cannot all be met."""
     E = "materials.steel.E"
-    alike = [FrequencyTarget("(0,2)", 1.1 * F0), FrequencyTarget("(0,3)", 1.1 * 3983.6)]
+    resolved = [solve_modes(_strip(), near=f, count=6, mode=label, fidelity="solid", tol=5e-4).labelled(label)
+                for label, f in (("(0,2)", F0), ("(0,3)", 3983.6))]  # what the second stage is verified on
+    alike = [FrequencyTarget(m.label, 1.1 * m.frequency) for m in resolved]
     result = tune(_strip(), alike, [E])
     assert result.converged and result.final.values[E] == pytest.approx(200e9 * 1.21, rel=2e-3)
     apart = [FrequencyTarget("(0,2)", 1.1 * F0), FrequencyTarget("(0,3)", 0.9 * 3983.6)]
@@ -115,7 +126,7 @@ def test_more_targets_than_parameters():
 def test_a_target_outside_the_bounds_stops_on_them_and_says_so():
     bound = 0.062  # at most 62 mm: the (0,2) mode cannot fall below ~1351 Hz
     result = tune(_strip(), _one("(0,2)", 1200.0), [LENGTH], bounds={LENGTH: (0.055, bound)})
-    assert not result.converged and result.reason == "the parameters sit on their bounds"
+    assert not result.converged and result.reason.startswith("the parameters sit on their bounds")
     assert result.final.values[LENGTH] == pytest.approx(bound, rel=1e-12)
     assert result.final.frequencies[0] > 1300.0
 
@@ -126,13 +137,14 @@ def test_k_eff_rises_on_the_target():
     Measured: 0.1885 (first on the target) -> 0.1939 (+2.9 %) in 9 evaluations, all but the first on the target
     within 0.1 %, the patch 15.3 -> 21.6 mm long and 0.314 -> 0.290 mm thick."""
     result = tune(_bimorph(), _one("bending-z 1", 600.0), ["parts.patch.size.z", "parts.patch.size.x"],
-                  maximize="k_eff", bounds={"parts.patch.size.x": (0.010, 0.030)})
+                  maximize="k_eff", bounds={"parts.patch.size.x": (0.010, 0.030)}, tol=5e-3)
     assert result.converged and "k_eff" in result.reason
-    on_target = [it for it in result.iterates if it.accepted and abs(it.frequencies[0] / 600 - 1) <= 1e-3]
-    assert on_target and on_target[-1] is result.final
+    ascent = [it for it in result.iterates if not it.resolved]  # k_eff is maximized on the scene's own mesh
+    on_target = [it for it in ascent if it.accepted and abs(it.frequencies[0] / 600 - 1) <= 5e-3]
     k = [it.k_eff for it in on_target]
-    assert k == sorted(k) and k[-1] > 1.02 * result.iterates[0].k_eff
-    assert all(it.solves == 2 for it in result.iterates)  # short and open circuit
+    assert on_target and k == sorted(k) and k[-1] > 1.02 * result.iterates[0].k_eff
+    assert all(it.solves == 2 for it in ascent)  # short and open circuit
+    assert result.final.resolved and abs(result.final.frequencies[0] / 600 - 1) + result.final.errors[0] <= 5e-3
 
 
 def _point(J, r, neighbours=(), g=None):

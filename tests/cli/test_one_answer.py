@@ -1,0 +1,68 @@
+"""One answer per question (issue 34): the same scene, mode and tolerance give the same frequency, to 1e-9, in every
+command that solves modes and in the Python API; a command after ``modes`` reads the kept answer instead of solving
+again, and a fresh solve gives what was kept."""
+
+import csv
+import json
+
+import pytest
+
+import modalfe
+from modalfe.cli.main import main
+from modalfe.solve import resolved
+from modalfe.solve.api import DEFAULT_TOL
+
+SCENE, MODE = "ciliary_beam", "bending-z 6"  # its resolved level is small (3,510 DOFs at 0.5 %)
+SAME = 1e-9  # one discretization, one shift or its neighbour: ARPACK's tol 1e-8 on the residual, squared
+
+
+def _json(capsys, argv) -> dict:
+    assert main(argv) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def test_every_command_gives_the_working_mode_the_frequency_modes_gives(capsys, tmp_path):
+    modes = _json(capsys, ["modes", SCENE, "--json"])
+    (row,) = [m for m in modes["modes"] if m["label"] == MODE]
+    f, err = row["frequency_hz"], row["error_estimate"]
+    assert err <= DEFAULT_TOL  # the one default, met
+    found = {"api": modalfe.solve_modes(modalfe.load_scene(SCENE)).labelled(MODE).frequency}
+    table = _json(capsys, ["table", SCENE, "--json"])
+    found["table"] = next(m["frequency_Hz"] for m in table["modes"] if m["label"] == MODE)
+    forced = _json(capsys, ["forced", SCENE, "--json"])
+    found["forced"] = forced["frequency_hz"]
+    assert forced["frequency_error_estimate"] == pytest.approx(err, rel=SAME)
+    sensitivity = _json(capsys, ["sensitivity", SCENE, "--vary", "x0", "--json"])
+    found["sensitivity"] = next(m["frequency_hz"] for m in sensitivity["modes"] if m["label"] == MODE)
+    vtu = tmp_path / "beam.vtu"
+    assert main(["export", SCENE, "--vtu", str(vtu)]) == 0
+    with open(tmp_path / "beam_modes.csv") as fh:
+        found["export"] = next(float(r["frequency [Hz]"]) for r in csv.DictReader(fh) if r["label"] == MODE)
+    admittance = _json(capsys, ["admittance", SCENE, "--band", "20e3", "23e3", "--points", "50", "--json"])
+    found["admittance"] = next(m["frequency_hz"] for m in admittance["modes"] if m["label"] == MODE)
+    sweep = _json(capsys, ["sweep", SCENE, "--param", "x0=0.068:0.068:1", "--out", str(tmp_path / "s.csv"),
+                           "--scheduler", "inline", "--json"])
+    found["sweep"] = sweep[0]["frequency_hz"]
+    assert sweep[0]["error_estimate"] == pytest.approx(err, rel=SAME)
+    for command, value in found.items():
+        assert value == pytest.approx(f, rel=SAME), command
+
+
+def test_forced_after_modes_solves_nothing_and_a_fresh_solve_gives_what_was_kept(capsys, monkeypatch):
+    first = _json(capsys, ["modes", SCENE, "--json"])
+    from modalfe.solve import fidelity
+
+    def no_solve(*args, **kwargs):
+        raise AssertionError("solved again")
+
+    monkeypatch.setattr(fidelity, "solve_at_fidelity", no_solve)
+    from modalfe.solve import api
+
+    monkeypatch.setattr(api, "solve_at_fidelity", no_solve)
+    forced = _json(capsys, ["forced", SCENE, "--json"])
+    monkeypatch.undo()
+    resolved.clear(disk=True)
+    fresh = _json(capsys, ["forced", SCENE, "--json"])
+    kept = next(m["frequency_hz"] for m in first["modes"] if m["label"] == MODE)
+    assert forced["frequency_hz"] == kept  # read back bit for bit
+    assert fresh["frequency_hz"] == pytest.approx(kept, rel=SAME)

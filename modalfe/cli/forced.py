@@ -97,8 +97,9 @@ def _forced(args) -> int:
     bvd = rom.bvd
     print(f"  BVD: C0 {bvd['C0']:.4g} F, R1 {bvd['R1']:.4g} ohm, L1 {bvd['L1']:.4g} H, C1 {bvd['C1']:.4g} F; "
           f"one-mode fa {rom.antiresonance:.1f} Hz, k_eff {rom.k_eff:.4f}")
-    print(f"  open circuit (same model): fa {fig.antiresonance:.2f} Hz, "
-          f"k_eff {k_eff(rom.frequency, fig.antiresonance):.4f}")
+    if fig.antiresonance is not None:
+        print(f"  open circuit (same model): fa {fig.antiresonance:.2f} Hz, "
+              f"k_eff {k_eff(rom.frequency, fig.antiresonance):.4f}")
     print(f"  amplitude build-up time constant {1e3 * fig.time_constant:.3f} ms")
     for o, a in fig.amplitude_per_volt.items():
         peak, avg = fig.acceleration[o]

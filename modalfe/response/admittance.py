@@ -216,7 +216,7 @@ def admittance(scene, band: tuple[float, float], points: int, *, damping: str | 
     ``residual``: ``centre`` or ``static``), or the direct damped FE solve (``direct``, a progress bar with
     ``progress``), both on the 3-D solid that ``modes`` answers the widened band with at ``resolution``
     (``solve_modes``' tol, fidelity, error_estimate). Losses from ``resolve_losses``."""
-    from modalfe.solve.api import solid_modes
+    from modalfe.solve.api import NEAREST, solid_modes
 
     frequency = frequency_grid(band, points)
     losses = resolve_losses(scene, damping=damping, tan_delta=tan_delta, per_mode=per_mode)
@@ -225,8 +225,11 @@ def admittance(scene, band: tuple[float, float], points: int, *, damping: str | 
     if not (math.isfinite(widen) and widen >= 1):
         raise SceneError(f"widen: must be >= 1, got {widen:g}")
     lo, hi = band[0] / widen, band[1] * widen
-    # the working modes in the band drive the resolution, as ``modes`` resolves them: one fr in every command
-    working = tuple((wm.selector, wm.near) for wm in scene.working_modes if lo <= wm.near <= hi) or None
+    # the working modes in the band drive the resolution, as ``modes`` resolves them (one fr in every command); in a
+    # band without one, the mode nearest its centre, as ``modes --near`` the centre would (every mode of a wide band
+    # of a disc refined its flexural modes for minutes)
+    working = tuple((wm.selector, wm.near) for wm in scene.working_modes if lo <= wm.near <= hi) \
+        or ((NEAREST, 0.5 * (band[0] + band[1])),)
     modes = solid_modes(scene, needs="the admittance", band=(lo, hi), circuit="short", check=working, **resolution)
     if direct:
         return direct_admittance(modes.model, frequency, losses, progress=progress)

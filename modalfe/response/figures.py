@@ -68,7 +68,8 @@ class ForcedFigures:
                               "stiffness_n_per_m": rom.stiffness, "damping_n_s_per_m": rom.damping,
                               "force_factor_n_per_v": rom.force_factor},
             "bvd": rom.bvd, "bvd_antiresonance_hz": rom.antiresonance, "antiresonance_hz": self.antiresonance,
-            "k_eff": k_eff(rom.frequency, self.antiresonance), "bvd_k_eff": rom.k_eff,
+            "k_eff": None if self.antiresonance is None else k_eff(rom.frequency, self.antiresonance),
+            "bvd_k_eff": rom.k_eff,
             "amplitude_per_volt_m": self.amplitude_per_volt, "volts_for": self.volts_for,
             "amplitude_at": self.amplitude_at, "peak_amplitude_per_volt_m": self.peak_amplitude_per_volt,
             "acceleration_per_volt": {k: {"peak": v[0], "half_period_average": v[1]}
@@ -169,7 +170,14 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
     modes = solid_modes(scene, needs="the forced response", **question, **resolution)
     mode = select(modes, selector, near)
     rom = reduce(mode, outputs=outputs, damping=damping, load=None if voltage else load)
-    fa = open_circuit_partner(modes, mode, near=mode.frequency).frequency if voltage else None
+    fa = None
+    if voltage:  # sought where the one-mode circuit puts it: a strongly coupled mode's fa lies past other modes
+        try:
+            fa = open_circuit_partner(modes, mode, near=rom.antiresonance).frequency
+        except SolverError as exc:
+            notes_fa = f"open-circuit fa not found ({exc}); the BVD's one-mode fa stands alone"
+        else:
+            notes_fa = ""
     amp = {o: float(abs(rom.frf(rom.frequency, o))) for o in rom.shapes}
     omega = rom.omega
     accel = {o: (omega**2 * a, 2 / np.pi * omega**2 * a) for o, a in amp.items()}
@@ -200,7 +208,7 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
                                      (not isinstance(o, str) and o[0] == rom.reference)],
                                      damping=damping, reference_omega=omega, load=None if voltage else load)
         frf_full = response.displacement[rom.reference][:, 2]
-    notes = [f"damping {rom.damping_description} ({source})"]
+    notes = [f"damping {rom.damping_description} ({source})"] + ([notes_fa] if voltage and notes_fa else [])
     if not voltage and load.kind == "base-acceleration":
         notes.append("displacement, velocity and acceleration are relative to the base; absolute acceleration "
                      "= relative + base")

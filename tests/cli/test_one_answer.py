@@ -36,6 +36,7 @@ def test_every_command_gives_the_working_mode_the_frequency_modes_gives(capsys, 
     found["sensitivity"] = next(m["frequency_hz"] for m in sensitivity["modes"] if m["label"] == MODE)
     vtu = tmp_path / "beam.vtu"
     assert main(["export", SCENE, "--vtu", str(vtu)]) == 0
+    capsys.readouterr()
     with open(tmp_path / "beam_modes.csv") as fh:
         found["export"] = next(float(r["frequency [Hz]"]) for r in csv.DictReader(fh) if r["label"] == MODE)
     admittance = _json(capsys, ["admittance", SCENE, "--band", "20e3", "23e3", "--points", "50", "--json"])

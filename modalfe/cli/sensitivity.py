@@ -91,7 +91,7 @@ def _working(scene, args) -> tuple:
     """(selector, near [Hz], Damping, outputs) of the mode whose amplitude is differentiated, checked before any
     solve: the options given, else the scene's working mode and drive."""
     from modalfe.response.forced import Damping
-    from modalfe.response.loads import MEAN_PREFIX, output_points
+    from modalfe.response.loads import check_outputs
 
     wm = scene.working_modes[0] if scene.working_modes else None
     if wm is None and (args.mode is None or args.near is None):
@@ -107,8 +107,7 @@ def _working(scene, args) -> tuple:
         outputs = tuple(scene.drive.outputs)
     if not outputs:
         raise SceneError("--amplitude: no outputs; give --outputs (face groups) or set drive.outputs")
-    output_points(scene, [o[len(MEAN_PREFIX):] if isinstance(o, str) and o.startswith(MEAN_PREFIX) else o
-                          for o in outputs])  # every face group known
+    check_outputs(scene, outputs)  # every face group known, every name once
     return (args.mode or wm.selector, args.near if args.near is not None else wm.near, damping, outputs)
 
 

@@ -117,7 +117,7 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
     (``modalfe.response.loads.Load``; default: the scene's ``drive.load``) is checked before any solve;
     ``stress``: True (every part) or part names for the peak stress and field at resonance."""
     from modalfe.response.forced import Damping, harmonic_response, reduce
-    from modalfe.response.loads import Load, check_forcing
+    from modalfe.response.loads import Load, check_forcing, check_outputs
     from modalfe.results.modes import select
     from modalfe.solve.api import solve_modes
 
@@ -155,6 +155,7 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
     outputs = tuple(outputs or scene.drive.outputs)
     if not outputs:
         raise SolverError("forced: no outputs; give --outputs (face groups) or set drive.outputs")
+    check_outputs(scene, outputs)
     modes = solve_modes(scene, near=near, count=10, error_estimate=False)
     mode = select(modes, selector, near)
     rom = reduce(mode, outputs=outputs, damping=damping, load=None if voltage else load)

@@ -807,5 +807,24 @@ DESIGN = [
                                         "materials.steel.E", "--out", "{tmp}"), "--out"),
 ]
 
+
+
+def _bimorph(id: str, argv: tuple[str, ...], field: str, **kw) -> Case:
+    """A case of issue 35 on the README's bimorph: refused before the solve, or answered."""
+    return _cli(id, "issue 35", argv, field, files={"bimorph.toml": BIMORPH, **kw.pop("files", {})}, **kw)
+
+
+ISSUE_35 = [
+    _bimorph("forced-point-named-like-a-face-group", ("forced", "{file}", "--point", "tip=0.04,0.002,0.001"),
+             "--point: 'tip' is a face group"),
+    _bimorph("forced-point-twice", ("forced", "{file}", "--point", "p=0.02,0.002,0.001", "--point",
+                                    "p=0.03,0.002,0.001"), "--point: 'p' given twice"),
+    _bimorph("forced-volts-beside-force", ("forced", "{file}", "--force", "tip=0,0,1", "--volts", "50", "--plot",
+                                           "{tmp}/f.png"), "--volts"),
+    _bimorph("forced-volts-without-plot", ("forced", "{file}", "--volts", "50"), "--volts"),
+    _bimorph("forced-base-acceleration-unsupported", ("forced", "{file}", "--base-acceleration", "z", "--set",
+                                                      "clamps={}"), "drive.load: a base acceleration"),
+]
+
 CASES: list[Case] = [*SCENE_FILES, *MATERIALS, *FLAGS, *SETS, *PATHS, *SWEEPS, *API, *ELECTRODES_AND_MODELS,
-                     *TEXT, *INTERRUPTS_AND_CACHES, *DESIGN]
+                     *TEXT, *INTERRUPTS_AND_CACHES, *DESIGN, *ISSUE_35]

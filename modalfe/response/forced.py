@@ -34,6 +34,14 @@ from modalfe.results.modes import Mode
 REFERENCE_TIE = 1e-6
 
 
+def check_underdamped(field: str, zeta: float, where: str = "") -> None:
+    """Refuse a modal damping ratio ``zeta`` >= 1 (Q <= 0.5, eta >= 2): an overdamped mode has no resonance, so a
+    resonator model (one-mode reduction, modal admittance) would show none; ``where`` says at which mode."""
+    if zeta >= 1:
+        raise SceneError(f"{field}: modal damping ratio {zeta:.3g}{where} is overdamped (zeta >= 1, Q <= 0.5, "
+                         f"eta >= 2): the mode has no resonance for a resonator model; give light damping (zeta < 1)")
+
+
 @dataclass(frozen=True)
 class Damping:
     """Damping as a modal ratio ``zeta``, a quality factor ``Q`` (zeta = 1 / 2Q), or Rayleigh
@@ -54,6 +62,8 @@ class Damping:
                 raise SceneError(f"damping.{name}: must be finite and >= 0, got {v}")
         if self.Q is not None and self.Q == 0:
             raise SceneError("damping.Q: must be positive")
+        if self.zeta is not None or self.Q is not None:
+            check_underdamped(f"damping.{'zeta' if self.zeta is not None else 'Q'}", self.ratio(1.0))
 
     @classmethod
     def parse(cls, text: str) -> Damping:
@@ -269,6 +279,7 @@ def reduce(mode: Mode, *, outputs, damping: Damping, reference: str | None = Non
     if abs(ref) < 1e-12 * max(np.abs(np.concatenate(list(phi.values())))):
         raise SolverError(f"outputs: the reference '{reference}' sits on a node of mode {mode.label}")
     zeta = damping.ratio(omega_r)
+    check_underdamped("damping", zeta, f" at {mode.frequency:.6g} Hz")
     copies = model.copies  # a half (quarter) model: the whole device's masses, forces and charges
     m_eff = copies / ref**2
     return ReducedModel(

@@ -41,8 +41,11 @@ def _forced(args) -> int:
     from modalfe.response.figures import forced_figures
     from modalfe.response.forced import Damping
     from modalfe.response.loads import Load, check_outputs
+    from modalfe.results.labels import check_selector
     from modalfe.scene import load_scene
 
+    if args.mode is not None:
+        check_selector(args.mode, "--mode")
     damping = Damping.parse(args.damping) if args.damping is not None else None
     outputs = None
     if args.outputs is not None:

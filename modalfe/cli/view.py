@@ -5,6 +5,7 @@ from __future__ import annotations
 import logging
 import os
 import time
+from pathlib import Path
 
 from modalfe.cli.options import frequency, positive_int
 
@@ -35,14 +36,15 @@ def register(subparsers) -> None:
     p.set_defaults(func=_export)
 
 
-def _modes(args):
+def _modes(args, selector: str | None = None):
+    """(scene, modes) solved near ``--near``, else near the working mode ``selector`` names (the first's when none)."""
     from modalfe.cli.options import parse_overrides
     from modalfe.models.estimate import estimate_size
     from modalfe.scene import load_scene
     from modalfe.solve.api import solve_modes
 
     scene = load_scene(args.scene, **parse_overrides(args.set))
-    near = args.near or (scene.working_modes[0].near if scene.working_modes else None)
+    near = args.near or (scene.seek(selector)[1] if scene.working_modes else None)
     log.info("%s: solving near %s Hz, %s", scene.name, near, estimate_size(scene).describe())
     start = time.perf_counter()
     modes = solve_modes(scene, near=near, count=getattr(args, "count", None), error_estimate=False)
@@ -59,25 +61,24 @@ def log_timings(modes, seconds: float) -> None:
 def _show(args) -> int:
     from modalfe.errors import SolverError
     from modalfe.plot.render import animate_mode, render_mode
+    from modalfe.results.labels import check_selector
     from modalfe.results.modes import select
 
-    scene, modes = _modes(args)
-    if args.mode is None:
-        if not scene.working_modes:
-            raise SolverError("show: the scene names no working mode; give --mode")
-        wm = scene.working_modes[0]
-        mode = select(modes, wm.selector, args.near or wm.near)
-    elif args.mode.isdigit():
-        index = int(args.mode)
-        if index >= len(modes):
-            raise SolverError(f"--mode: index {index} out of range (0-{len(modes) - 1})")
-        mode = modes[index]
+    index = args.mode is not None and args.mode.isdigit()  # --mode N: an index among the modes computed
+    selector = None if args.mode is None or index else check_selector(args.mode, "--mode")  # before the solve
+    scene, modes = _modes(args, selector)
+    if index:
+        if int(args.mode) >= len(modes):
+            raise SolverError(f"--mode: index {args.mode} out of range (0-{len(modes) - 1})")
+        mode = modes[int(args.mode)]
     else:
-        mode = select(modes, args.mode, args.near or mode_near(scene))
+        if selector is None and not scene.working_modes:
+            raise SolverError("show: the scene names no working mode; give --mode")
+        mode = select(modes, *scene.seek(selector, args.near))
     interactive = args.out is None and bool(os.environ.get("DISPLAY"))
     out = args.out or (None if interactive else f"{scene.name}.png")
     start = time.perf_counter()
-    if out and out.endswith(".gif"):
+    if out and Path(out).suffix.lower() == ".gif":
         animate_mode(mode, out, view=args.view)
     else:
         plotter = render_mode(mode, out=out, view=args.view, off_screen=not interactive)
@@ -87,10 +88,6 @@ def _show(args) -> int:
     if out:
         print(f"{scene.name}: {mode.label} at {mode.frequency:.1f} Hz -> {out}")
     return 0
-
-
-def mode_near(scene) -> float:
-    return scene.working_modes[0].near if scene.working_modes else scene.analysis.near
 
 
 def _export(args) -> int:

@@ -79,6 +79,9 @@ def read_measurements(path: str | Path) -> tuple[Measurement, ...]:
             data = tomllib.load(handle)
     except tomllib.TOMLDecodeError as exc:
         raise SceneError(f"{path}: not valid TOML ({exc})") from None
+    except UnicodeDecodeError as exc:
+        raise SceneError(f"{path}: not UTF-8 text (byte {exc.start}: a binary file?); --measured takes a TOML file "
+                         f"of [[mode]] tables") from None
     return measurements_from_dict(data, source=str(path))
 
 

@@ -118,6 +118,7 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
     ``stress``: True (every part) or part names for the peak stress and field at resonance."""
     from modalfe.response.forced import Damping, harmonic_response, reduce
     from modalfe.response.loads import Load, check_forcing, check_outputs
+    from modalfe.results.labels import check_selector
     from modalfe.results.modes import select
     from modalfe.solve.api import solve_modes
 
@@ -137,15 +138,15 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
 
     if not scene.working_modes and selector is None:
         raise SolverError("forced: the scene names no working mode; give --mode and --near")
-    wm = scene.working_modes[0] if scene.working_modes else None
     if near is not None:
         from modalfe.scene.values import number
 
         number("near", near, unit="Hz", positive=True)
-    if selector is not None and (not isinstance(selector, str) or not selector.strip()):
-        raise SceneError(f"mode: must be a label such as '(0,6)' or 'bending-z 6', got {selector!r}")
-    selector = selector or wm.selector
-    near = near or wm.near
+    if selector is not None:
+        selector = check_selector(selector, "mode")
+    selector, near = scene.seek(selector, near)  # near: that working mode's, when the scene names it
+    if near is None:
+        raise SolverError(f"forced: the scene names no working mode '{selector}'; give --near")
     if damping is not None:
         if not isinstance(damping, Damping):
             raise SceneError(f"damping: must be a Damping (Damping.parse('Q=150')), got {damping!r}")

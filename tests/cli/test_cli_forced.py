@@ -35,6 +35,8 @@ def test_per_newton_outputs_do_not_scale_with_the_force_given(bimorph, capsys):
     (("--force", "tip=0,0,1", "--volts", "50", "--plot", "x.png"), "--volts: the load is a force along (0, 0, 1)"),
     (("--volts", "50",), "--volts: scales only the --plot curve"),
     (("--base-acceleration", "z", "--set", "clamps={}"), "drive.load: a base acceleration (--base-acceleration z)"),
+    (("--mode", "0"), "--mode: '0' is a number, not a mode label"),
+    (("--mode", "bending 1"), "--mode: 'bending 1' is not a mode label"),
 ])
 def test_inputs_refused_before_the_solve(bimorph, capsys, monkeypatch, argv, message):
     def no_solve(*_args, **_kw):

@@ -48,11 +48,15 @@ def register(sub) -> None:
 
 
 def _mode_damping(items: list[str] | None) -> dict[str, str]:
+    """LABEL -> SPEC of ``--mode-damping``, each mode once, its label's form checked before any solve."""
+    from modalfe.results.labels import check_selector
+
     out = {}
     for item in items or []:
         label, sep, spec = item.partition("=")
         if not sep or not label.strip() or not spec.strip():
             raise SceneError(f"--mode-damping: expected LABEL=SPEC such as '(0,6)=Q=300', got '{item}'")
+        check_selector(label, "--mode-damping")
         if label.strip() in out:
             raise SceneError(f"--mode-damping: mode '{label.strip()}' given twice ({out[label.strip()]} and "
                              f"{spec.strip()}); give each mode once")

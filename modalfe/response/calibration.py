@@ -39,6 +39,7 @@ from modalfe.response.sensitivity import (
     with_values,
 )
 from modalfe.response.tuning import check_variables
+from modalfe.results.labels import check_selector
 from modalfe.results.modes import select
 from modalfe.solve.api import solve_modes
 from modalfe.solve.estimates import partner
@@ -103,6 +104,7 @@ def measurements_from_dict(data: Mapping, *, source: str = "measured") -> tuple[
         label = row.get("label")
         if not isinstance(label, str) or not label.strip():
             raise SceneError(f"{where}.label: required, the mode's shape label, e.g. \"(0,6)\"")
+        check_selector(label, f"{where}.label")  # its form, before any solve
         values = {key: _positive(f"{where}.{key}", row[key]) if key in row else math.nan
                   for key in ("frequency", "sigma", "wavelength", "wavelength_sigma")}
         for key in ("frequency", "sigma"):

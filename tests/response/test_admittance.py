@@ -257,8 +257,10 @@ def test_cli_admittance_refuses_before_the_solve(capsys, monkeypatch):
     assert main([*band, "--points", "1000000"]) == 2
     assert main([*band, "--mode-damping", "(0,6)=Q=300", "--mode-damping", "(0,6)=Q=200"]) == 2
     assert main([*band, "--damping", "Q=0.4"]) == 2
+    assert main([*band, "--mode-damping", "6=Q=300"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert err[0] == "modalfe: error: --points: needs 2 to 100,000 frequencies, got 1,000,000"
     assert err[1].startswith("modalfe: error: --mode-damping: mode '(0,6)' given twice")
     assert err[2].startswith("modalfe: error: --damping: damping.Q: modal damping ratio 1.25 is overdamped")
-    assert len(err) == 3
+    assert err[3].startswith("modalfe: error: --mode-damping: '6' is a number, not a mode label")
+    assert len(err) == 4

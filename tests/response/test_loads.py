@@ -173,3 +173,31 @@ def test_base_acceleration_needs_a_support_along_its_axis():
     check_load(sliding, Load(kind="base-acceleration", axis="x"))
     sprung = scene_from_dict({**_bar({}), "clamps": {}, "springs": {"tip": [0, 0, 1e4]}})
     check_load(sprung, Load(kind="base-acceleration", axis="z"))
+
+
+@pytest.fixture(scope="module")
+def bimorph_mode(tmp_path_factory):
+    """bending-z 1 of the README's bimorph (545 Hz, 926 DOFs), for the reduced model under other loads."""
+    from modalfe.solve.api import solve_modes
+    from tests.hostile.cases import BIMORPH
+
+    path = tmp_path_factory.mktemp("bimorph") / "bimorph.toml"
+    path.write_text(BIMORPH)
+    return solve_modes(load_scene(str(path)), near=545.0, count=3, error_estimate=False).labelled("bending-z 1")
+
+
+@settings(max_examples=15, deadline=None)
+@given(scale=st.floats(1e-3, 1e3), z=st.sampled_from((1.0, -1.0)))
+def test_the_reduced_model_per_newton_does_not_scale_with_the_force(bimorph_mode, scale, z):
+    """What `modalfe forced` prints per N (force factor, amplitude, the load's text) is the same for any size of the
+    force given; its sign follows the direction."""
+    from modalfe.response.forced import Damping, reduce
+
+    def rom(value):
+        return reduce(bimorph_mode, outputs=("tip",), damping=Damping(Q=150), load=Load("force", "tip", value))
+
+    given_rom, unit_rom = rom((0.0, 0.0, scale * z)), rom((0.0, 0.0, z))
+    assert given_rom.force_factor == pytest.approx(unit_rom.force_factor, rel=1e-9)
+    assert given_rom.amplitude_per_volt() == pytest.approx(unit_rom.amplitude_per_volt(), rel=1e-9)
+    assert given_rom.drive_load == unit_rom.drive_load and given_rom.load_unit == "N"
+    assert abs(unit_rom.force_factor) == pytest.approx(1.0, rel=0.05)  # a tip force on the tip's own motion

@@ -85,7 +85,8 @@ def _grid_extrema(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def _spec(field_name: str, text: str) -> tuple[str, tuple[float, ...]]:
     """(kind, numbers) of a mechanical loss spec: zeta, Q, eta, rayleigh or material."""
-    from modalfe.response.forced import Damping, check_underdamped
+    from modalfe.response.forced import Damping
+    from modalfe.scene.scene import check_underdamped
 
     text = str(text).strip()
     if text == "material":
@@ -395,7 +396,7 @@ def _fallback_eta(spec: str, omega: np.ndarray) -> np.ndarray:
 def modal_losses(modes_list, model, losses: Losses) -> tuple[np.ndarray, np.ndarray, list[str]]:
     """(c_r, h_r, descriptions): d_r = omega_r^2 - omega^2 + i (c_r omega + h_r), viscous c_r = 2 zeta_r
     omega_r, hysteretic h_r = eta_r omega_r^2, per mode."""
-    from modalfe.response.forced import check_underdamped
+    from modalfe.scene.scene import check_underdamped
 
     omega = np.array([m.omega for m in modes_list])
     c, h = np.zeros(len(omega)), np.zeros(len(omega))

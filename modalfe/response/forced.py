@@ -28,18 +28,11 @@ from modalfe.errors import SceneError, SolverError
 from modalfe.response.loads import load_vector, output_operators
 from modalfe.results.coupling import k_eff
 from modalfe.results.modes import Mode
+from modalfe.scene.scene import check_underdamped
 
 # outputs whose normal motion is within this fraction of the largest count as equal when the reference is
 # chosen: symmetric outputs differ by the solver's rounding (~1e-10), real differences are >1e-3
 REFERENCE_TIE = 1e-6
-
-
-def check_underdamped(field: str, zeta: float, where: str = "") -> None:
-    """Refuse a modal damping ratio ``zeta`` >= 1 (Q <= 0.5, eta >= 2): an overdamped mode has no resonance, so a
-    resonator model (one-mode reduction, modal admittance) would show none; ``where`` says at which mode."""
-    if zeta >= 1:
-        raise SceneError(f"{field}: modal damping ratio {zeta:.3g}{where} is overdamped (zeta >= 1, Q <= 0.5, "
-                         f"eta >= 2): the mode has no resonance for a resonator model; give light damping (zeta < 1)")
 
 
 @dataclass(frozen=True)

@@ -25,7 +25,7 @@ _DAMPING = re.compile(r"^(zeta|Q)=([^,]+)$|^rayleigh=([^,]+),([^,]+)$")
 
 
 def check_damping(field: str, text: Any) -> str:
-    """``zeta=Z``, ``Q=Q`` or ``rayleigh=ALPHA,BETA`` with finite numbers >= 0 (Q > 0)."""
+    """``zeta=Z``, ``Q=Q`` or ``rayleigh=ALPHA,BETA``: finite numbers >= 0 (Q > 0), light (``check_underdamped``)."""
     match = _DAMPING.match(text) if isinstance(text, str) else None
     if match is None:
         raise SceneError(f"{field}: expected 'zeta=Z', 'Q=Q' or 'rayleigh=ALPHA,BETA', got {text!r}")
@@ -36,7 +36,17 @@ def check_damping(field: str, text: Any) -> str:
             from None
     if any(not (math.isfinite(x) and x >= 0) for x in numbers) or (match.group(1) == "Q" and numbers[0] == 0):
         raise SceneError(f"{field}: damping values must be finite and >= 0 (Q > 0), got {text!r}")
+    if match.group(1) in ("zeta", "Q"):
+        check_underdamped(field, numbers[0] if match.group(1) == "zeta" else 1 / (2 * numbers[0]))
     return text
+
+
+def check_underdamped(field: str, zeta: float, where: str = "") -> None:
+    """Refuse a modal damping ratio ``zeta`` >= 1 (Q <= 0.5, eta >= 2): an overdamped mode has no resonance, so a
+    resonator model (one-mode reduction, modal admittance) would show none; ``where`` says at which mode."""
+    if zeta >= 1:
+        raise SceneError(f"{field}: modal damping ratio {zeta:.3g}{where} is overdamped (zeta >= 1, Q <= 0.5, "
+                         f"eta >= 2): the mode has no resonance for a resonator model; give light damping (zeta < 1)")
 
 
 @dataclass(frozen=True)

@@ -841,6 +841,8 @@ ISSUE_35 = [
     _bimorph("admittance-band-centred-on-resonance", ("admittance", "{file}", "--band", "445.222", "645.222",
                                                       "--points", "5"), "", expect="ok",
              check=lambda out: "maxima (near fr) [Hz]: 544.5" in out),
+    _bimorph("set-damping-overdamped", ("forced", "{file}", "--set", 'drive.damping="zeta=2"'),
+             "drive.damping: modal damping ratio 2 is overdamped"),
     _bimorph("forced-mode-index", ("forced", "{file}", "--mode", "0"), "--mode: '0' is a number"),
     _bimorph("tune-target-index", ("tune", "{file}", "--target", "1=900", "--vary", "materials.steel.E"),
              "target: '1' is a number"),

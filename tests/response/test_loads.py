@@ -101,7 +101,8 @@ def test_scene_file_drive_table():
     assert "set by the user" in scene.drive.damping_source
     for drive, field in (({"load": {"kind": "force", "group": "nowhere", "value": [0, 0, 1]}}, "drive.load.group"),
                          ({"dampin": "Q=10"}, "drive.dampin"), ({"damping": "Q=-1"}, "drive.damping"),
-                         ({"outputs": [{"name": "p"}]}, r"drive.outputs\[0\]"), ({"load": 3}, "drive.load")):
+                         ({"outputs": [{"name": "p"}]}, r"drive.outputs\[0\]"), ({"load": 3}, "drive.load"),
+                         ({"damping": "Q=0.4"}, "drive.damping: modal damping ratio 1.25 is overdamped")):
         with pytest.raises(SceneError, match=rf"^{field}"):
             scene_from_dict(_bar(drive))
 

@@ -439,7 +439,7 @@ def modal_losses(modes_list, model, losses: Losses) -> tuple[np.ndarray, np.ndar
     return c, h, text
 
 
-def _viscous_hysteretic(kind: str, v: tuple[float, ...], omega):
+def _viscous_hysteretic(kind: str, v: tuple[float, ...], omega) -> tuple:
     """(c, h) of d = omega_r^2 - omega^2 + i (c omega + h) at ``omega`` = omega_r for a zeta, rayleigh or eta spec."""
     zero = 0 * omega
     if kind == "zeta":

@@ -56,7 +56,7 @@ LABEL_FORM = re.compile(r"(\((\d+|n),(\d+|n)\)|(axial|bending-y|bending-z|torsio
                         r"|n=\d+( k=\d+)?|" + "|".join(RIGID_NAMES) + r")(#\d+)?")
 
 
-def check_selector(selector, field: str = "mode") -> str:
+def check_selector(selector: object, field: str = "mode") -> str:
     """``selector`` when it has the form of a mode label or family (``(0,6)``, ``(0,n)``, ``bending-z 6``, ``heave``,
     ``in-plane#2``...), checked before any solve; SceneError naming ``field`` otherwise (a number is an index, which
     only ``modalfe show --mode N`` takes)."""

@@ -51,24 +51,31 @@ def register(sub) -> None:
 
 
 def _mode_damping(items: list[str] | None) -> dict[str, str]:
+    """LABEL -> SPEC of ``--mode-damping``, each mode once, its label's form checked before any solve."""
+    from modalfe.results.labels import check_selector
+
     out = {}
     for item in items or []:
         label, sep, spec = item.partition("=")
         if not sep or not label.strip() or not spec.strip():
             raise SceneError(f"--mode-damping: expected LABEL=SPEC such as '(0,6)=Q=300', got '{item}'")
+        check_selector(label, "--mode-damping")
+        if label.strip() in out:
+            raise SceneError(f"--mode-damping: mode '{label.strip()}' given twice ({out[label.strip()]} and "
+                             f"{spec.strip()}); give each mode once")
         out[label.strip()] = spec.strip()
     return out
 
 
 def _admittance(args) -> int:
-    from modalfe.response.admittance import admittance
+    from modalfe.response.admittance import MAX_POINTS, admittance
     from modalfe.scene import load_scene
 
     band = check_band(args.band)
     if band[0] <= 0:
         raise SceneError(f"--band: F1 must be above 0 Hz, got {band[0]:g}")
-    if args.points < 2:
-        raise SceneError(f"--points: needs at least 2, got {args.points}")
+    if not 2 <= args.points <= MAX_POINTS:
+        raise SceneError(f"--points: needs 2 to {MAX_POINTS:,} frequencies, got {args.points:,}")
     for flag, path, suffix in (("--csv", args.csv, ".csv"), ("--s1p", args.s1p, ".s1p"), ("--plot", args.plot, ".png")):
         if path is not None:
             check_output_path(flag, path)

@@ -26,7 +26,8 @@ def register(subparsers) -> None:
                        help="supports move with 1 m/s^2 along the axis (response relative to the base)")
     p.add_argument("--stress", nargs="?", const="", metavar="PARTS",
                    help="peak stress and field at resonance in every part, or the comma-separated PARTS")
-    p.add_argument("--volts", type=positive_float, default=1.0, help="drive amplitude [V] for the printed curve")
+    p.add_argument("--volts", type=positive_float,
+                   help="drive amplitude [V] of the --plot curve (default 1; a voltage drive only)")
     p.add_argument("--full", action="store_true", help="also solve the full FE harmonic response")
     p.add_argument("--save-rom", metavar="FILE", help="write the reduced model as JSON")
     p.add_argument("--plot", metavar="FILE", help="write FRF and admittance plots (PNG)")
@@ -40,10 +41,13 @@ def _forced(args) -> int:
     from modalfe.cli.options import parse_overrides
     from modalfe.response.figures import forced_figures
     from modalfe.response.forced import Damping
-    from modalfe.response.loads import Load
+    from modalfe.response.loads import Load, check_outputs
     from modalfe.results.coupling import k_eff
+    from modalfe.results.labels import check_selector
     from modalfe.scene import load_scene
 
+    if args.mode is not None:
+        check_selector(args.mode, "--mode")
     damping = Damping.parse(args.damping) if args.damping is not None else None
     outputs = None
     if args.outputs is not None:
@@ -74,12 +78,16 @@ def _forced(args) -> int:
         if stress is not True and not all(stress):
             raise SceneError(f"--stress: expected part names separated by commas, got '{args.stress}'")
     scene = load_scene(args.scene, **parse_overrides(args.set))
+    if outputs is not None:
+        check_outputs(scene, outputs, point_field="--point")
+    if args.volts is not None:
+        _check_volts(args, load or scene.drive.load)
     fig = forced_figures(scene, selector=args.mode, near=args.near, damping=damping, outputs=outputs,
                          full=args.full, load=load, stress=stress, **solve_keywords(args))
     if args.save_rom:
         fig.rom.save(args.save_rom)
     if args.plot:
-        _plot(fig, args.plot, args.volts)
+        _plot(fig, args.plot, args.volts or 1.0)
     if args.json:
         print(json.dumps(fig.to_json(), indent=2))
         return 0
@@ -113,6 +121,15 @@ def _forced(args) -> int:
         print(f"  note: {note}")
     _print_stress(fig)
     return 0
+
+
+def _check_volts(args, load) -> None:
+    """``--volts`` scales the --plot curve of a voltage drive; refused where it would be ignored."""
+    if load.kind != "voltage":
+        raise SceneError(f"--volts: the load is a {load.describe()}, not a voltage; the results are per "
+                         f"{load.unit} (drop --volts)")
+    if not args.plot:
+        raise SceneError("--volts: scales only the --plot curve (the printed figures are per volt); give --plot FILE")
 
 
 def _print_load(fig) -> None:

@@ -33,6 +33,7 @@ def _place(args) -> int:
     from modalfe.errors import SceneError
     from modalfe.geometry import builder_parameters
     from modalfe.response.placement import place_feet
+    from modalfe.results.labels import check_selector
     from modalfe.scene import load_scene
 
     scene = load_scene(args.scene, **parse_overrides(args.set))
@@ -40,9 +41,7 @@ def _place(args) -> int:
         raise SceneError(f"scene: '{scene.name}' has no feet to place (device '{scene.device}' takes no 'feet')")
     if args.part not in {p.name for p in scene.full_assembly().parts}:
         raise SceneError(f"--part: no part '{args.part}' in '{scene.name}'")
-    wm = scene.working_modes[0] if scene.working_modes else None
-    selector = args.mode or (wm.selector if wm else None)
-    near = args.near or (wm.near if wm else scene.analysis.near)
+    selector, near = scene.seek(None if args.mode is None else check_selector(args.mode, "--mode"), args.near)
     if selector is None or near is None:
         raise SceneError("--mode: the scene names no working mode; give --mode and --near")
     before = tuple(tuple(f) for f in scene.params.get("feet", builder_parameters(scene.device)["feet"].default))

@@ -102,13 +102,12 @@ def _working(scene, args) -> tuple:
     """(selector, near [Hz], Damping, outputs) of the mode whose amplitude is differentiated, checked before any
     solve: the options given, else the scene's working mode and drive."""
     from modalfe.response.forced import Damping
-    from modalfe.response.loads import MEAN_PREFIX, output_points
+    from modalfe.response.loads import check_outputs
+    from modalfe.results.labels import check_selector
 
-    wm = scene.working_modes[0] if scene.working_modes else None
-    if wm is None and (args.mode is None or args.near is None):
+    if not scene.working_modes and (args.mode is None or args.near is None):
         raise SceneError("--amplitude: the scene names no working mode; give --mode and --near")
-    if args.mode is not None and not args.mode.strip():
-        raise SceneError("--mode: give a label such as '(0,6)' or 'bending-z 6'")
+    selector = None if args.mode is None else check_selector(args.mode, "--mode")
     damping = Damping.parse(args.damping if args.damping is not None else scene.drive.damping)
     if args.outputs is not None:
         outputs = tuple(o.strip() for o in args.outputs.split(","))
@@ -118,9 +117,8 @@ def _working(scene, args) -> tuple:
         outputs = tuple(scene.drive.outputs)
     if not outputs:
         raise SceneError("--amplitude: no outputs; give --outputs (face groups) or set drive.outputs")
-    output_points(scene, [o[len(MEAN_PREFIX):] if isinstance(o, str) and o.startswith(MEAN_PREFIX) else o
-                          for o in outputs])  # every face group known
-    return (args.mode or wm.selector, args.near if args.near is not None else wm.near, damping, outputs)
+    check_outputs(scene, outputs)  # every face group known, every name once
+    return (*scene.seek(selector, args.near), damping, outputs)
 
 
 def _amplitude_json(found) -> dict:

@@ -29,15 +29,14 @@ def _sweep(args) -> int:
     import json
 
     from modalfe.cli.options import parse_overrides
+    from modalfe.results.labels import check_selector
     from modalfe.scene import load_scene
     from modalfe.sweeps.sweep import sweep
 
     params = parse_params(args.param)
     base = parse_overrides(args.set)
     scene = load_scene(args.scene, **base)
-    wm = scene.working_modes[0] if scene.working_modes else None
-    selector = args.mode or (wm.selector if wm else None)
-    near = args.near if args.near is not None else (wm.near if wm else None)
+    selector, near = scene.seek(None if args.mode is None else check_selector(args.mode, "--mode"), args.near)
     if selector is None or near is None:
         raise SceneError("--mode/--near: the scene names no working mode")
     rows = sweep(args.scene, params, out=args.out, selector=selector, near=near, base=base,

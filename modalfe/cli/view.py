@@ -5,6 +5,7 @@ from __future__ import annotations
 import logging
 import os
 import time
+from pathlib import Path
 
 from modalfe.cli.options import frequency, positive_int, solve_options, stated
 
@@ -62,31 +63,31 @@ def log_timings(modes, seconds: float) -> None:
 def _show(args) -> int:
     from modalfe.errors import SolverError
     from modalfe.plot.render import animate_mode, render_mode
+    from modalfe.results.labels import check_selector
     from modalfe.results.modes import select
     from modalfe.solve.api import working_question
 
+    index = args.mode is not None and args.mode.isdigit()  # --mode N: an index among the modes computed
+    selector = None if args.mode is None or index else check_selector(args.mode, "--mode")  # before the solve
+
     def question(scene) -> dict:  # the working mode's (or the one named), as ``forced`` asks it
-        if args.mode is None or not args.mode.isdigit():
-            return working_question(scene, args.mode, args.near)
-        return {"near": args.near or mode_near(scene)}
+        if index:
+            return {"near": args.near or scene.seek()[1]}
+        return working_question(scene, selector, args.near)
 
     scene, modes = _modes(args, question)
-    if args.mode is None:
-        if not scene.working_modes:
-            raise SolverError("show: the scene names no working mode; give --mode")
-        wm = scene.working_modes[0]
-        mode = select(modes, wm.selector, args.near or wm.near)
-    elif args.mode.isdigit():
-        index = int(args.mode)
-        if index >= len(modes):
-            raise SolverError(f"--mode: index {index} out of range (0-{len(modes) - 1})")
-        mode = modes[index]
+    if index:
+        if int(args.mode) >= len(modes):
+            raise SolverError(f"--mode: index {args.mode} out of range (0-{len(modes) - 1})")
+        mode = modes[int(args.mode)]
     else:
-        mode = select(modes, args.mode, args.near or mode_near(scene))
+        if selector is None and not scene.working_modes:
+            raise SolverError("show: the scene names no working mode; give --mode")
+        mode = select(modes, *scene.seek(selector, args.near))
     interactive = args.out is None and bool(os.environ.get("DISPLAY"))
     out = args.out or (None if interactive else f"{scene.name}.png")
     start = time.perf_counter()
-    if out and out.endswith(".gif"):
+    if out and Path(out).suffix.lower() == ".gif":
         animate_mode(mode, out, view=args.view)
     else:
         plotter = render_mode(mode, out=out, view=args.view, off_screen=not interactive)
@@ -97,10 +98,6 @@ def _show(args) -> int:
         print(f"{scene.name}: {mode.label} at {mode.frequency:.2f} Hz (stated error {stated(mode.error_estimate)}) "
               f"-> {out}")
     return 0
-
-
-def mode_near(scene) -> float:
-    return scene.working_modes[0].near if scene.working_modes else scene.analysis.near
 
 
 def _export(args) -> int:

@@ -14,6 +14,8 @@ they never call ``show()`` for the caller.
 
 from __future__ import annotations
 
+import os
+import tempfile
 from dataclasses import dataclass
 
 import numpy as np
@@ -259,8 +261,10 @@ def render_mode(mode, *, out: str | None = None, window_size=(1000, 650), amplif
                            label_font_size=10, fmt="%.2g")
     plotter.subplot(0, 0)
     plotter._modalfe = {"overlays": overlays, "markers": markers, "views": views}
-    if out:
-        plotter.screenshot(out)
+    if out:  # through Pillow: pyvista refuses an upper-case .PNG
+        from PIL import Image
+
+        Image.fromarray(plotter.screenshot(return_img=True)).save(out, format="PNG")
     return plotter
 
 
@@ -271,10 +275,18 @@ def animate_mode(mode, out: str, *, frames: int = 16, amplification: float = 0.0
     grid = mode_grid(mode)
     scale = _scale(grid, amplification)
     plotter = render_mode(mode, amplification=amplification, window_size=window_size, view=view)
-    plotter.open_gif(out)
-    for phase in np.linspace(0, 2 * np.pi, frames, endpoint=False):
-        for rest, actor in plotter._modalfe["overlays"]:
-            actor.mapper.dataset.points = rest.points + scale * np.cos(phase) * rest.point_data["displacement"]
-        plotter.write_frame()
-    plotter.close()
+    # pyvista writes only a lower-case .gif: a temporary one beside ``out`` (x.GIF), renamed when complete
+    handle, partial = tempfile.mkstemp(suffix=".gif", dir=os.path.dirname(os.path.abspath(out)))
+    os.close(handle)
+    try:
+        plotter.open_gif(partial)
+        for phase in np.linspace(0, 2 * np.pi, frames, endpoint=False):
+            for rest, actor in plotter._modalfe["overlays"]:
+                actor.mapper.dataset.points = rest.points + scale * np.cos(phase) * rest.point_data["displacement"]
+            plotter.write_frame()
+        plotter.close()
+        os.replace(partial, out)
+    finally:
+        if os.path.exists(partial):
+            os.remove(partial)
     return out

@@ -28,8 +28,9 @@ doubled per mirror plane (its modes are the symmetric ones).
 
 from __future__ import annotations
 
+import itertools
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -41,6 +42,9 @@ from modalfe.errors import SceneError, SolverError
 WIDEN = 1.25  # modes solved in [f1 / WIDEN, f2 * WIDEN]: the nearest ones outside the band stay dynamic
 RIGID_HZ = 1e-3  # modes below this fraction of the band's top are rigid-body modes (no charge): left out
 Z0 = 50.0  # Touchstone reference impedance [ohm]
+# most frequencies of one curve: 100,000 points resolve a Q = 10^4 peak over a 100x band (its width / 10), and cost
+# 100,000 x modes complex numbers; more is a typo in --points (a direct FE solve per point would run for days)
+MAX_POINTS = 100_000
 CSV_HEADER = "frequency_Hz,Y_real_S,Y_imag_S,abs_Z_ohm,phase_Z_deg"
 
 
@@ -68,14 +72,29 @@ class Losses:
         return lines
 
 
+REFINE_SAMPLES = 2001  # fewest samples of the model's |Y| in the window of a mode, before Brent
+
+
+def _grid_extrema(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(indices of the local maxima, of the local minima) of ``a`` inside its ends."""
+    inner = np.arange(1, len(a) - 1)
+    peaks = inner[(a[inner] > a[inner - 1]) & (a[inner] >= a[inner + 1])]
+    dips = inner[(a[inner] < a[inner - 1]) & (a[inner] <= a[inner + 1])]
+    return peaks, dips
+
+
 def _spec(field_name: str, text: str) -> tuple[str, tuple[float, ...]]:
     """(kind, numbers) of a mechanical loss spec: zeta, Q, eta, rayleigh or material."""
     from modalfe.response.forced import Damping
+    from modalfe.scene.scene import check_underdamped
 
     text = str(text).strip()
     if text == "material":
         return "material", ()
     key, _, value = text.partition("=")
+    if key not in ("Q", "zeta", "eta", "rayleigh"):
+        raise SceneError(f"{field_name}: expected Q=Q, zeta=Z, eta=ETA, rayleigh=ALPHA,BETA or material, "
+                         f"got '{text}'")
     if key == "eta":
         try:
             eta = float(value)
@@ -83,12 +102,12 @@ def _spec(field_name: str, text: str) -> tuple[str, tuple[float, ...]]:
             raise SceneError(f"{field_name}: expected eta=LOSS_FACTOR, got '{text}'") from None
         if not (math.isfinite(eta) and eta >= 0):
             raise SceneError(f"{field_name}: eta must be finite and >= 0, got {value}")
+        check_underdamped(field_name, eta / 2)
         return "eta", (eta,)
     try:
         d = Damping.parse(text)
-    except SceneError as exc:
-        raise SceneError(f"{field_name}: expected Q=Q, zeta=Z, eta=ETA, rayleigh=ALPHA,BETA or material, "
-                         f"got '{text}'") from exc
+    except SceneError as exc:  # its own message (a number out of range, an overdamped ratio), after the flag's name
+        raise SceneError(f"{field_name}: {exc}") from None
     if d.zeta is not None:
         return "zeta", (d.zeta,)
     if d.Q is not None:
@@ -164,6 +183,7 @@ class Admittance:
     dofs: int
     modes: tuple[dict, ...] = ()
     notes: tuple[str, ...] = ()
+    model_Y: Callable[[np.ndarray], np.ndarray] | None = field(default=None, repr=False, compare=False)
 
     @property
     def Z(self) -> np.ndarray:  # noqa: N802 (the impedance's own symbol)
@@ -175,12 +195,49 @@ class Admittance:
         return (self.Z - z0) / (self.Z + z0)
 
     def extrema(self) -> dict[str, list[float]]:
-        """Local maxima (near fr) and minima (near fa) of |Y| [Hz] on the frequency grid."""
-        a = np.abs(self.Y)
-        inner = np.arange(1, len(a) - 1)
-        peaks = inner[(a[inner] > a[inner - 1]) & (a[inner] >= a[inner + 1])]
-        dips = inner[(a[inner] < a[inner - 1]) & (a[inner] <= a[inner + 1])]
-        return {"max_abs_Y_hz": self.frequency[peaks].tolist(), "min_abs_Y_hz": self.frequency[dips].tolist()}
+        """Local maxima (near fr) and minima (near fa) of |Y| [Hz] inside the band: on the frequency grid, or where
+        the model can be evaluated anywhere (``model_Y``, modal superposition) on the model itself, sampled around
+        each mode in the band finer than its resonance and refined (Brent), so that a coarse grid does not move them
+        (issue 35: fr read as 500 Hz for a 545 Hz mode)."""
+        f = self.frequency
+        if self.model_Y is None:
+            peaks, dips = _grid_extrema(np.abs(self.Y))
+            return {"max_abs_Y_hz": f[peaks].tolist(), "min_abs_Y_hz": f[dips].tolist()}
+        found = {-1.0: [], 1.0: []}
+        for x in self._windows():
+            peaks, dips = _grid_extrema(np.abs(self.model_Y(x)))
+            for sign, indices in ((-1.0, peaks), (1.0, dips)):
+                for j in indices:
+                    v = self._refine(x, j, sign)
+                    if not any(abs(v - u) <= 1e-7 * v for u in found[sign]):  # met again where windows overlap
+                        found[sign].append(v)
+        return {"max_abs_Y_hz": sorted(found[-1.0]), "min_abs_Y_hz": sorted(found[1.0])}
+
+    def _windows(self) -> list[np.ndarray]:
+        """Frequencies at which to look for the extrema: the grid when no mode lies in the band, else one window
+        per mode from midway to its neighbours (or the band's ends), overlapping by a fifth of their spacing, with
+        16 samples per resonance width (``width_hz``), at least REFINE_SAMPLES and at most MAX_POINTS."""
+        f = self.frequency
+        inside = sorted((m["frequency_hz"], m["width_hz"]) for m in self.modes if f[0] < m["frequency_hz"] < f[-1])
+        if not inside:
+            return [f]
+        centres = [c for c, _ in inside]
+        edges = [f[0], *(0.5 * (a + b) for a, b in itertools.pairwise(centres)), f[-1]]
+        out = []
+        for k, (_, width) in enumerate(inside):
+            lo = max(f[0], edges[k] - 0.2 * (edges[k + 1] - edges[k]))
+            hi = min(f[-1], edges[k + 1] + 0.2 * (edges[k + 1] - edges[k]))
+            n = MAX_POINTS if not width > 0 else int(np.clip(16 * (hi - lo) / width, REFINE_SAMPLES, MAX_POINTS))
+            out.append(np.linspace(lo, hi, n))
+        return out
+
+    def _refine(self, x: np.ndarray, j: int, sign: float) -> float:
+        """The extremum of |Y| between the samples beside ``x[j]``: a minimum (``sign`` 1) or maximum (-1)."""
+        from scipy.optimize import minimize_scalar
+
+        found = minimize_scalar(lambda v: sign * float(np.abs(self.model_Y(v))[0]), bounds=(x[j - 1], x[j + 1]),
+                                method="bounded", options={"xatol": 1e-10 * x[j]})
+        return float(found.x) if found.fun <= sign * float(np.abs(self.model_Y(x[j]))[0]) else float(x[j])
 
     def to_json(self) -> dict:
         Z = self.Z
@@ -230,7 +287,13 @@ def admittance(scene, band: tuple[float, float], points: int, *, damping: str | 
     # of a disc refined its flexural modes for minutes)
     working = tuple((wm.selector, wm.near) for wm in scene.working_modes if lo <= wm.near <= hi) \
         or ((NEAREST, 0.5 * (band[0] + band[1])),)
-    modes = solid_modes(scene, needs="the admittance", band=(lo, hi), circuit="short", check=working, **resolution)
+    try:
+        modes = solid_modes(scene, needs="the admittance", band=(lo, hi), circuit="short", check=working,
+                            **resolution)
+    except SolverError:
+        modes = _no_modes(scene, (lo, hi))  # a band without a resonance
+        if modes is None:  # modes the band solve failed to find: its own error
+            raise
     if direct:
         return direct_admittance(modes.model, frequency, losses, progress=progress)
     return modal_admittance(modes, frequency, losses, residual=residual,
@@ -238,13 +301,29 @@ def admittance(scene, band: tuple[float, float], points: int, *, damping: str | 
                                  f"resolved: {modes.resolution}")
 
 
+def _no_modes(scene, band: tuple[float, float]):
+    """Modes (none) of ``scene``'s solid model when its Sturm counts find no short-circuit mode in ``band`` [Hz] (the
+    device is then a capacitor plus the residual of the modes outside), else None."""
+    from modalfe.models.build import build_model
+    from modalfe.results.modes import Modes
+    from modalfe.solve.eigen import sturm_count
+
+    model, _ = build_model(scene, "solid")
+    T = model.constraints("short").T
+    A, B = (T.T @ model.K @ T).tocsr(), (T.T @ model.M @ T).tocsr()
+    below = [sturm_count(A, B, (2 * np.pi * f) ** 2) for f in band]
+    if below[1] != below[0]:
+        return None
+    return Modes((), model, "short", "solid", T.shape[1])
+
+
 def frequency_grid(band, points: int) -> np.ndarray:
     """``points`` frequencies evenly spaced over ``band`` = (F1, F2) [Hz], 0 < F1 < F2."""
     f1, f2 = (float(b) for b in band)
     if not (math.isfinite(f1) and math.isfinite(f2) and 0 < f1 < f2):
         raise SceneError(f"band: needs 0 < F1 < F2 [Hz], got {f1:g} {f2:g}")
-    if int(points) != points or points < 2:
-        raise SceneError(f"points: must be an integer >= 2, got {points}")
+    if int(points) != points or not 2 <= points <= MAX_POINTS:
+        raise SceneError(f"points: must be an integer from 2 to {MAX_POINTS:,}, got {points}")
     return np.linspace(f1, f2, int(points))
 
 
@@ -322,16 +401,14 @@ def _fallback_eta(spec: str, omega: np.ndarray) -> np.ndarray:
 def modal_losses(modes_list, model, losses: Losses) -> tuple[np.ndarray, np.ndarray, list[str]]:
     """(c_r, h_r, descriptions): d_r = omega_r^2 - omega^2 + i (c_r omega + h_r), viscous c_r = 2 zeta_r
     omega_r, hysteretic h_r = eta_r omega_r^2, per mode."""
+    from modalfe.scene.scene import check_underdamped
+
     omega = np.array([m.omega for m in modes_list])
     c, h = np.zeros(len(omega)), np.zeros(len(omega))
     text = [""] * len(omega)
     kind, v = _spec("--damping", losses.mechanical)
-    if kind == "zeta":
-        c[:] = 2 * v[0] * omega
-    elif kind == "rayleigh":
-        c[:] = v[0] + v[1] * omega**2
-    elif kind == "eta":
-        h[:] = v[0] * omega**2
+    if kind != "material":
+        c[:], h[:] = _viscous_hysteretic(kind, v, omega)
     else:
         qm = _qm_table(model)
         stiff = material_stiffness(model, set(qm))
@@ -353,11 +430,13 @@ def modal_losses(modes_list, model, losses: Losses) -> tuple[np.ndarray, np.ndar
     for i, m in enumerate(modes_list):
         if m.label in losses.per_mode:
             k2, v2 = _spec(f"--mode-damping {m.label}", losses.per_mode[m.label])
-            c[i], h[i] = {"zeta": (2 * v2[0] * omega[i], 0.0), "eta": (0.0, v2[0] * omega[i] ** 2),
-                          "rayleigh": (v2[0] + v2[1] * omega[i] ** 2, 0.0)}[k2]
+            c[i], h[i] = _viscous_hysteretic(k2, v2, omega[i])
             text[i] = f"{losses.per_mode[m.label]} (per mode)"
         if not text[i]:
             text[i] = f"zeta {c[i] / (2 * omega[i]):.3g}" if c[i] else f"eta {h[i] / omega[i] ** 2:.3g}"
+        field_name = f"--mode-damping {m.label}" if m.label in losses.per_mode else "--damping"
+        check_underdamped(field_name, c[i] / (2 * omega[i]) + h[i] / (2 * omega[i] ** 2),
+                          f" at mode {m.label} ({m.frequency:.6g} Hz)")
     unknown = set(losses.per_mode) - {m.label for m in modes_list}
     if unknown:
         raise SceneError(f"--mode-damping: no mode labelled {sorted(unknown)} among "
@@ -365,9 +444,21 @@ def modal_losses(modes_list, model, losses: Losses) -> tuple[np.ndarray, np.ndar
     return c, h, text
 
 
+def _viscous_hysteretic(kind: str, v: tuple[float, ...], omega) -> tuple:
+    """(c, h) of d = omega_r^2 - omega^2 + i (c omega + h) at ``omega`` = omega_r for a zeta, rayleigh or eta spec."""
+    zero = 0 * omega
+    if kind == "zeta":
+        return 2 * v[0] * omega, zero
+    if kind == "rayleigh":
+        return v[0] + v[1] * omega**2, zero
+    return zero, v[0] * omega**2
+
+
 def modal_admittance(modes, frequency, losses: Losses, *, residual: str = "centre", note: str = "") -> Admittance:
-    """Y(f) [S] by modal superposition of ``modes`` (short circuit, one model) with the residual of the modes left
-    out at ``residual`` (module docstring)."""
+    """Y(f) [S] by modal superposition of ``modes`` (short circuit, one model; none for a band without a resonance:
+    the blocked capacitance and the residual) with the residual of the modes left out at ``residual`` (module
+    docstring). The result can evaluate the same Y anywhere (``Admittance.model_Y``), so its fr and fa are refined
+    between the grid's points."""
     from modalfe.response.forced import drive_vectors
     from modalfe.solve.linalg import factorize
 
@@ -385,36 +476,88 @@ def modal_admittance(modes, frequency, losses: Losses, *, residual: str = "centr
     rigid = len(modes) - len(used)
     omega_r = np.array([m.omega for m in used])
     theta = np.array([float(m.shape @ load) for m in used])
-    sigma = 0.0 if residual == "static" else (0.5 * (w.min() + w.max())) ** 2
+    centre = (0.5 * (w.min() + w.max())) ** 2
+    sigma = 0.0 if residual == "static" else centre
     A = (T.T @ model.K @ T).tocsr()
     B = (T.T @ model.M @ T).tocsr()
     try:
         solve, _ = factorize(A - sigma * B)
     except SolverError as exc:
-        raise SolverError(f"residual: the {'static' if sigma == 0 else 'shifted'} solve failed ({exc}); "
-                          f"a free body needs residual='centre'") from None
+        if sigma == 0:
+            raise SolverError(f"residual: the static solve failed ({exc}); a free body (no clamps or springs) needs "
+                              f"residual='centre'") from None
+        sigma = _shift_clear_of_modes(w, omega_r)  # the band's centre lies on a resonance: any shift in it serves
+        try:
+            solve, _ = factorize(A - sigma * B)
+        except SolverError as again:
+            raise SolverError(f"residual: the solve at {np.sqrt(sigma) / 2 / np.pi:.6g} Hz, beside the band's "
+                              f"centre on a resonance, failed ({again})") from None
     x_s = solve(F)
     z_s = solve(B @ x_s)
     c, h, text = modal_losses(used, model, losses)
     q_res0 = C_b + float(F @ x_s) - float(np.sum(theta**2 / (omega_r**2 - sigma)))
     q_res1 = float(F @ z_s) - float(np.sum(theta**2 / (omega_r**2 - sigma) ** 2))
-    d = omega_r[None, :] ** 2 - w[:, None] ** 2 + 1j * (c[None, :] * w[:, None] + h[None, :])
     C0 = blocked_capacitance(model)
-    q = q_res0 + (w**2 - sigma) * q_res1 + (theta[None, :] ** 2 / d).sum(axis=1) - 1j * losses.tan_delta * C0
     factor = model.copies
+
+    def model_Y(frequency) -> np.ndarray:  # noqa: N802 (the admittance's own symbol)
+        wf = 2 * np.pi * np.atleast_1d(np.asarray(frequency, dtype=float))
+        d = omega_r[None, :] ** 2 - wf[:, None] ** 2 + 1j * (c[None, :] * wf[:, None] + h[None, :])
+        q = q_res0 + (wf**2 - sigma) * q_res1 + (theta[None, :] ** 2 / d).sum(axis=1) - 1j * losses.tan_delta * C0
+        return 1j * wf * factor * q
+
     notes = [note] if note else []
+    if not used:
+        notes.append("no resonance in the band: the device is a capacitor, the blocked capacitance and the residual "
+                     "of the modes outside")
     if rigid:
         notes.append(f"{rigid} rigid-body modes (no charge) left to the residual")
     if factor > 1:
         notes.append(f"solved on 1/{factor} of the device (symmetry); charge and capacitance scaled by {factor}")
-    where = "the band's centre" if sigma else "zero frequency (static)"
+    if sigma == 0:
+        where = "zero frequency (static)"
+    elif sigma == centre:
+        where = "the band's centre"
+    else:
+        where = f"{np.sqrt(sigma) / 2 / np.pi:.6g} Hz (the band's centre lies on a resonance)"
     method = (f"modal superposition of {len(used)} short-circuit modes, residual of the others at {where} "
               f"(mode-acceleration), {modes.dofs} DOFs")
+    widths = (c + h / omega_r) / (2 * np.pi)  # half-power: 2 zeta f_r or eta f_r
     rows = tuple({"label": m.label, "frequency_hz": m.frequency,
                   "error_estimate": m.error_estimate if math.isfinite(m.error_estimate) else None,
-                  "theta_N_per_V_sqrtkg": float(t), "loss": s} for m, t, s in zip(used, theta, text))
-    return Admittance(model.scene.name, f, 1j * w * factor * q, method, tuple(losses.describe()), factor * C0,
-                      modes.dofs, rows, tuple(notes))
+                  "theta_N_per_V_sqrtkg": float(t), "loss": s, "width_hz": float(b)}
+                 for m, t, s, b in zip(used, theta, text, widths))
+    notes += _coarse_grid_notes(f, rows)
+    return Admittance(model.scene.name, f, model_Y(f), method, tuple(losses.describe()), factor * C0,
+                      modes.dofs, rows, tuple(notes), model_Y)
+
+
+# a shift moved off a resonance keeps this relative distance (in omega^2) from every mode kept where it can: on a
+# resonance A - sigma B is singular, and 0.2 % from one PARDISO's residual is still 2e-6 (bimorph, 545 Hz)
+SHIFT_GAP = 0.05
+
+
+def _shift_clear_of_modes(w: np.ndarray, omega_r: np.ndarray) -> float:
+    """sigma in the band (omega^2) for a centre that lies on a mode kept: the one nearest the centre at least
+    SHIFT_GAP from every mode, else the one farthest from them (the modes kept are exact at any shift; the residual's
+    error grows with the distance from the shift, so it stays as near the centre as it can)."""
+    centre = (0.5 * (w.min() + w.max())) ** 2
+    candidates = np.linspace(w.min() ** 2, w.max() ** 2, 401)
+    gap = np.min(np.abs(omega_r[None, :] ** 2 - candidates[:, None]), axis=1, initial=np.inf) / candidates
+    clear = np.flatnonzero(gap >= SHIFT_GAP)
+    if len(clear):
+        return float(candidates[clear[np.argmin(np.abs(candidates[clear] - centre))]])
+    return float(candidates[np.argmax(gap)])
+
+
+def _coarse_grid_notes(f: np.ndarray, rows) -> list[str]:
+    """A note for each mode in the band narrower than the grid's spacing: the curve may miss or misplace its peak
+    (the fr and fa listed are the model's, ``Admittance.extrema``)."""
+    spacing = float(np.max(np.diff(f)))
+    return [f"the grid's spacing {spacing:.4g} Hz is wider than the resonance of mode {r['label']} at "
+            f"{r['frequency_hz']:.6g} Hz ({r['width_hz']:.3g} Hz wide): the curve can miss or misplace its peak; fr "
+            f"and fa are found on the model, raise --points to draw it"
+            for r in rows if f[0] <= r["frequency_hz"] <= f[-1] and spacing > r["width_hz"]]
 
 
 def direct_admittance(model, frequency, losses: Losses, *, progress: bool = False) -> Admittance:

@@ -23,7 +23,6 @@ combination the data do fix (``E^0.5*thickness``).
 
 from __future__ import annotations
 
-import fnmatch
 import math
 import time
 from collections.abc import Callable, Mapping, Sequence
@@ -40,6 +39,7 @@ from modalfe.response.sensitivity import (
     with_values,
 )
 from modalfe.response.tuning import check_variables
+from modalfe.results.labels import check_selector
 from modalfe.results.modes import select
 from modalfe.solve.api import solid_modes, solve_modes
 from modalfe.solve.estimates import partner
@@ -79,6 +79,9 @@ def read_measurements(path: str | Path) -> tuple[Measurement, ...]:
             data = tomllib.load(handle)
     except tomllib.TOMLDecodeError as exc:
         raise SceneError(f"{path}: not valid TOML ({exc})") from None
+    except UnicodeDecodeError as exc:
+        raise SceneError(f"{path}: not UTF-8 text (byte {exc.start}: a binary file?); --measured takes a TOML file "
+                         f"of [[mode]] tables") from None
     return measurements_from_dict(data, source=str(path))
 
 
@@ -101,6 +104,7 @@ def measurements_from_dict(data: Mapping, *, source: str = "measured") -> tuple[
         label = row.get("label")
         if not isinstance(label, str) or not label.strip():
             raise SceneError(f"{where}.label: required, the mode's shape label, e.g. \"(0,6)\"")
+        check_selector(label, f"{where}.label")  # its form, before any solve
         values = {key: _positive(f"{where}.{key}", row[key]) if key in row else math.nan
                   for key in ("frequency", "sigma", "wavelength", "wavelength_sigma")}
         for key in ("frequency", "sigma"):
@@ -174,11 +178,10 @@ class Calibration:
 
 @dataclass(frozen=True)
 class _Parameter:
-    """A varied parameter: its members (scene parameter names set to one common value; several for a pattern such
-    as ``springs.foot_*.z``), its sign and the bounds of ln |p|."""
+    """A varied parameter (a pattern such as ``springs.foot_*.z`` sets all it matches to one value,
+    ``modalfe.response.sensitivity.tied_members``), its sign and the bounds of ln |p|."""
 
     name: str
-    members: tuple[str, ...]
     sign: float
     low: float
     high: float
@@ -229,8 +232,7 @@ def calibrate(scene, measurements: Sequence[Measurement], parameters: Sequence[s
         unknown = sorted(set(start) - {s.name for s in specs})
         if unknown:
             raise SceneError(f"start: {unknown[0]} is not among the parameters varied {[s.name for s in specs]}")
-        scene = with_values(scene, {member: float(start[s.name]) for s in specs if s.name in start
-                                    for member in s.members})
+        scene = with_values(scene, {s.name: float(start[s.name]) for s in specs if s.name in start})
         specs = _parameters(scene, parameters, dict(bounds or {}))
     quantities, measured, sigma = _data(measurements)
     x = np.log(np.abs(_values(scene, specs)))
@@ -359,7 +361,7 @@ def _data(measurements: Sequence[Measurement]) -> tuple[tuple[str, ...], np.ndar
 
 
 def _parameters(scene, names: Sequence[str], bounds: dict) -> list[_Parameter]:
-    """The varied parameters with their members expanded, checked against the scene, and their bounds in ln |p|."""
+    """The varied parameters checked against the scene (a pattern as one), and their bounds in ln |p|."""
     names = list(names)
     if not names or len(set(names)) != len(names) or not all(isinstance(n, str) and n for n in names):
         raise SceneError(f"vary: give one or more distinct parameter names, got {names}")
@@ -368,9 +370,8 @@ def _parameters(scene, names: Sequence[str], bounds: dict) -> list[_Parameter]:
         raise SceneError(f"bounds: {unknown[0]} is not among the parameters varied {names}")
     specs = []
     for name in names:
-        members = _members(scene, name)
-        check_variables(scene, members)
-        value = _values(scene, [_Parameter(name, members, 1.0, 0.0, 0.0)])[0]
+        check_variables(scene, [name])  # a pattern's members changed together, as the fit changes them
+        value = parameter_value(scene, name)
         if value == 0:
             raise SceneError(f"{name}: is 0; a calibration works in ln |p|, start it from a non-zero value")
         lo, hi = bounds.get(name, (-math.inf, math.inf) if value < 0 else (0.0, math.inf))
@@ -379,40 +380,18 @@ def _parameters(scene, names: Sequence[str], bounds: dict) -> list[_Parameter]:
         if not lo <= value <= hi:
             raise SceneError(f"{name}: {value:g} lies outside its bounds {lo:g}:{hi:g}")
         ln = sorted(math.log(abs(b)) if b != 0 else -math.inf for b in (lo, hi))
-        specs.append(_Parameter(name, members, math.copysign(1.0, value), ln[0], ln[1]))
+        specs.append(_Parameter(name, math.copysign(1.0, value), ln[0], ln[1]))
     return specs
 
 
-def _members(scene, name: str) -> tuple[str, ...]:
-    """The scene parameters a (possibly patterned) name stands for; SceneError if a pattern matches nothing."""
-    if "*" not in name and "?" not in name:
-        return (name,)
-    head, _, rest = name.partition(".")
-    group, _, tail = rest.partition(".")
-    table = {"springs": scene.springs, "masses": scene.masses, "materials": scene.materials}.get(head)
-    if table is None or "*" in tail or "?" in tail:
-        raise SceneError(f"{name}: a pattern may stand only for the group of springs.GROUP, masses.GROUP or "
-                         f"materials.NAME.KEY")
-    found = sorted(g for g in table if fnmatch.fnmatchcase(g, group))
-    if not found:
-        raise SceneError(f"{name}: matches no {head} group; known: {sorted(table)}")
-    return tuple(f"{head}.{g}" + (f".{tail}" if tail else "") for g in found)
-
-
 def _values(scene, specs: Sequence[_Parameter]) -> np.ndarray:
-    """The common value of each parameter's members [its unit]; SceneError if tied members differ."""
-    out = []
-    for spec in specs:
-        found = [parameter_value(scene, member) for member in spec.members]
-        if not all(math.isclose(v, found[0], rel_tol=1e-9) for v in found):
-            raise SceneError(f"{spec.name}: the tied parameters {list(spec.members)} must start equal, got {found}")
-        out.append(found[0])
-    return np.array(out)
+    """The value of each parameter (a pattern's common value) [its unit]."""
+    return np.array([parameter_value(scene, spec.name) for spec in specs])
 
 
 def _at(scene, specs: Sequence[_Parameter], x: np.ndarray):
     """``scene`` with every member of each parameter set to sign exp(x)."""
-    return with_values(scene, {member: float(s.sign * math.exp(v)) for s, v in zip(specs, x) for member in s.members})
+    return with_values(scene, {s.name: float(s.sign * math.exp(v)) for s, v in zip(specs, x)})
 
 
 def _chi2(predicted: np.ndarray, measured: np.ndarray, sigma: np.ndarray) -> float:
@@ -434,28 +413,23 @@ def _evaluate(scene, specs, measurements, x, near, *, jacobian: bool, found: _Po
     point = found if found is not None else _solve(_at(scene, specs, x), measurements, near, x, previous, resolved)
     if not jacobian:
         return point
-    members = [member for spec in specs for member in spec.members]
+    names = [spec.name for spec in specs]
     model = point.modes[0].model
     unique = sorted({id(mode): mode for mode in point.modes}.values(), key=lambda mode: mode.frequency)
     modes = replace(point.solve, modes=tuple(unique))
-    found_df = frequency_sensitivities(modes, members)
+    found_df = frequency_sensitivities(modes, names)  # a pattern's members moved together: the tie's derivative
     row = {id(mode): i for i, mode in enumerate(unique)}
     rows = [found_df.dfrequency[row[id(mode)]] * found_df.values for mode in point.modes]
     waved = [(m, mode) for m, mode in zip(measurements, point.modes) if not math.isnan(m.wavelength)]
     if waved:
-        dw = np.empty((len(waved), len(members)))
-        for j, (member, value) in enumerate(zip(members, found_df.values)):
+        dw = np.empty((len(waved), len(names)))
+        for j, (name, value) in enumerate(zip(names, found_df.values)):
             h = WAVELENGTH_STEP * abs(value)
-            above, below = (_wavelengths(perturbed_model(model, member, value + sign * h), waved)
+            above, below = (_wavelengths(perturbed_model(model, name, value + sign * h), waved)
                             for sign in (1, -1))
             dw[:, j] = (above - below) / (2 * h) * value
         rows += list(dw)
-    full = np.array(rows)
-    columns, start = [], 0
-    for spec in specs:  # a tied parameter's column: the sum of its members' (all at the common value)
-        columns.append(full[:, start:start + len(spec.members)].sum(axis=1))
-        start += len(spec.members)
-    return replace(point, jacobian=np.column_stack(columns))
+    return replace(point, jacobian=np.array(rows))
 
 
 def _solve(scene, measurements, near, x, previous: tuple = (), resolved: Mapping | None = None) -> _Point:

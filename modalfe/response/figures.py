@@ -130,7 +130,8 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
     ``modes`` gives for the scene's question about it (``modalfe.solve.api.working_question``), solved at
     ``resolution`` (``solve_modes``' tol, fidelity, error_estimate) on the 3-D solid."""
     from modalfe.response.forced import Damping, harmonic_response, reduce
-    from modalfe.response.loads import Load, check_forcing
+    from modalfe.response.loads import Load, check_forcing, check_outputs
+    from modalfe.results.labels import check_selector
     from modalfe.results.modes import select
     from modalfe.solve.api import open_circuit_partner, solid_modes, sought_near, working_question
 
@@ -154,8 +155,8 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
         from modalfe.scene.values import number
 
         number("near", near, unit="Hz", positive=True)
-    if selector is not None and (not isinstance(selector, str) or not selector.strip()):
-        raise SceneError(f"mode: must be a label such as '(0,6)' or 'bending-z 6', got {selector!r}")
+    if selector is not None:
+        selector = check_selector(selector, "mode")
     question = working_question(scene, selector, near)
     selector, near = question["mode"], sought_near(scene, selector, near)
     if damping is not None:
@@ -167,6 +168,7 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
     outputs = tuple(outputs or scene.drive.outputs)
     if not outputs:
         raise SolverError("forced: no outputs; give --outputs (face groups) or set drive.outputs")
+    check_outputs(scene, outputs)
     modes = solid_modes(scene, needs="the forced response", **question, **resolution)
     mode = select(modes, selector, near)
     rom = reduce(mode, outputs=outputs, damping=damping, load=None if voltage else load)

@@ -28,6 +28,7 @@ from modalfe.errors import SceneError, SolverError
 from modalfe.response.loads import load_vector, output_operators
 from modalfe.results.coupling import k_eff
 from modalfe.results.modes import Mode
+from modalfe.scene.scene import check_underdamped
 
 # outputs whose normal motion is within this fraction of the largest count as equal when the reference is
 # chosen: symmetric outputs differ by the solver's rounding (~1e-10), real differences are >1e-3
@@ -54,6 +55,8 @@ class Damping:
                 raise SceneError(f"damping.{name}: must be finite and >= 0, got {v}")
         if self.Q is not None and self.Q == 0:
             raise SceneError("damping.Q: must be positive")
+        if self.zeta is not None or self.Q is not None:
+            check_underdamped(f"damping.{'zeta' if self.zeta is not None else 'Q'}", self.ratio(1.0))
 
     @classmethod
     def parse(cls, text: str) -> Damping:
@@ -269,6 +272,7 @@ def reduce(mode: Mode, *, outputs, damping: Damping, reference: str | None = Non
     if abs(ref) < 1e-12 * max(np.abs(np.concatenate(list(phi.values())))):
         raise SolverError(f"outputs: the reference '{reference}' sits on a node of mode {mode.label}")
     zeta = damping.ratio(omega_r)
+    check_underdamped("damping", zeta, f" at {mode.frequency:.6g} Hz")
     copies = model.copies  # a half (quarter) model: the whole device's masses, forces and charges
     m_eff = copies / ref**2
     return ReducedModel(

@@ -1,6 +1,7 @@
 """Loads beyond the drive voltage, and outputs at points and face groups.
 
-A load is one of (per unit of its amplitude):
+A load is one of (per unit of its amplitude: a force or pressure given as (0, 0, 2) N or 2 Pa gives the same
+results as (0, 0, 1) N or 1 Pa, its value sets only the direction and sign, ``Load.magnitude``):
 
 - ``voltage``: 1 V on the driven electrodes, f = -K x_1V (``Model.voltage_load``);
 - ``force GROUP=Fx,Fy,Fz``: a total force [N] on a face group, spread uniformly by area
@@ -32,13 +33,11 @@ MEAN_PREFIX = "mean:"
 
 def output_points(scene, outputs) -> dict[str, np.ndarray]:
     """Points [m] for named outputs: a face group's centre (e.g. ``foot_1``: the foot tip), or
-    explicit coordinates given as (x, y, z)."""
+    explicit coordinates given as (x, y, z); the names checked by ``check_outputs``."""
     assembly = scene.full_assembly()
     out = {}
     for item in outputs:
         if isinstance(item, str):
-            if item not in assembly.faces:
-                raise SceneError(f"outputs: no face group '{item}'; known: {sorted(assembly.faces)}")
             centres = []
             for f in assembly.faces[item]:
                 axis, c, lo, hi = assembly.part(f.part).face_bounds(f.side, f.window)
@@ -52,9 +51,30 @@ def output_points(scene, outputs) -> dict[str, np.ndarray]:
     return out
 
 
+def check_outputs(scene, outputs, point_field: str = "outputs") -> None:
+    """One name, one output, before any solve: every face group named (``GROUP``, ``mean:GROUP``) exists, no name
+    is given twice, and no point takes a face group's name (``point_field`` names where points come from)."""
+    faces = scene.full_assembly().faces
+    seen = set()
+    for item in outputs:
+        point = not isinstance(item, str)
+        name = str(item[0]) if point else item
+        field = point_field if point else "outputs"
+        if name in seen:
+            raise SceneError(f"{field}: '{name}' given twice; one name, one output")
+        seen.add(name)
+        if point and name in faces:
+            raise SceneError(f"{field}: '{name}' is a face group of the scene (its centre is an output by that name); "
+                             f"give the point a name of its own")
+        group = name[len(MEAN_PREFIX):] if _is_mean(name) else name
+        if not point and group not in faces:
+            raise SceneError(f"outputs: no face group '{group}'; known: {sorted(faces)}")
+
+
 def load_vector(model, load: Load) -> tuple[np.ndarray, np.ndarray]:
-    """(f, x_p): full DOF load per unit ``load`` and the prescribed part of the response (the driven
-    electrodes' potential for a voltage, zero otherwise); the response is T x_free + x_p."""
+    """(f, x_p): full DOF load per unit ``load`` (per N along a force, per Pa of a pressure, whatever their value)
+    and the prescribed part of the response (the driven electrodes' potential for a voltage, zero otherwise); the
+    response is T x_free + x_p."""
     check_forcing(model.scene, load)
     if load.kind == "voltage":
         return model.voltage_load(1.0), model.prescribed_potential(1.0)
@@ -62,7 +82,7 @@ def load_vector(model, load: Load) -> tuple[np.ndarray, np.ndarray]:
     if load.kind == "base-acceleration":
         f[: model.n_u] = -(model.M[: model.n_u, : model.n_u] @ rigid_translation(model, load.axis))
         return f, np.zeros(model.ndofs)
-    f[: model.n_u] = face_traction_load(model, load)
+    f[: model.n_u] = face_traction_load(model, load) / load.magnitude
     return f, np.zeros(model.ndofs)
 
 
@@ -77,7 +97,8 @@ def rigid_translation(model, axis: str) -> np.ndarray:
 
 def face_traction_load(model, load: Load) -> np.ndarray:
     """u DOF load (n_u,) of a force (total over the whole device's face group, spread by area) or a normal
-    pressure on a face group; the half (quarter) model takes the part of the group it keeps."""
+    pressure on a face group, as given (``load_vector`` takes it per unit); the half (quarter) model takes the part
+    of the group it keeps."""
     from skfem import LinearForm
 
     from modalfe.models.facets import facet_basis
@@ -104,6 +125,7 @@ def face_traction_load(model, load: Load) -> np.ndarray:
 def output_operators(model, outputs) -> dict[str, sp.csr_matrix]:
     """Name -> (3, ndofs) rows giving (ux, uy, uz) [m] of an output from a full DOF vector: a face group's
     centre point (``foot_1``), the area mean over a face group (``mean:foot_1``) or a point (name, (x, y, z))."""
+    check_outputs(model.scene, outputs)
     out = {}
     points = output_points(model.scene, [o for o in outputs if not _is_mean(o)])
     for name, p in points.items():
@@ -129,8 +151,6 @@ def face_mean_operator(model, group: str, *, per_element: int = 4) -> sp.csr_mat
     from modalfe.geometry.parts import Box
 
     full = model.scene.full_assembly()
-    if group not in full.faces:
-        raise SceneError(f"outputs: no face group '{group}' for {MEAN_PREFIX}{group}; known: {sorted(full.faces)}")
     if not all(isinstance(full.part(f.part), Box) for f in full.faces[group]):
         return _facet_mean_operator(model, group, full)
     spacing = float(model.mesh.size) / per_element

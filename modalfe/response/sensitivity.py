@@ -36,6 +36,8 @@ a solve at p +- h reads there.
 
 from __future__ import annotations
 
+import fnmatch
+import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 
@@ -331,10 +333,43 @@ def parameter_value(scene, name: str) -> float:
 
 
 def with_values(scene, values: Mapping[str, float]):
-    """``scene`` with each parameter of ``values`` (names as for ``frequency_sensitivities``) set [its unit]."""
+    """``scene`` with each parameter of ``values`` (names as for ``frequency_sensitivities``) set [its unit], all
+    together: a half model's mirror checks apply to the result, not to each step (the feet's springs of
+    ``springs.foot_*.z`` keep their mirror images only once every one is set)."""
+    mirrors = {"symmetry": list(scene.symmetry), "antisymmetry": list(scene.antisymmetry)}
+    stepwise = len(values) > 1 and any(mirrors.values())
+    changed = scene.with_overrides(symmetry=[], antisymmetry=[]) if stepwise else scene
     for name, value in values.items():
-        scene = _parameter(scene, name).at(value)
-    return scene
+        changed = _parameter(changed, name).at(value)
+    return changed.with_overrides(**mirrors) if stepwise else changed
+
+
+def tied_members(scene, name: str) -> tuple[str, ...]:
+    """The scene parameters a name stands for: itself, or for a pattern in the group of ``springs.GROUP...``,
+    ``masses.GROUP`` or ``materials.NAME.KEY`` (``springs.foot_*.z``) every group it matches, set to one value
+    together; SceneError if a pattern matches nothing or stands elsewhere."""
+    if "*" not in name and "?" not in name:
+        return (name,)
+    head, _, rest = name.partition(".")
+    group, _, tail = rest.partition(".")
+    table = {"springs": scene.springs, "masses": scene.masses, "materials": scene.materials}.get(head)
+    if table is None or "*" in tail or "?" in tail:
+        raise SceneError(f"{name}: a pattern may stand only for the group of springs.GROUP, masses.GROUP or "
+                         f"materials.NAME.KEY")
+    found = sorted(g for g in table if fnmatch.fnmatchcase(g, group))
+    if not found:
+        raise SceneError(f"{name}: matches no {head} group; known: {sorted(table)}")
+    return tuple(f"{head}.{g}" + (f".{tail}" if tail else "") for g in found)
+
+
+def _tied_parameter(scene, name: str) -> _Parameter:
+    """A pattern's members (``tied_members``) as one parameter: their common value, all set together."""
+    members = [_parameter(scene, member) for member in tied_members(scene, name)]
+    values = [m.value for m in members]
+    if not all(math.isclose(v, values[0], rel_tol=1e-9) for v in values):
+        raise SceneError(f"{name}: the tied parameters {[m.name for m in members]} must start equal, got {values}")
+    return _Parameter(name, values[0], max(m.scale for m in members), any(m.geometric for m in members),
+                      lambda x: with_values(scene, {m.name: x for m in members}))
 
 
 def frequency_derivatives(modes: Modes, dK, dM) -> np.ndarray:
@@ -427,6 +462,8 @@ def _number(name: str, value) -> float:
 def _parameter(scene, name: str) -> _Parameter:
     """The scalar parameter ``name`` of ``scene`` (see ``frequency_sensitivities``); SceneError naming it if it is
     unknown or not a real number."""
+    if "*" in name or "?" in name:
+        return _tied_parameter(scene, name)
     head, _, rest = name.partition(".")
     lo, hi = scene.full_assembly().bounds
     extent = max(b - a for a, b in zip(lo, hi))

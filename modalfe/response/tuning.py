@@ -40,6 +40,7 @@ import numpy as np
 
 from modalfe.errors import SceneError, SolverError
 from modalfe.response.sensitivity import check_parameters, frequency_sensitivities, parameter_value, with_values
+from modalfe.results.labels import check_selector
 from modalfe.results.modes import select
 from modalfe.solve.api import solve_modes
 
@@ -295,8 +296,7 @@ def _check(scene, targets, names, tol, bounds, maximize, separation, replace_fee
     if not targets:
         raise SceneError("target: give one or more LABEL=HZ")
     for t in targets:
-        if not (isinstance(t.label, str) and t.label.strip()):
-            raise SceneError(f"target: a mode label is needed, got {t.label!r}")
+        check_selector(t.label, "target")  # its form, before any solve
         if not (math.isfinite(t.frequency) and t.frequency > 0):
             raise SceneError(f"target: must be a positive frequency in Hz, got {t.frequency}")
     if len({t.label for t in targets}) != len(targets):

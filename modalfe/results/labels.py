@@ -36,6 +36,7 @@ the angle is ``?``.
 from __future__ import annotations
 
 import itertools
+import re
 
 import numpy as np
 
@@ -48,6 +49,29 @@ _RIGID = 0.98  # main parts moving 98 % as a rigid body: a suspension mode (plat
 DEGENERATE = 1e-3  # relative frequency gap below which two modes are a degenerate pair
 _ANGLES = 36  # rotations tried within a degenerate pair's span (every 2.5 degrees of a quarter turn)
 SUFFIX = "#"  # ``(0,3)#2``: the second mode of one solve with the pattern ``(0,3)``
+
+
+# every label ``label`` gives (or a plate family with ``n`` for any count), with an optional ambiguity suffix
+LABEL_FORM = re.compile(r"(\((\d+|n),(\d+|n)\)|(axial|bending-y|bending-z|torsion) \d+|in-plane|thickness|\?|[RT]\d+"
+                        r"|n=\d+( k=\d+)?|" + "|".join(RIGID_NAMES) + r")(#\d+)?")
+
+
+def check_selector(selector: object, field: str = "mode") -> str:
+    """``selector`` when it has the form of a mode label or family (``(0,6)``, ``(0,n)``, ``bending-z 6``, ``heave``,
+    ``in-plane#2``...), checked before any solve; SceneError naming ``field`` otherwise (a number is an index, which
+    only ``modalfe show --mode N`` takes)."""
+    from modalfe.errors import SceneError
+
+    if not isinstance(selector, str) or not selector.strip():
+        raise SceneError(f"{field}: must be a label such as '(0,6)' or 'bending-z 6', got {selector!r}")
+    if selector.strip().lstrip("+-").isdigit():
+        raise SceneError(f"{field}: '{selector}' is a number, not a mode label such as '(0,6)', 'bending-z 6' or "
+                         f"'heave' (labels name modes; an index among the computed modes is `modalfe show --mode N`)")
+    if not LABEL_FORM.fullmatch(selector.strip()):
+        raise SceneError(f"{field}: '{selector}' is not a mode label: labels are '(A,B)' (a family '(0,n)'), "
+                         f"'bending-z N', 'bending-y N', 'torsion N', 'axial N', 'in-plane', a rigid motion "
+                         f"({', '.join(RIGID_NAMES)}), or a disc's 'RN', 'TN', 'n=N', 'thickness'; '#2' for the second")
+    return selector.strip()
 
 
 def base_label(name: str) -> str:

@@ -49,13 +49,23 @@ class Load:
         """Unit of one load: the results are per this unit."""
         return UNITS[self.kind]
 
+    @property
+    def magnitude(self) -> float:
+        """Size of the load as given: |F| [N] of a force, |P| [Pa] of a pressure, 1 for a voltage or a base
+        acceleration. The response is per unit load (per N along the force, per Pa of the pressure's sign), so a
+        force's or pressure's value gives its direction and sign, never its scale."""
+        return math.hypot(*self.value) if self.kind in ("force", "pressure") else 1.0
+
     def describe(self) -> str:
+        """The unit load the results are per: the same text for (0, 0, 1) and (0, 0, 2) N."""
         if self.kind == "voltage":
             return "voltage on the driven electrodes"
         if self.kind == "force":
-            return f"force ({', '.join(f'{x:g}' for x in self.value)}) N on '{self.group}', spread by area"
+            direction = ", ".join(f"{x / self.magnitude + 0.0:.4g}" for x in self.value)  # + 0.0: no "-0"
+            return f"force along ({direction}) on '{self.group}', spread by area"
         if self.kind == "pressure":
-            return f"pressure {self.value[0]:g} Pa on '{self.group}'"
+            sense = "pushing into the body" if self.value[0] > 0 else "pulling out of the body"
+            return f"pressure on '{self.group}', {sense}"
         return f"base acceleration along {self.axis} (clamps and spring anchors move rigidly)"
 
     @classmethod
@@ -116,8 +126,9 @@ def check_forcing(scene, load: Load) -> None:
 
 
 def check_load(scene, load: Load) -> None:
-    """Refuse a load the scene cannot take, before any solve: a missing face group or driven electrode, or a
-    load that is not symmetric about the mirror planes of a half (quarter) model."""
+    """Refuse a load the scene cannot take, before any solve: a missing face group or driven electrode, a load
+    that is not symmetric about the mirror planes of a half (quarter) model, or a base acceleration of a body with
+    no support along its axis."""
     if load.kind == "voltage":
         if "drive" not in scene.electrodes.values():
             raise SceneError("drive.load: the scene has no driven electrode to apply a voltage to; give a force, "
@@ -141,6 +152,17 @@ def check_load(scene, load: Load) -> None:
             if load.kind == "force" and load.value[k] != 0:
                 raise SceneError(f"drive.load.value: a force along {axis} is antisymmetric about the {axis} "
                                  f"mid-plane the model keeps (symmetry); set symmetry = [] to solve it")
+    if load.kind == "base-acceleration" and not supported_along(scene, load.axis):
+        raise SceneError(f"drive.load: a base acceleration (--base-acceleration {load.axis}) moves the supports, and "
+                         f"the scene has none along {load.axis} (no clamp of u{load.axis}, no spring with k{load.axis} "
+                         f"> 0): the whole body would follow the base; add clamps or springs, or apply a force")
+
+
+def supported_along(scene, axis: str) -> bool:
+    """Whether a clamp or a face spring holds the body to the ground along ``axis`` (x, y or z)."""
+    k = "xyz".index(axis)
+    return any(axis in components for components in scene.clamps.values()) or any(
+        stiffness[k] > 0 for stiffness in scene.springs.values())
 
 
 def _group_bounds(assembly, group: str) -> tuple[np.ndarray, np.ndarray]:

@@ -25,7 +25,7 @@ _DAMPING = re.compile(r"^(zeta|Q)=([^,]+)$|^rayleigh=([^,]+),([^,]+)$")
 
 
 def check_damping(field: str, text: Any) -> str:
-    """``zeta=Z``, ``Q=Q`` or ``rayleigh=ALPHA,BETA`` with finite numbers >= 0 (Q > 0)."""
+    """``zeta=Z``, ``Q=Q`` or ``rayleigh=ALPHA,BETA``: finite numbers >= 0 (Q > 0), light (``check_underdamped``)."""
     match = _DAMPING.match(text) if isinstance(text, str) else None
     if match is None:
         raise SceneError(f"{field}: expected 'zeta=Z', 'Q=Q' or 'rayleigh=ALPHA,BETA', got {text!r}")
@@ -36,7 +36,17 @@ def check_damping(field: str, text: Any) -> str:
             from None
     if any(not (math.isfinite(x) and x >= 0) for x in numbers) or (match.group(1) == "Q" and numbers[0] == 0):
         raise SceneError(f"{field}: damping values must be finite and >= 0 (Q > 0), got {text!r}")
+    if match.group(1) in ("zeta", "Q"):
+        check_underdamped(field, numbers[0] if match.group(1) == "zeta" else 1 / (2 * numbers[0]))
     return text
+
+
+def check_underdamped(field: str, zeta: float, where: str = "") -> None:
+    """Refuse a modal damping ratio ``zeta`` >= 1 (Q <= 0.5, eta >= 2): an overdamped mode has no resonance, so a
+    resonator model (one-mode reduction, modal admittance) would show none; ``where`` says at which mode."""
+    if zeta >= 1:
+        raise SceneError(f"{field}: modal damping ratio {zeta:.3g}{where} is overdamped (zeta >= 1, Q <= 0.5, "
+                         f"eta >= 2): the mode has no resonance for a resonator model; give light damping (zeta < 1)")
 
 
 @dataclass(frozen=True)
@@ -430,6 +440,19 @@ class Scene:
         from modalfe.scene.checks import check_device
 
         check_device(self)  # one bonded body, consistent electrodes (modalfe/scene/checks.py)
+
+    def seek(self, selector: str | None = None, near: float | None = None) -> tuple[str | None, float | None]:
+        """(selector, near [Hz]) of the mode a command looks for: ``selector``, default the first working mode's;
+        ``near``, default the ``near`` of the working mode of that selector (its pattern: ``(1,1)#2`` is ``(1,1)``),
+        else the first working mode's, else the analysis's (None when the scene has neither)."""
+        from modalfe.results.labels import base_label
+
+        first = self.working_modes[0] if self.working_modes else None
+        selector = selector or (first.selector if first else None)
+        if near is None:
+            named = [wm for wm in self.working_modes if selector and base_label(wm.selector) == base_label(selector)]
+            near = (named[0] if named else first).near if (named or first) else self.analysis.near
+        return selector, near
 
     @property
     def max_frequency(self) -> float:

@@ -158,13 +158,12 @@ def working_question(scene: Scene, selector: str | None = None, near: float | No
 
 
 def sought_near(scene: Scene, selector: str | None = None, near: float | None = None) -> float:
-    """The frequency [Hz] the mode ``selector`` is sought near: ``near``, else the working mode's of that selector
-    (the first working mode's where ``selector`` is None or names none); SolverError where the scene has none."""
-    if near is not None:
-        return near
-    if not scene.working_modes:
+    """The frequency [Hz] the mode ``selector`` is sought near (``Scene.seek``: ``near``, else the working mode's of
+    that selector, else the first working mode's); SolverError where the scene names none."""
+    _, target = scene.seek(selector, near)
+    if target is None or (near is None and not scene.working_modes):
         raise SolverError("mode: the scene names no working mode; give the mode and the frequency it is sought near")
-    return next((w.near for w in scene.working_modes if w.selector == selector), scene.working_modes[0].near)
+    return target
 
 
 def solid_modes(scene: Scene, *, needs: str, fidelity: str = "auto", **question) -> Modes:

@@ -81,3 +81,22 @@ def test_a_bad_measurement_file_is_refused_in_one_line(files, tmp_path, capsys):
     assert "mode[0].sigma: required" in err and "\n" not in err
     assert main(["calibrate", scene, "--measured", str(tmp_path / "missing.toml"), "--vary", "x"]) == 1
     assert "missing.toml" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("content", [bytes(range(256)), MEASURED.replace("(0,2)", "(0,2) \xe9").encode("latin-1")])
+def test_a_measurement_file_that_is_not_utf8_is_refused_in_one_line(files, tmp_path, capsys, content):
+    """issue 35: a binary (or Latin-1) --measured file raised UnicodeDecodeError (exit 70)."""
+    scene, _ = files
+    binary = tmp_path / "binary.toml"
+    binary.write_bytes(content)
+    assert main(["calibrate", scene, "--measured", str(binary), "--vary", "materials.steel.E"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith(f"modalfe: error: {binary}: not UTF-8 text") and "--measured" in err and "\n" not in err
+
+
+def test_a_measured_label_of_no_label_form_is_refused_before_any_solve(files, tmp_path, capsys):
+    scene, _ = files
+    bad = tmp_path / "bad.toml"
+    bad.write_text(MEASURED.replace('"(0,2)"', '"mode 2"'))
+    assert main(["calibrate", scene, "--measured", str(bad), "--vary", "materials.steel.E"]) == 2
+    assert capsys.readouterr().err.startswith(f"modalfe: error: {bad}: mode[0].label: 'mode 2' is not a mode label")

@@ -77,6 +77,8 @@ def test_an_unreachable_target_exits_1(strip, capsys):
     (["--target", "(0,2)=1300", "--out", "design.txt"], "--out: 'design.txt' must end in .toml"),
     (["--target", "(0,2)=1300", "--maximize", "k_eff"], "maximize: k_eff needs a driven electrode"),
     (["--target", "(0,2)=1300", "--replace-feet"], "replace_feet: the scene 'strip' has no feet"),
+    (["--target", "2=1300"], "target: '2' is a number, not a mode label"),
+    (["--target", "bending 1=1300"], "target: 'bending 1' is not a mode label"),
 ])
 def test_malformed_options_are_refused_in_one_line(strip, capsys, extra, message):
     assert main(["tune", strip, "--vary", "parts.strip.size.x", *extra]) == 2

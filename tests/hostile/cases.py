@@ -807,5 +807,58 @@ DESIGN = [
                                         "materials.steel.E", "--out", "{tmp}"), "--out"),
 ]
 
+
+
+def _bimorph(id: str, argv: tuple[str, ...], field: str, **kw) -> Case:
+    """A case of issue 35 on the README's bimorph: refused before the solve, or answered."""
+    return _cli(id, "issue 35", argv, field, files={"bimorph.toml": BIMORPH, **kw.pop("files", {})}, **kw)
+
+
+ISSUE_35 = [
+    _bimorph("forced-point-named-like-a-face-group", ("forced", "{file}", "--point", "tip=0.04,0.002,0.001"),
+             "--point: 'tip' is a face group"),
+    _bimorph("forced-point-twice", ("forced", "{file}", "--point", "p=0.02,0.002,0.001", "--point",
+                                    "p=0.03,0.002,0.001"), "--point: 'p' given twice"),
+    _bimorph("forced-volts-beside-force", ("forced", "{file}", "--force", "tip=0,0,1", "--volts", "50", "--plot",
+                                           "{tmp}/f.png"), "--volts"),
+    _bimorph("forced-volts-without-plot", ("forced", "{file}", "--volts", "50"), "--volts"),
+    _bimorph("forced-base-acceleration-unsupported", ("forced", "{file}", "--base-acceleration", "z", "--set",
+                                                      "clamps={}"), "drive.load: a base acceleration"),
+    _bimorph("admittance-points-million", ("admittance", "{file}", "--band", "400", "700", "--points", "1000000"),
+             "--points: needs 2 to 100,000"),
+    _bimorph("admittance-zeta-2", ("admittance", "{file}", "--band", "400", "700", "--damping", "zeta=2"),
+             "--damping: damping.zeta: modal damping ratio 2 is overdamped"),
+    _bimorph("admittance-eta-3", ("admittance", "{file}", "--band", "400", "700", "--damping", "eta=3"),
+             "--damping: modal damping ratio 1.5 is overdamped"),
+    _bimorph("admittance-mode-damping-twice", ("admittance", "{file}", "--band", "400", "700", "--mode-damping",
+                                               "bending-z 1=Q=10", "--mode-damping", "bending-z 1=Q=20"),
+             "--mode-damping: mode 'bending-z 1' given twice"),
+    _bimorph("admittance-mode-damping-once", ("admittance", "{file}", "--band", "400", "700", "--mode-damping",
+                                              "bending-z 1=Q=10"), "", expect="ok",
+             check=lambda out: "Q=10 (per mode)" in out),
+    _bimorph("admittance-band-without-resonance", ("admittance", "{file}", "--band", "1000", "1200"), "", expect="ok",
+             check=lambda out: "no resonance in the band" in out and "maxima (near fr) [Hz]: none" in out),
+    _bimorph("admittance-band-centred-on-resonance", ("admittance", "{file}", "--band", "445.222", "645.222",
+                                                      "--points", "5"), "", expect="ok",
+             check=lambda out: "maxima (near fr) [Hz]: 544.5" in out),
+    _bimorph("set-damping-overdamped", ("forced", "{file}", "--set", 'drive.damping="zeta=2"'),
+             "drive.damping: modal damping ratio 2 is overdamped"),
+    _bimorph("forced-mode-index", ("forced", "{file}", "--mode", "0"), "--mode: '0' is a number"),
+    _bimorph("tune-target-index", ("tune", "{file}", "--target", "1=900", "--vary", "materials.steel.E"),
+             "target: '1' is a number"),
+    _bimorph("admittance-mode-damping-index", ("admittance", "{file}", "--band", "400", "700", "--mode-damping",
+                                               "0=Q=10"), "--mode-damping: '0' is a number"),
+    _bimorph("show-mode-not-a-label", ("show", "{file}", "--mode", "bending 1", "--out", "{tmp}/m.png"),
+             "--mode: 'bending 1' is not a mode label"),
+    _bimorph("show-out-upper-case-png", ("show", "{file}", "--out", "{tmp}/m.PNG"), "", expect="ok",
+             check=lambda out: out.strip().endswith("m.PNG")),
+    _bimorph("calibrate-measured-binary", ("calibrate", "{file}", "--measured", "{tmp}/measured.toml", "--vary",
+                                           "materials.steel.E"), "{tmp}/measured.toml: not UTF-8 text",
+             files={"measured.toml": bytes(range(256))}),
+    _bimorph("admittance-coarse-grid", ("admittance", "{file}", "--band", "400", "700", "--points", "4"), "",
+             expect="ok", check=lambda out: "maxima (near fr) [Hz]: 544.5" in out and "minima (near fa) [Hz]: 549.5"
+             in out and "wider than the resonance" in out),
+]
+
 CASES: list[Case] = [*SCENE_FILES, *MATERIALS, *FLAGS, *SETS, *PATHS, *SWEEPS, *API, *ELECTRODES_AND_MODELS,
-                     *TEXT, *INTERRUPTS_AND_CACHES, *DESIGN]
+                     *TEXT, *INTERRUPTS_AND_CACHES, *DESIGN, *ISSUE_35]

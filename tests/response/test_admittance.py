@@ -6,6 +6,8 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from hypothesis import example, given, settings
+from hypothesis import strategies as st
 
 from modalfe.cli.main import main
 from modalfe.errors import SceneError
@@ -172,3 +174,96 @@ def test_cli_admittance_errors_are_one_line(tmp_path, capsys):
     assert main(["admittance", "cube_plate", "--band", "30e3", "50e3", "--csv", str(tmp_path / "x.txt")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 3 and "--band" in err[0] and "--damping" in err[1] and "--csv" in err[2]
+
+
+@pytest.fixture(scope="module")
+def bimorph(tmp_path_factory):
+    """The README's bimorph (clamped steel beam, PZT-5A patch; bending-z 1 at 545 Hz, 926 DOFs) and its modes."""
+    from modalfe.scene import load_scene
+    from tests.hostile.cases import BIMORPH
+
+    path = tmp_path_factory.mktemp("bimorph") / "bimorph.toml"
+    path.write_text(BIMORPH)
+    scene = load_scene(str(path))
+    return scene, solve_modes(scene, band=(300.0, 900.0), error_estimate=False)
+
+
+@settings(max_examples=30, deadline=None)
+@given(points=st.integers(3, 400), low=st.floats(400.0, 540.0), high=st.floats(550.0, 700.0))
+@example(points=4, low=400.0, high=700.0)  # issue 35: 100 Hz steps, the peak read off the grid
+@example(points=5, low=445.222, high=645.222)  # centred on the resonance: the residual's shift moves off it
+def test_fr_and_fa_do_not_depend_on_the_grid(bimorph, points, low, high):
+    """fr and fa are the model's, refined between the grid's points: on any grid over the band they are those of
+    the same model's |Y| sampled every 1.5 mHz (200,001 points), and a grid coarser than the resonance says so."""
+    from modalfe.response.admittance import _grid_extrema
+
+    scene, modes = bimorph
+    result = modal_admittance(modes, np.linspace(low, high, points), resolve_losses(scene))
+    extrema = result.extrema()
+    dense = np.linspace(low, high, 200001)
+    peaks, dips = _grid_extrema(np.abs(result.model_Y(dense)))
+    assert len(peaks) == len(dips) == 1  # bending-z 1's fr and fa lie in every band drawn
+    step = dense[1] - dense[0]
+    for key, found in (("max_abs_Y_hz", peaks), ("min_abs_Y_hz", dips)):
+        assert extrema[key] == pytest.approx(dense[found].tolist(), abs=step), key
+    width = 545.2 / 150  # Q = 150: 2 zeta f
+    assert any("wider than the resonance" in n for n in result.notes) == (np.diff(result.frequency)[0] > width)
+
+
+@settings(max_examples=60, deadline=None)
+@given(zeta=st.floats(1e-6, 1e3, allow_nan=False), form=st.sampled_from(("zeta", "Q", "eta")))
+def test_damping_that_is_not_light_is_refused(zeta, form):
+    """A modal damping ratio >= 1 (Q <= 0.5, eta >= 2) has no resonance: refused by the resonator models, for
+    every way of giving it, naming the flag; anything lighter is taken."""
+    from modalfe.response.admittance import _spec
+    from modalfe.response.forced import Damping
+
+    spec = {"zeta": f"zeta={zeta!r}", "Q": f"Q={1 / (2 * zeta)!r}", "eta": f"eta={2 * zeta!r}"}[form]
+    ratio = {"zeta": zeta, "Q": 1 / (2 * (1 / (2 * zeta))), "eta": 2 * zeta / 2}[form]
+    if ratio >= 1:
+        with pytest.raises(SceneError, match=r"^--damping: .*overdamped"):
+            _spec("--damping", spec)
+        if form != "eta":
+            with pytest.raises(SceneError, match=rf"^damping\.{form}: .*overdamped"):
+                Damping.parse(spec)
+    else:
+        assert _spec("--damping", spec)[0] == ("eta" if form == "eta" else "zeta")
+
+
+def test_a_band_without_a_resonance_is_a_capacitor(bimorph):
+    from modalfe.response.admittance import admittance
+
+    scene, _ = bimorph
+    result = admittance(scene, (1000.0, 1200.0), 21)  # bending-z 1 at 545 Hz, bending-z 2 above 3 kHz
+    assert result.modes == () and any("no resonance in the band" in n for n in result.notes)
+    assert result.extrema() == {"max_abs_Y_hz": [], "min_abs_Y_hz": []}
+    capacitance = result.Y.imag / (2 * np.pi * result.frequency)
+    # above the first mode and far below the second: a capacitance a little below C0's, nearly constant
+    assert np.all(capacitance > 0) and np.ptp(capacitance) < 0.05 * capacitance.mean()
+    assert np.all(np.abs(np.degrees(np.angle(result.Y)) - 90) < 2)  # tan delta 0.02: 1.1 degrees from a pure C
+
+
+def test_one_mode_damped_on_its_own(bimorph):
+    scene, modes = bimorph
+    losses = resolve_losses(scene, per_mode={"bending-z 1": "Q=10"})
+    c, h, text = modal_losses(list(modes), modes.model, losses)
+    one = [m.label for m in modes].index("bending-z 1")
+    assert c[one] == pytest.approx(modes[one].omega / 10) and h[one] == 0 and text[one] == "Q=10 (per mode)"
+
+
+def test_cli_admittance_refuses_before_the_solve(capsys, monkeypatch):
+    def no_solve(*_args, **_kw):
+        raise AssertionError("solved before refusing")
+
+    monkeypatch.setattr("modalfe.solve.api.solve_modes", no_solve)
+    band = ["admittance", "cube_plate", "--band", "30e3", "50e3"]
+    assert main([*band, "--points", "1000000"]) == 2
+    assert main([*band, "--mode-damping", "(0,6)=Q=300", "--mode-damping", "(0,6)=Q=200"]) == 2
+    assert main([*band, "--damping", "Q=0.4"]) == 2
+    assert main([*band, "--mode-damping", "6=Q=300"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err[0] == "modalfe: error: --points: needs 2 to 100,000 frequencies, got 1,000,000"
+    assert err[1].startswith("modalfe: error: --mode-damping: mode '(0,6)' given twice")
+    assert err[2].startswith("modalfe: error: --damping: damping.Q: modal damping ratio 1.25 is overdamped")
+    assert err[3].startswith("modalfe: error: --mode-damping: '6' is a number, not a mode label")
+    assert len(err) == 4

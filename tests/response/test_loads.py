@@ -3,6 +3,8 @@ translation behind the inertial load, the ``[drive]`` table of a scene file and 
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from modalfe.errors import SceneError
 from modalfe.models.build import build_model
@@ -26,15 +28,34 @@ def cantilever():
 
 def test_tip_force_deflection_matches_timoshenko(cantilever):
     model, P = cantilever
-    f, _ = load_vector(model, Load(kind="force", group="tip", value=(0.0, 0.0, 2.0)))
+    f, _ = load_vector(model, Load(kind="force", group="tip", value=(0.0, 0.0, 2.0)))  # per N along +z
     x = static_response(model, f)
     w = (P["mean:tip"] @ x)[2]
-    timoshenko = 2.0 * (L**3 / (3 * E * I) + L / (KAPPA * G * A))
+    timoshenko = L**3 / (3 * E * I) + L / (KAPPA * G * A)
     # FE is stiffer: the 3-D clamp holds the root section flat and Poisson-free (~0.5 %, converged: 0.53 % on
     # 1.25 mm elements) and the 2.5 mm mesh adds 0.17 %; 1 % bounds both, shear itself is 0.2 % of the total
     assert -0.01 < w / timoshenko - 1 < 0
     assert (P["tip"] @ x)[2] == pytest.approx(w, rel=2e-3)  # the centre point reads the mean of a rigid-ish face
-    assert sum(f) == pytest.approx(2.0, rel=1e-12)  # the total force is applied, spread by area
+    assert sum(f) == pytest.approx(1.0, rel=1e-12)  # one newton in total, spread by area
+
+
+COMPONENT = st.integers(-5, 5).map(float)  # whole components: the printed direction has no rounding ties
+
+
+@settings(max_examples=40, deadline=None)
+@given(direction=st.tuples(COMPONENT, COMPONENT, COMPONENT).filter(any),
+       scale=st.floats(1e-6, 1e6), pressure=st.floats(1e-3, 1e6), sign=st.sampled_from((-1.0, 1.0)))
+def test_results_per_unit_load_do_not_scale_with_the_value_given(cantilever, direction, scale, pressure, sign):
+    """Outputs are per N (per Pa): a force or pressure's value sets its direction and sign, never the results'
+    scale; so is the text that says what they are per (issue 35: `--force tip=0,0,2` printed twice `0,0,1`)."""
+    model, _ = cantilever
+    for given_load, unit_load in (
+            (Load("force", "tip", tuple(scale * c for c in direction)), Load("force", "tip", direction)),
+            (Load("pressure", "tip", (sign * pressure,)), Load("pressure", "tip", (sign,)))):
+        f, f_unit = load_vector(model, given_load)[0], load_vector(model, unit_load)[0]
+        np.testing.assert_allclose(f, f_unit, rtol=1e-12, atol=1e-12 * np.abs(f_unit).max())
+        assert given_load.describe() == unit_load.describe()
+    assert np.linalg.norm(f_unit) > 0 and np.sign(sum(f_unit)) == -sign  # pushing in: against the outward +x
 
 
 def test_base_acceleration_is_the_distributed_inertial_load(cantilever):
@@ -80,7 +101,8 @@ def test_scene_file_drive_table():
     assert "set by the user" in scene.drive.damping_source
     for drive, field in (({"load": {"kind": "force", "group": "nowhere", "value": [0, 0, 1]}}, "drive.load.group"),
                          ({"dampin": "Q=10"}, "drive.dampin"), ({"damping": "Q=-1"}, "drive.damping"),
-                         ({"outputs": [{"name": "p"}]}, r"drive.outputs\[0\]"), ({"load": 3}, "drive.load")):
+                         ({"outputs": [{"name": "p"}]}, r"drive.outputs\[0\]"), ({"load": 3}, "drive.load"),
+                         ({"damping": "Q=0.4"}, "drive.damping: modal damping ratio 1.25 is overdamped")):
         with pytest.raises(SceneError, match=rf"^{field}"):
             scene_from_dict(_bar(drive))
 
@@ -139,3 +161,44 @@ def test_mean_over_a_curved_parts_face():
         np.testing.assert_allclose(ops[name] @ rigid, [1.0, -2.0, 3.0], rtol=1e-12)
     assert abs((ops["mean:top"] @ tilted)[2]) < 1e-12
     assert abs((ops["mean:wall"] @ tilted)[2] - 11e-3) < 1e-9  # the ring's wall is centred on x = 21 mm
+
+
+def test_base_acceleration_needs_a_support_along_its_axis():
+    """The base moves the supports: a body held by none along the axis would follow it (issue 35)."""
+    free = scene_from_dict({**_bar({}), "clamps": {}})
+    with pytest.raises(SceneError, match=r"^drive.load: a base acceleration \(--base-acceleration z\) .* none along z"):
+        check_load(free, Load(kind="base-acceleration", axis="z"))
+    sliding = scene_from_dict({**_bar({}), "clamps": {"clamp": "xy"}})  # held in x and y, free along z
+    with pytest.raises(SceneError, match=r"^drive.load: .* none along z"):
+        check_load(sliding, Load(kind="base-acceleration", axis="z"))
+    check_load(sliding, Load(kind="base-acceleration", axis="x"))
+    sprung = scene_from_dict({**_bar({}), "clamps": {}, "springs": {"tip": [0, 0, 1e4]}})
+    check_load(sprung, Load(kind="base-acceleration", axis="z"))
+
+
+@pytest.fixture(scope="module")
+def bimorph_mode(tmp_path_factory):
+    """bending-z 1 of the README's bimorph (545 Hz, 926 DOFs), for the reduced model under other loads."""
+    from modalfe.solve.api import solve_modes
+    from tests.hostile.cases import BIMORPH
+
+    path = tmp_path_factory.mktemp("bimorph") / "bimorph.toml"
+    path.write_text(BIMORPH)
+    return solve_modes(load_scene(str(path)), near=545.0, count=3, error_estimate=False).labelled("bending-z 1")
+
+
+@settings(max_examples=15, deadline=None)
+@given(scale=st.floats(1e-3, 1e3), z=st.sampled_from((1.0, -1.0)))
+def test_the_reduced_model_per_newton_does_not_scale_with_the_force(bimorph_mode, scale, z):
+    """What `modalfe forced` prints per N (force factor, amplitude, the load's text) is the same for any size of the
+    force given; its sign follows the direction."""
+    from modalfe.response.forced import Damping, reduce
+
+    def rom(value):
+        return reduce(bimorph_mode, outputs=("tip",), damping=Damping(Q=150), load=Load("force", "tip", value))
+
+    given_rom, unit_rom = rom((0.0, 0.0, scale * z)), rom((0.0, 0.0, z))
+    assert given_rom.force_factor == pytest.approx(unit_rom.force_factor, rel=1e-9)
+    assert given_rom.amplitude_per_volt() == pytest.approx(unit_rom.amplitude_per_volt(), rel=1e-9)
+    assert given_rom.drive_load == unit_rom.drive_load and given_rom.load_unit == "N"
+    assert abs(unit_rom.force_factor) == pytest.approx(1.0, rel=0.05)  # a tip force on the tip's own motion

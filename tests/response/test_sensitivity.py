@@ -199,3 +199,30 @@ def test_reduced_models_are_refused(ciliary):
     beam = solve_level(scene, scene.analysis, fidelity="beam")
     with pytest.raises(SceneError, match="need modes of the 3-D solid model"):
         frequency_sensitivities(beam, ["x0"])
+
+
+def test_a_tie_moves_its_members_together_so_a_half_model_keeps_its_mirror_images():
+    """issue 35: docs/calibration.md's `--vary springs.foot_*.z` on cube_plate (a half model about y) was refused:
+    each foot's spring was moved alone, which leaves it without its mirror image; the tie moves them together."""
+    from modalfe.response.sensitivity import parameter_value, with_values
+    from modalfe.response.tuning import check_variables
+
+    scene = load_scene("cube_plate", **{f"springs.foot_{i}": [0, 0, 1e6] for i in range(1, 5)})
+    tied = with_values(scene, {"springs.foot_*.z": 2e6})
+    assert set(tied.springs.values()) == {(0.0, 0.0, 2e6)} and tied.symmetry == ("y",)
+    assert parameter_value(tied, "springs.foot_*.z") == 2e6
+    check_variables(scene, ["springs.foot_*.z"])
+    with pytest.raises(SceneError, match=r"^symmetry: springs\.foot_1 has no mirror image"):
+        with_values(scene, {"springs.foot_1.z": 2e6})  # one foot alone: refused as before
+
+
+def test_a_ties_derivative_is_the_sum_of_its_members():
+    from modalfe.solve.api import solve_modes
+    from tests.response.test_calibration import _strip_on_springs
+
+    modes = solve_modes(_strip_on_springs(2e4, 2e4), near=1500.0, count=6, fidelity="solid", error_estimate=False)
+    found = frequency_sensitivities(modes, ["springs.foot_*.z", "springs.foot_1.z", "springs.foot_2.z"])
+    elastic = np.isfinite(found.dfrequency[:, 0])
+    assert elastic.sum() >= 2 and len(modes) == 6
+    # K is linear in each stiffness: the central differences are exact, one step of all equals the sum of each's
+    np.testing.assert_allclose(found.dfrequency[elastic, 0], found.dfrequency[elastic, 1:].sum(axis=1), rtol=1e-8)

@@ -18,7 +18,7 @@ def test_axial_force_gives_f_over_a():
     scene = cantilever_scene(2.5e-3).with_overrides(faces={"clamp": ["beam.xmin"], "tip": ["beam.xmax"]})
     model, _ = build_model(scene)
     F, A, L, E = 3.0, 0.005**2, 0.1, 105e9
-    x = static_response(model, load_vector(model, Load("force", "tip", (F, 0, 0)))[0])
+    x = F * static_response(model, load_vector(model, Load("force", "tip", (F, 0, 0)))[0])  # per N, times F
     points, stress, field = part_fields(model, x, "beam")
     middle = (points[0] > 0.03) & (points[0] < 0.07)  # > 6 widths from the clamp: Saint-Venant decay ~exp(-12)
     # a uniform traction gives a uniform stress, which quadratic elements hold exactly: only rounding remains

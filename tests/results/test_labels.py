@@ -5,13 +5,16 @@ the built-in scenes are marked slow."""
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
-from modalfe.errors import SolverError
-from modalfe.results.labels import base_label, label, unique_labels
+from modalfe.errors import SceneError, SolverError
+from modalfe.results.labels import RIGID_NAMES, base_label, check_selector, label, unique_labels
 from modalfe.results.modes import Mode, Modes, select
 
 SIDE = 41  # points per side of the synthetic plate: 2.5 % of the side apart, finer than the 48-sample grid
@@ -125,6 +128,44 @@ def test_selection_prefers_the_plain_label_and_falls_back_to_a_suffixed_one():
     assert modes.labelled("(0,8)", near=66e3).frequency == 66e3  # another solve's numbering
     with pytest.raises(SolverError):
         modes.labelled("(2,2)")
+
+
+COUNT = st.integers(0, 30)
+LABEL_FORMS = st.one_of(
+    st.builds("({},{})".format, COUNT | st.just("n"), COUNT | st.just("n")),
+    st.builds("{} {}".format, st.sampled_from(("axial", "bending-y", "bending-z", "torsion")), st.integers(1, 40)),
+    st.sampled_from((*RIGID_NAMES, "in-plane", "thickness", "?")),
+    st.builds("{}{}".format, st.sampled_from("RT"), st.integers(1, 9)),
+    st.builds(lambda n, k: f"n={n}" if k == 1 else f"n={n} k={k}", st.integers(1, 16), st.integers(1, 4)),
+)
+
+
+@settings(max_examples=200, deadline=None)
+@given(form=LABEL_FORMS, suffix=st.sampled_from(("", "#2", "#13")))
+def test_every_label_the_labeller_gives_is_a_selector(form, suffix):
+    assert check_selector(form + suffix, "--mode") == form + suffix
+    assert check_selector(f" {form + suffix} ", "--mode") == form + suffix
+
+
+@settings(max_examples=100, deadline=None)
+@given(number=st.integers(-10**6, 10**6), sign=st.sampled_from(("", "+")))
+def test_a_number_is_refused_as_a_label_before_any_solve(number, sign):
+    """issue 35: ``modalfe forced SCENE --mode 0`` solved, then found no mode labelled '0'."""
+    text = f"{sign}{number}" if number >= 0 else str(number)
+    with pytest.raises(SceneError, match=rf"^--mode: '{re.escape(text)}' is a number, not a mode label"):
+        check_selector(text, "--mode")
+
+
+def test_labels_of_real_solves_are_selectors():
+    from modalfe.scene.loading import load_scene
+    from modalfe.solve.api import solve_modes
+
+    for scene, near in ((load_scene("ciliary_beam"), 22e3), (load_scene("cube_plate"), 40e3)):
+        for mode in solve_modes(scene, near=near, count=10, error_estimate=False):
+            assert check_selector(mode.label) == mode.label
+    for bad in ("bending 6", "(0,6", "(a,b)", "mode 3", ""):
+        with pytest.raises(SceneError, match=r"^mode: "):
+            check_selector(bad)
 
 
 @pytest.mark.slow

@@ -294,3 +294,13 @@ def test_builder_parameters_are_data():
     assert p["ceramic_columns"].type_name == "int" and p["ceramic_columns"].constraint.text == ">= 1"
     assert p["sensor"].type_name == "tuple[float, float] | None"
     assert_one_line_error(lambda: builder_parameters("no_such_builder"), "device", SceneError)
+
+
+def test_a_mode_named_by_label_is_sought_near_that_working_mode():
+    """issue 35: ``show honeycomb_tile --mode "(1,1)"`` was sought near the heave's 45 Hz, not the twist's 896 Hz."""
+    tile = load_scene("honeycomb_tile")
+    assert tile.seek() == ("heave", 45.0)
+    assert tile.seek("(1,1)") == ("(1,1)", 896.0)
+    assert tile.seek("(1,1)#2") == ("(1,1)#2", 896.0)  # the pattern's working mode
+    assert tile.seek("(2,2)") == ("(2,2)", 45.0)  # no working mode of that label: the first's
+    assert tile.seek("(1,1)", 700.0) == ("(1,1)", 700.0)  # --near wins

@@ -31,6 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
+from modalfe import caches
 from modalfe.errors import MeshError, SceneError
 from modalfe.geometry.gmsh_model import gmsh_session
 from modalfe.geometry.parts import Assembly, Face
@@ -446,6 +447,9 @@ def _summary(file: str, digest: str):
             return _read_summary(path.name)
     except MeshError as exc:
         raise SceneError(f"geometry.file: {exc}") from None
+
+
+caches.register("imported geometry summaries", _summary.cache_clear)
 
 
 def _read_summary(source: str):

@@ -1,6 +1,6 @@
 """One entry that builds a scene's assembled model at a fidelity: the 3-D solid (mesh + assembly), the 2-D
 plate or the 1-D beam. Models are kept while the scene's physics and mesh are unchanged (a second window,
-the other circuit, a forced response reuse them); ``clear_cache`` drops them."""
+the other circuit, a forced response reuse them); ``modalfe.caches.clear`` drops them."""
 
 from __future__ import annotations
 
@@ -10,6 +10,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from modalfe import caches
 from modalfe.errors import SceneError
 
 MODEL_FIDELITIES = ("beam", "plate", "solid")
@@ -34,10 +35,13 @@ class Level:
         return scene if scene.mesh == self.mesh else replace(scene, mesh=self.mesh)
 
 
-def clear_cache() -> None:
-    """Forget every assembled model kept in memory (the mesh files on disk stay; see ``modalfe.models.mesh``)."""
+def forget_models() -> None:
+    """Drop the assembled models kept (registered with ``modalfe.caches``)."""
     _MODELS.clear()
     _LAYERED.clear()
+
+
+caches.register("assembled models", forget_models)
 
 
 def build_model(scene, fidelity: str = "solid", *, size_factor: float = 1.0, frame=None,

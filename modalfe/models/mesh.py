@@ -27,6 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
+from modalfe import caches
 from modalfe.errors import MeshError
 from modalfe.geometry.imported import ImportedAssembly, physical_mesh, read_geometry
 from modalfe.geometry.shapes import Ring
@@ -48,6 +49,17 @@ RING_WALL_ELEMENTS = 1.0
 # pad's and the estimate missed the error), so the scene's mesh gets 4 x 2.25 = 9 and its coarsest level 4
 MASS_PATCH_ELEMENTS = 9
 _memory_cache: dict[str, DeviceMesh] = {}
+
+
+def _forget_files() -> None:
+    folder = cache_dir()
+    for path in (folder / "meshes").glob("*.npz") if folder is not None else ():
+        with contextlib.suppress(OSError):
+            path.unlink()
+
+
+caches.register("meshes in memory", _memory_cache.clear)
+caches.register("mesh files", _forget_files, disk=True)
 
 
 @dataclass(frozen=True)

@@ -9,6 +9,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 import scipy.sparse as sp
 
+from modalfe import caches
 from modalfe.models.build import Level, build_model
 from modalfe.results.labels import unique_labels
 from modalfe.results.modes import Mode, Modes
@@ -32,6 +33,7 @@ class _ShortSolve:
 
 
 _SHORT_SOLVES: list[_ShortSolve] = []  # newest first
+caches.register("short-circuit factorizations", _SHORT_SOLVES.clear)
 
 
 def solve_level(scene, analysis, *, fidelity: str = "solid", size_factor: float = 1.0, solver: str = "auto",

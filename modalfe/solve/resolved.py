@@ -25,6 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
+from modalfe import caches
 from modalfe.models.build import Level, build_model
 from modalfe.models.mesh import MESH_FORMAT_VERSION, cache_dir
 from modalfe.results.modes import Mode, Modes
@@ -38,13 +39,18 @@ _MEMORY: OrderedDict[str, Modes] = OrderedDict()
 
 
 def clear(*, disk: bool = False) -> None:
-    """Forget the answers kept in this process and, with ``disk``, their copies on disk too."""
+    """Forget the answers kept in this process and, with ``disk``, their copies on disk too (``modalfe.caches``
+    registers both)."""
     _MEMORY.clear()
     where = folder()
     if disk and where is not None and where.is_dir():
         for path in where.glob("*.npz"):
             with contextlib.suppress(OSError):
                 path.unlink()
+
+
+caches.register("resolved answers in memory", clear)
+caches.register("resolved answer files", lambda: clear(disk=True), disk=True)
 
 
 def folder() -> Path | None:

@@ -604,9 +604,9 @@ def _twice_identical(tmp: Path) -> bool:
     path = tmp / "bimorph.toml"
     path.write_text(BIMORPH)
     first = _run_cli(["forced", str(path), "--outputs", "tip,clamp", "--json"])
-    from modalfe.models.build import clear_cache
+    from modalfe import caches
 
-    clear_cache()
+    caches.clear(disk=True)  # a fresh process's state: meshes, models and answers made anew
     second = _run_cli(["forced", str(path), "--outputs", "tip,clamp", "--json"])
     a, b = json.loads(first[1]), json.loads(second[1])
     return a["reduced_model"] == b["reduced_model"] and a == b
@@ -682,11 +682,9 @@ def _damaged_cache(tmp: Path) -> None:
 
     (tmp / "scene.toml").write_text(TINY)
     _run_cli(["modes", str(tmp / "scene.toml"), *SOLVE])
-    from modalfe.models.build import clear_cache
-    from modalfe.models.mesh import _memory_cache
+    from modalfe import caches
 
-    clear_cache()
-    _memory_cache.clear()
+    caches.clear()
     for path in (tmp / "cache").rglob("*.npz"):
         path.write_bytes(path.read_bytes()[:100])
 

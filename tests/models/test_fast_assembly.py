@@ -66,19 +66,19 @@ CASES = [("cube_plate", 4.0, {}), ("ciliary_beam", 3.0, {"mesh.clamp_grading": 3
                                                (3, "serendipity"), (4, "auto")])
 @pytest.mark.parametrize(("name", "size_factor", "extra"), CASES)
 def test_fast_path_matches_the_general_path(monkeypatch, name, size_factor, extra, order, family):
-    from modalfe.models.build import clear_cache
+    from modalfe.models.build import forget_models
 
     scene = load_scene(name, **{"mesh.order": order, "mesh.family": family, **extra})
-    clear_cache()
+    forget_models()
     with monkeypatch.context() as m:
         seen = _counting(m)
         fast, _ = build_model(scene, size_factor=size_factor)
     assert all(rest == 0 for _, rest in seen) and sum(b for b, _ in seen) == fast.mesh.nelements
-    clear_cache()
+    forget_models()
     with monkeypatch.context() as m:
         _general_only(m)
         general, _ = build_model(scene, size_factor=size_factor)
-    clear_cache()
+    forget_models()
     assert fast.n_phi > 0 and np.array_equal(fast.phi_dofs, general.phi_dofs)
     assert _relative(fast.K, general.K) < 1e-12
     assert _relative(fast.M, general.M) < 1e-12

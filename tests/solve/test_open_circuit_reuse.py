@@ -48,14 +48,14 @@ def test_a_kept_factorization_does_not_keep_its_model_alive():
     import gc
     import weakref
 
-    from modalfe.models.build import clear_cache
+    from modalfe.models.build import forget_models
 
     levels._SHORT_SOLVES.clear()
     modes = solve_modes(load_scene("ciliary_beam"), near=21.7e3, count=4, fidelity="solid", error_estimate=False)
     model = weakref.ref(modes.model)
     assert [kept.model() for kept in levels._SHORT_SOLVES] == [model()]
     del modes
-    clear_cache()
+    forget_models()
     resolved.clear(disk=True)
     gc.collect()
     assert model() is None  # only the build cache held it; the kept factorization did not

@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from modalfe.errors import SceneError, SolverError
+from modalfe.solve.api import OWN_MESH
 
 if TYPE_CHECKING:
     from modalfe.results.modes import Mode, Modes
@@ -219,7 +220,7 @@ def solve(scene: Scene, *, fidelity: str = "beam", top: float = 45e3, error_esti
     ``fidelity`` (``beam`` or ``solid``), with a Richardson discretization estimate if asked."""
     from modalfe.solve.api import solve_modes
 
-    return solve_modes(scene, band=(1.0, top), fidelity=fidelity, error_estimate=error_estimate)
+    return solve_modes(scene, band=(1.0, top), fidelity=fidelity, error_estimate=error_estimate, tol=OWN_MESH)
 
 
 @dataclass(frozen=True)

@@ -35,7 +35,7 @@ import numpy as np
 
 from modalfe.response.calibration import CALIBRATE_COUNT, Measurement, calibrate, posterior
 from modalfe.scene import load_scene
-from modalfe.solve.api import solve_modes
+from modalfe.solve.api import OWN_MESH, solve_modes
 
 CUBE = (Measurement("(0,6)", 40.7e3, 50.0),)
 GLASS = (Measurement("(0,8)", 66e3, 500.0, 15e-3, 0.5e-3), Measurement("(0,16)", 225e3, 500.0, 7.5e-3, 0.05e-3))
@@ -52,7 +52,7 @@ def discretization_errors(scene, measured) -> tuple[list[str], list[float]]:
     saying so, and the errors."""
     out, errors = [], []
     for m in measured:
-        modes = solve_modes(scene, near=m.frequency, count=CALIBRATE_COUNT, fidelity="solid", error_estimate=True)
+        modes = solve_modes(scene, near=m.frequency, count=CALIBRATE_COUNT, fidelity="solid", tol=OWN_MESH)
         mode = modes.labelled(m.label, near=m.frequency)
         out.append(f"{m.label}: {mode.frequency:.1f} Hz on {modes.dofs} DOFs, estimated discretization error "
                    f"{mode.error_estimate:.2%} ({modes.estimate_method})")

@@ -32,7 +32,7 @@ from modalfe.models.estimate import estimate_size
 from modalfe.results.modes import select
 from modalfe.scene import load_scene
 from modalfe.scene.loading import scene_from_dict
-from modalfe.solve.api import solve_modes
+from modalfe.solve.api import OWN_MESH, solve_modes
 from modalfe.solve.fidelity import no_estimate_reason
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root: tests.oracles
@@ -165,7 +165,7 @@ def stated_error(name: str, quantities: list[Quantity], build: Callable, extrapo
         print(f"{name}: min_layers {layers} would state one at ~{dofs:.0f} DOFs (estimate_size): skipped", flush=True)
         return
     for label, kwargs, pick, _ in quantities:
-        stated = solve_modes(scene, error_estimate=True, **kwargs)
+        stated = solve_modes(scene, fidelity="solid", tol=OWN_MESH, **kwargs)
         mode = pick(stated)
         actual = abs(mode.frequency / extrapolated[label] - 1)
         print(f"{name} {label}: min_layers {layers} ({stated.dofs} DOFs) {mode.frequency:.2f} Hz, stated"

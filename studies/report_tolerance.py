@@ -33,7 +33,7 @@ import numpy as np
 from modalfe.report.report import window_modes, working_windows
 from modalfe.results.modes import select
 from modalfe.scene import load_scene
-from modalfe.solve.api import solve_modes
+from modalfe.solve.api import OWN_MESH, solve_modes
 from modalfe.solve.estimates import common_points, sample_points, sampled
 
 # scene -> mesh settings of the reference solid (order 4 on finer grids than the p-grid of 2 elements per wavelength)
@@ -62,7 +62,8 @@ def reference(scene, modes, mode, near: float) -> tuple[float, float]:
     fine = dataclasses.replace(scene, mesh=mesh)
     # the tile's quartic reference: its distance from the finer one (TILE_REFERENCE_ERROR) instead
     estimate = scene.name != "honeycomb_tile"
-    solved = solve_modes(fine, near=near, count=10, fidelity="solid", error_estimate=estimate)
+    solved = solve_modes(fine, near=near, count=10, fidelity="solid", error_estimate=estimate,
+                         tol=OWN_MESH)
     # the reference mode most alike (MAC), not a one-to-one assignment of whole solves: on the tile two modes of the
     # answer resemble the reference's twisting mode and the assignment handed one of them the pad's local mode
     points = common_points(sample_points(modes), modes.model, solved.model)

@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from modalfe.errors import ModalfeError
+from modalfe.solve.api import OWN_MESH
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root: tests.oracles
 
@@ -82,7 +83,7 @@ def coarse(quick):
     from modalfe.solve.api import solve_modes
 
     mode = solve_modes(load_scene("ciliary_beam", **{"mesh.elements_per_wavelength": 2.0}), near=24e3, count=8,
-                       error_estimate=True).labelled("bending-z 6")
+                       fidelity="solid", tol=OWN_MESH).labelled("bending-z 6")
     return mode.error_estimate > 0.05, f"{mode.frequency:.0f} Hz, estimate {mode.error_estimate:.3g}"
 
 
@@ -91,7 +92,8 @@ def continuity(quick):
     from modalfe.scene import load_scene
     from modalfe.solve.api import solve_modes
 
-    a = solve_modes(load_scene("ciliary_beam"), near=22e3, count=4).labelled("bending-z 6")
+    a = solve_modes(load_scene("ciliary_beam"), near=22e3, count=4, fidelity="solid",
+                    tol=OWN_MESH).labelled("bending-z 6")
     b = solve_modes(load_scene("ciliary_beam", x0=0.0681), near=22e3, count=4,
                     error_estimate=False).labelled("bending-z 6")
     jump = abs(b.frequency / a.frequency - 1)
@@ -115,7 +117,8 @@ def incompressible(quick):
     from tests.oracles.cases import clamped_bar_scene
 
     def mode(nu, size, estimate=True):
-        return solve_modes(clamped_bar_scene(nu, size), error_estimate=estimate).labelled("bending-z 1")
+        return solve_modes(clamped_bar_scene(nu, size), error_estimate=estimate, fidelity="solid",
+                           tol=OWN_MESH).labelled("bending-z 1")
 
     ok, parts = True, []
     for nu in (0.3, 0.499) if quick else (0.3, 0.49, 0.499):
@@ -138,7 +141,8 @@ def tetrahedra(quick):
 
     if quick:
         return True, "skipped (--quick)"
-    hexa = select(solve_modes(load_scene("glass_plate"), near=66e3, count=8), "(0,n)", 66e3)
+    hexa = select(solve_modes(load_scene("glass_plate"), near=66e3, count=8, fidelity="solid", tol=OWN_MESH), "(0,n)",
+                  66e3)
     tets = select(solve_modes(load_scene("glass_plate", **{"mesh.element": "tet"}), near=66e3, count=8,
                               error_estimate=False), "(0,n)", 66e3)
     gap = abs(tets.frequency / hexa.frequency - 1)

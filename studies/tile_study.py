@@ -18,7 +18,7 @@ import numpy as np
 import tile_design as tile
 
 from modalfe.scene import load_scene
-from modalfe.solve.api import solve_modes
+from modalfe.solve.api import OWN_MESH, solve_modes
 
 BAND = (1.0, 1500.0)  # Hz, issue 8: every mode from 0 to 1.5 kHz
 COARSE = {"mesh.max_size": 0.04, "mesh.elements_per_wavelength": 4.0}  # ~10 k DOFs, a few seconds
@@ -51,7 +51,7 @@ class TileStudy:
 def run(*, coarse: bool = False) -> TileStudy:
     """Solve the tile and derive every figure of the study."""
     scene = load_scene("honeycomb_tile", **(COARSE if coarse else {}))
-    modes = solve_modes(scene, band=BAND, error_estimate=not coarse)
+    modes = solve_modes(scene, band=BAND, error_estimate=not coarse, fidelity="solid", tol=OWN_MESH)
     force = tile.face_force(modes.model)
     table = tile.mode_table(modes, force)
     driven = tile.driven_plate_mode(modes, force)

@@ -43,7 +43,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from modalfe.errors import SolverError
 from modalfe.scene.materials import MATERIALS
-from modalfe.solve.api import solve_modes
+from modalfe.solve.api import OWN_MESH, solve_modes
 from tests.oracles import analytic
 from tests.oracles.cases import (
     cantilever_scene,
@@ -137,7 +137,7 @@ def solve(scene, *, fidelity: str = "solid", **options):
     from modalfe.solve.fidelity import uses_orders
 
     with _observed_levels() as seen:
-        found = solve_modes(scene, fidelity=fidelity, **options)
+        found = solve_modes(scene, fidelity=fidelity, tol=OWN_MESH, **options)
     if fidelity != "solid" or not uses_orders(scene) or not seen:
         return found, {}
     lower, lowest = seen[-1]
@@ -204,7 +204,7 @@ def _against_finer(case: str, scene, near: float, count: int, fidelity: str, ref
     found, rates = solve(scene, near=near, count=count, fidelity=fidelity)
     reference_scene = scene if reference_scene is None else reference_scene
     fine = solve_modes(reference_scene, near=near, count=count + 4, fidelity="solid", size_factor=reference_size,
-                       error_estimate=not nested)
+                       error_estimate=not nested, tol=OWN_MESH)
     pairs = shape_partners(found, fine)
     if nested:
         twice = solve_modes(reference_scene, near=near, count=count + 8, fidelity="solid",

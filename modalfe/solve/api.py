@@ -26,6 +26,7 @@ DEFAULT_TOL = 0.005
 # most modes one near/count solve is asked for, checked before any meshing: ARPACK keeps 2 count + 1 vectors
 # of every unknown (10,000 modes of a 100k-unknown model: 16 GB); a band is solved in windows instead
 MAX_COUNT = 1000
+OWN_MESH = math.inf  # the ``tol`` that refines nothing: the scene's own mesh (the cheapest fidelity) with its estimate
 Check = tuple[tuple[str | None, float], ...]
 NEAREST = None  # the selector of a check entry (selector, near) that means the mode nearest ``near``
 
@@ -57,7 +58,8 @@ def solve_modes(
     ``fidelity``: ``auto`` (the cheapest of beam, plate and solid that meets ``tol``, ``modalfe.solve.fidelity``),
     ``solid`` (the 3-D solid refined to ``tol``), ``beam`` or ``plate`` (reduced models on their own mesh, stated
     error discretization plus model error). ``error_estimate=False``: the scene's own mesh solved once (``auto``: the
-    solid), its error unknown (NaN), for the expert who sets the mesh. ``size_factor`` scales the element sizes.
+    solid), its error unknown (NaN), for the expert who sets the mesh; ``tol=OWN_MESH`` (inf): that mesh with its
+    stated error, never refined. ``size_factor`` scales the element sizes.
     ``frame`` (3, 3) rotates the whole device (mesh and materials), for invariance checks.
     The mesh resolves the scene's frequency range (``Scene.max_frequency``: ``mesh.max_frequency`` or the
     scene's own analysis, widened to a ``band`` asked here); ``near`` only places the shift, so modes far
@@ -66,7 +68,7 @@ def solve_modes(
     scene = _scene(scene)
     if fidelity not in FIDELITIES:
         raise SolverError(f"fidelity: must be one of {FIDELITIES}, got '{fidelity}'")
-    if not (isinstance(tol, numbers.Real) and math.isfinite(tol) and tol > 0):
+    if not (isinstance(tol, numbers.Real) and tol > 0):  # NaN fails too; inf: the scene's own mesh, estimated
         raise SolverError(f"tol: must be a positive relative error, got {tol}")
     if not (isinstance(size_factor, numbers.Real) and math.isfinite(size_factor) and size_factor > 0):
         raise SolverError(f"size_factor: must be a positive finite factor on the element sizes, got {size_factor!r}")

@@ -16,6 +16,7 @@ from modalfe.errors import MeshError
 from modalfe.geometry.parts import Assembly, Box, Face
 from modalfe.geometry.shapes import Cylinder, Extrusion, Ring
 from modalfe.models.mesh import build_mesh
+from modalfe.solve.api import OWN_MESH
 
 _one = Functional(lambda w: 1.0 + 0.0 * w.x[0])
 
@@ -337,7 +338,7 @@ def test_error_estimate_covers_the_error_of_a_swept_mesh():
     from modalfe.solve.api import solve_modes
 
     estimated = _elastic(solve_modes(_disc_scene({"element": "hex", "min_layers": 3, "max_size": 0.002}), near=1.0,
-                                     count=12, error_estimate=True), 6)
+                                     count=12, fidelity="solid", tol=OWN_MESH), 6)
     reference = _elastic(solve_modes(_disc_scene({"element": "hex", "order": 4, "family": "lagrange",
                                                   "min_layers": 1, "max_size": 0.002}), near=1.0, count=12,
                                      error_estimate=False), 6)

@@ -4,7 +4,7 @@ import pytest
 
 from modalfe.errors import SolverError
 from modalfe.scene import scene_from_dict
-from modalfe.solve.api import solve_modes
+from modalfe.solve.api import OWN_MESH, solve_modes
 
 
 def test_an_estimate_level_without_unknowns_names_itself():
@@ -20,7 +20,7 @@ def test_an_estimate_level_without_unknowns_names_itself():
     })
     assert len(solve_modes(scene, fidelity="solid", error_estimate=False)) == 6  # the level asked is fine
     with pytest.raises(SolverError, match=r"^error estimate: its level with elements x1\.5 cannot be solved") as info:
-        solve_modes(scene, fidelity="solid")
+        solve_modes(scene, fidelity="solid", tol=OWN_MESH)
     assert "\n" not in str(info.value)
 
 
@@ -41,7 +41,7 @@ def test_the_order_step_level_is_solved_only_for_the_solids_own_estimate(monkeyp
     scene = free_plate_scene().with_overrides(**{"mesh.order": 3, "mesh.min_layers": 1})
     plate = solve_modes(scene, fidelity="plate", count=4)
     assert plate.cross_check and not calls
-    solid = solve_modes(scene, fidelity="solid", count=4)
+    solid = solve_modes(scene, fidelity="solid", count=4, tol=OWN_MESH)
     assert calls == [3] and "at least the order 2-3 step" in solid.estimate_method
 
 
@@ -60,7 +60,7 @@ def test_tetrahedra_one_layer_thick_state_no_estimate_without_solving_levels(mon
     solved = []
     real = fidelity.solve_level
     monkeypatch.setattr(fidelity, "solve_level", lambda *a, **k: solved.append(k) or real(*a, **k))
-    modes = solve_modes(one, fidelity="solid")
+    modes = solve_modes(one, fidelity="solid", tol=OWN_MESH)
     assert len(solved) == 1  # the solid only
     assert modes.estimate_method == fidelity.UNCOARSENED
     assert all(m.error_estimate == float("inf") for m in modes)

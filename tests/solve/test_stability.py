@@ -7,7 +7,7 @@ from hypothesis import strategies as st
 
 from modalfe.models.build import build_model
 from modalfe.scene import load_scene, scene_from_dict
-from modalfe.solve.api import solve_modes
+from modalfe.solve.api import OWN_MESH, solve_modes
 from modalfe.solve.linalg import condition_estimate, factorize
 
 
@@ -151,7 +151,8 @@ def test_sheets_down_to_1_to_3000_of_the_beam_length_change_the_frequency_smooth
 def test_nearly_incompressible_material_is_flagged_by_a_larger_error_estimate():
     from tests.oracles.cases import clamped_bar_scene
 
-    estimates = [solve_modes(clamped_bar_scene(nu, 2e-3)).labelled("bending-z 1").error_estimate for nu in (0.3, 0.499)]
+    estimates = [solve_modes(clamped_bar_scene(nu, 2e-3), fidelity="solid", tol=OWN_MESH).labelled("bending-z 1")
+                 .error_estimate for nu in (0.3, 0.499)]
     # quadratic hexahedra lock mildly as nu -> 1/2 (slower convergence): the estimate must say so, finitely
     assert np.isfinite(estimates).all() and estimates[1] > 3 * estimates[0]
 
@@ -161,7 +162,7 @@ def test_nearly_incompressible_error_estimate_bounds_the_error():
     from tests.oracles.cases import clamped_bar_scene
 
     for nu in (0.3, 0.49, 0.499):
-        coarse = solve_modes(clamped_bar_scene(nu, 2e-3)).labelled("bending-z 1")
+        coarse = solve_modes(clamped_bar_scene(nu, 2e-3), fidelity="solid", tol=OWN_MESH).labelled("bending-z 1")
         f1, f2 = (solve_modes(clamped_bar_scene(nu, h), error_estimate=False).labelled("bending-z 1").frequency
                   for h in (1e-3, 0.5e-3))
         reference = f2 + (f2 - f1) / 3  # Richardson at order 2 (the estimate's own assumption), ratio 2
@@ -173,7 +174,8 @@ def test_nearly_incompressible_error_estimate_bounds_the_error():
 def test_tetrahedra_of_the_thin_glass_plate_agree_with_hexahedra_within_the_estimate():
     from modalfe.results.modes import select
 
-    hexa = select(solve_modes(load_scene("glass_plate"), near=66e3, count=8), "(0,n)", 66e3)
+    hexa = select(solve_modes(load_scene("glass_plate"), near=66e3, count=8, fidelity="solid", tol=OWN_MESH), "(0,n)",
+                  66e3)
     tets = select(solve_modes(load_scene("glass_plate", **{"mesh.element": "tet"}), near=66e3, count=8,
                               error_estimate=False), "(0,n)", 66e3)
     # flat tetrahedra (1.9 mm plate, ~2.5 mm elements) against structured hexahedra: same mode, and the

@@ -7,6 +7,7 @@ matplotlib and dask load inside the functions that need them; it leaves the proc
 """
 
 from modalfe.contact import simulate_contact, simulate_finger
+from modalfe.design.sweep import sweep
 from modalfe.errors import ContactError, MeshError, ModalfeError, SceneError, SolverError
 from modalfe.response.figures import ForcedFigures
 from modalfe.response.figures import forced_figures as forced_response
@@ -14,7 +15,6 @@ from modalfe.response.forced import Damping, ReducedModel, reduce
 from modalfe.results.modes import Mode, Modes
 from modalfe.scene import Scene, load_scene
 from modalfe.solve.api import solve_modes
-from modalfe.sweeps.sweep import sweep
 
 __version__ = "0.1.0"
 

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from modalfe.sweeps.sweep import sweep
+from modalfe.design.sweep import sweep
 
 
 def run(points: int, workers: int) -> float:

@@ -1,5 +1,5 @@
 """Calibration studies (docs/calibration.md): which uncertain parameters explain the measured modes of the Cu-Be
-plate, the glass plate and the ciliary beam, fitted with ``modalfe.response.calibration.calibrate`` on the 3-D
+plate, the glass plate and the ciliary beam, fitted with ``modalfe.design.calibration.calibrate`` on the 3-D
 solid at each scene's default mesh.
 
     python studies/calibration_studies.py [cube_plate|glass_plate|ciliary_beam ...]
@@ -33,7 +33,7 @@ import time
 
 import numpy as np
 
-from modalfe.response.calibration import CALIBRATE_COUNT, Measurement, calibrate, posterior
+from modalfe.design.calibration import CALIBRATE_COUNT, Measurement, calibrate, posterior
 from modalfe.scene import load_scene
 from modalfe.solve.api import OWN_MESH, solve_modes
 

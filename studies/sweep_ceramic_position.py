@@ -9,7 +9,7 @@ import argparse
 
 import numpy as np
 
-from modalfe.sweeps.sweep import coupling_extra, sweep
+from modalfe.design.sweep import coupling_extra, sweep
 
 
 def main() -> None:

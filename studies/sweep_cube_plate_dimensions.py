@@ -12,7 +12,7 @@ import argparse
 
 import numpy as np
 
-from modalfe.sweeps.sweep import sweep
+from modalfe.design.sweep import sweep
 
 TARGET = 40.7e3  # Hz, seed 001 measured
 

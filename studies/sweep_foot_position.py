@@ -13,7 +13,7 @@ import argparse
 
 import numpy as np
 
-from modalfe.sweeps.sweep import friction_extra, sweep
+from modalfe.design.sweep import friction_extra, sweep
 
 
 def main() -> None:

@@ -1,11 +1,15 @@
 """One registry of every cache with one ``clear`` (``modalfe.caches``): after a solve each cache holds something,
 ``clear()`` empties every one kept in memory and leaves the files on disk, ``clear(disk=True)`` removes those too."""
 
-from modalfe import caches, solve_modes
-from modalfe.geometry import imported
+import importlib
+
+import modalfe.caches as caches
+from modalfe import solve_modes
 from modalfe.models import build, mesh
 from modalfe.scene import load_scene
 from modalfe.solve import levels, resolved
+
+imported = importlib.import_module("modalfe.geometry.imported")  # the package's name ``imported`` is its function
 
 
 def _files() -> int:

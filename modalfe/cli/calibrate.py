@@ -43,7 +43,7 @@ def register(sub) -> None:
 
 
 def _calibrate(args) -> int:
-    from modalfe.response.calibration import calibrate, read_measurements
+    from modalfe.design.calibration import calibrate, read_measurements
     from modalfe.scene import load_scene
 
     names = parse_names(args.vary)
@@ -71,10 +71,9 @@ def _calibrate(args) -> int:
 
 
 def _multistart(args, scene, measured, names, bounds):
-    """``--starts N`` Latin-hypercube starts on dask (``modalfe.sweeps.multistart.run_starts``): the best by chi2,
+    """``--starts N`` Latin-hypercube starts on dask (``modalfe.design.multistart.run_starts``): the best by chi2,
     and every start's result (an exception for a start that failed)."""
-    from modalfe.response.calibration import latin_hypercube
-    from modalfe.sweeps.multistart import run_starts
+    from modalfe.design.multistart import latin_hypercube, run_starts
 
     missing = [name for name in names if name not in bounds]
     if missing:
@@ -99,7 +98,7 @@ def _multistart(args, scene, measured, names, bounds):
 
 def _from_start(scene, measured, names, bounds, max_iterations, resolution, start):
     """One start of ``--starts`` (a module-level function, so dask can send it to a worker)."""
-    from modalfe.response.calibration import calibrate
+    from modalfe.design.calibration import calibrate
 
     return calibrate(scene, measured, names, bounds=bounds, max_iterations=max_iterations, start=start,
                      resolution=resolution)

@@ -35,13 +35,14 @@ def _place(args) -> int:
     from modalfe.response.placement import place_feet
     from modalfe.results.labels import check_selector
     from modalfe.scene import load_scene
+    from modalfe.solve.api import seek
 
     scene = load_scene(args.scene, **parse_overrides(args.set))
     if "feet" not in builder_parameters(scene.device):
         raise SceneError(f"scene: '{scene.name}' has no feet to place (device '{scene.device}' takes no 'feet')")
     if args.part not in {p.name for p in scene.full_assembly().parts}:
         raise SceneError(f"--part: no part '{args.part}' in '{scene.name}'")
-    selector, near = scene.seek(None if args.mode is None else check_selector(args.mode, "--mode"), args.near)
+    selector, near = seek(scene, None if args.mode is None else check_selector(args.mode, "--mode"), args.near)
     if selector is None or near is None:
         raise SceneError("--mode: the scene names no working mode; give --mode and --near")
     before = tuple(tuple(f) for f in scene.params.get("feet", builder_parameters(scene.device)["feet"].default))

@@ -104,6 +104,7 @@ def _working(scene, args) -> tuple:
     from modalfe.response.forced import Damping
     from modalfe.response.loads import check_outputs
     from modalfe.results.labels import check_selector
+    from modalfe.solve.api import seek
 
     if not scene.working_modes and (args.mode is None or args.near is None):
         raise SceneError("--amplitude: the scene names no working mode; give --mode and --near")
@@ -118,7 +119,7 @@ def _working(scene, args) -> tuple:
     if not outputs:
         raise SceneError("--amplitude: no outputs; give --outputs (face groups) or set drive.outputs")
     check_outputs(scene, outputs)  # every face group known, every name once
-    return (*scene.seek(selector, args.near), damping, outputs)
+    return (*seek(scene, selector, args.near), damping, outputs)
 
 
 def _amplitude_json(found) -> dict:

@@ -29,14 +29,15 @@ def _sweep(args) -> int:
     import json
 
     from modalfe.cli.options import parse_overrides
+    from modalfe.design.sweep import sweep
     from modalfe.results.labels import check_selector
     from modalfe.scene import load_scene
-    from modalfe.sweeps.sweep import sweep
+    from modalfe.solve.api import seek
 
     params = parse_params(args.param)
     base = parse_overrides(args.set)
     scene = load_scene(args.scene, **base)
-    selector, near = scene.seek(None if args.mode is None else check_selector(args.mode, "--mode"), args.near)
+    selector, near = seek(scene, None if args.mode is None else check_selector(args.mode, "--mode"), args.near)
     if selector is None or near is None:
         raise SceneError("--mode/--near: the scene names no working mode")
     rows = sweep(args.scene, params, out=args.out, selector=selector, near=near, base=base,

@@ -57,14 +57,14 @@ def register(sub) -> None:
 
 
 def _tune(args) -> int:
-    from modalfe.response.tuning import (
+    from modalfe.design.multistart import latin_hypercube
+    from modalfe.design.tuning import (
         FrequencyTarget,
         TuneTask,
         best_result,
         check_variables,
         feet_text,
         has_feet,
-        latin_hypercube,
         tune,
     )
     from modalfe.scene import load_scene
@@ -106,7 +106,7 @@ def _tune(args) -> int:
     if args.starts == 1:
         result = tune(scene, goals, names, **options, progress=progress)
     else:
-        from modalfe.sweeps.multistart import run_starts
+        from modalfe.design.multistart import run_starts
 
         starts = latin_hypercube({n: bounds[n] for n in names}, args.starts, seed=args.seed)
         results = run_starts(TuneTask(scene, goals, tuple(names), options), starts, scheduler=args.scheduler,
@@ -170,7 +170,7 @@ def _line(k: int, it, targets) -> str:
     if math.isfinite(it.separation):
         text += f"  separation {it.separation:.2%}"
     if it.feet:
-        from modalfe.response.tuning import feet_text
+        from modalfe.design.tuning import feet_text
 
         text += f"  feet {feet_text(it.feet)}"
     return "\n".join([text] + [f"     {note}" for note in it.notes])

@@ -65,14 +65,14 @@ def _show(args) -> int:
     from modalfe.plot.render import animate_mode, render_mode
     from modalfe.results.labels import check_selector
     from modalfe.results.modes import select
-    from modalfe.solve.api import working_question
+    from modalfe.solve.api import seek, working_question
 
     index = args.mode is not None and args.mode.isdigit()  # --mode N: an index among the modes computed
     selector = None if args.mode is None or index else check_selector(args.mode, "--mode")  # before the solve
 
     def question(scene) -> dict:  # the working mode's (or the one named), as ``forced`` asks it
         if index:
-            return {"near": args.near or scene.seek()[1]}
+            return {"near": args.near or seek(scene)[1]}
         return working_question(scene, selector, args.near)
 
     scene, modes = _modes(args, question)
@@ -83,7 +83,7 @@ def _show(args) -> int:
     else:
         if selector is None and not scene.working_modes:
             raise SolverError("show: the scene names no working mode; give --mode")
-        mode = select(modes, *scene.seek(selector, args.near))
+        mode = select(modes, *seek(scene, selector, args.near))
     interactive = args.out is None and bool(os.environ.get("DISPLAY"))
     out = args.out or (None if interactive else f"{scene.name}.png")
     start = time.perf_counter()

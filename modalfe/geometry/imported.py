@@ -31,7 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
-from modalfe import caches
+import modalfe.caches as caches
 from modalfe.errors import MeshError, SceneError
 from modalfe.geometry.gmsh_model import gmsh_session
 from modalfe.geometry.parts import Assembly, Face

@@ -10,7 +10,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from modalfe import caches
+import modalfe.caches as caches
 from modalfe.errors import SceneError
 
 MODEL_FIDELITIES = ("beam", "plate", "solid")

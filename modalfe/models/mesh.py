@@ -27,7 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
-from modalfe import caches
+import modalfe.caches as caches
 from modalfe.errors import MeshError
 from modalfe.geometry.imported import ImportedAssembly, physical_mesh, read_geometry
 from modalfe.geometry.shapes import Ring

@@ -1,7 +1,7 @@
 """Antinodes of a mode on a face, and feet placed on them (seeds 000, 001: feet at antinodes).
 
 ``feet_on_antinodes`` moves each foot to the nearest antinode of a mode that is in phase with the others and
-keeps it inside the plate (the one rule ``place_feet`` and ``modalfe.response.tuning`` use); ``place_feet`` does
+keeps it inside the plate (the one rule ``place_feet`` and ``modalfe.design.tuning`` use); ``place_feet`` does
 it for the working mode of the Cu-Be plate, re-solves with the feet, and reports the frequency shift caused by
 the feet and by their contact stiffness against the substrate.
 """

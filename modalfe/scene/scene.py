@@ -441,19 +441,6 @@ class Scene:
 
         check_device(self)  # one bonded body, consistent electrodes (modalfe/scene/checks.py)
 
-    def seek(self, selector: str | None = None, near: float | None = None) -> tuple[str | None, float | None]:
-        """(selector, near [Hz]) of the mode a command looks for: ``selector``, default the first working mode's;
-        ``near``, default the ``near`` of the working mode of that selector (its pattern: ``(1,1)#2`` is ``(1,1)``),
-        else the first working mode's, else the analysis's (None when the scene has neither)."""
-        from modalfe.results.labels import base_label
-
-        first = self.working_modes[0] if self.working_modes else None
-        selector = selector or (first.selector if first else None)
-        if near is None:
-            named = [wm for wm in self.working_modes if selector and base_label(wm.selector) == base_label(selector)]
-            near = (named[0] if named else first).near if (named or first) else self.analysis.near
-        return selector, near
-
     @property
     def max_frequency(self) -> float:
         """Highest frequency the mesh must resolve [Hz]: mesh.max_frequency, or the analysis's top

@@ -11,6 +11,7 @@ from dataclasses import replace
 import numpy as np
 
 from modalfe.errors import SceneError, SolverError
+from modalfe.results.labels import base_label
 from modalfe.results.modes import Mode, Modes
 from modalfe.scene.scene import Analysis, Scene
 from modalfe.solve import resolved
@@ -159,10 +160,22 @@ def working_question(scene: Scene, selector: str | None = None, near: float | No
     return {"near": target, "count": a.count, "mode": selector}
 
 
+def seek(scene: Scene, selector: str | None = None, near: float | None = None) -> tuple[str | None, float | None]:
+    """(selector, near [Hz]) of the mode a command looks for: ``selector``, default the first working mode's;
+    ``near``, default the ``near`` of the working mode of that selector (its pattern: ``(1,1)#2`` is ``(1,1)``),
+    else the first working mode's, else the analysis's (None when the scene has neither)."""
+    first = scene.working_modes[0] if scene.working_modes else None
+    selector = selector or (first.selector if first else None)
+    if near is None:
+        named = [wm for wm in scene.working_modes if selector and base_label(wm.selector) == base_label(selector)]
+        near = (named[0] if named else first).near if (named or first) else scene.analysis.near
+    return selector, near
+
+
 def sought_near(scene: Scene, selector: str | None = None, near: float | None = None) -> float:
-    """The frequency [Hz] the mode ``selector`` is sought near (``Scene.seek``: ``near``, else the working mode's of
-    that selector, else the first working mode's); SolverError where the scene names none."""
-    _, target = scene.seek(selector, near)
+    """The frequency [Hz] the mode ``selector`` is sought near (``seek``); SolverError where the scene names no
+    working mode and none is given."""
+    _, target = seek(scene, selector, near)
     if target is None or (near is None and not scene.working_modes):
         raise SolverError("mode: the scene names no working mode; give the mode and the frequency it is sought near")
     return target

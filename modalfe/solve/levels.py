@@ -9,7 +9,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 import scipy.sparse as sp
 
-from modalfe import caches
+import modalfe.caches as caches
 from modalfe.models.build import Level, build_model
 from modalfe.results.labels import unique_labels
 from modalfe.results.modes import Mode, Modes

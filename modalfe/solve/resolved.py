@@ -25,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-from modalfe import caches
+import modalfe.caches as caches
 from modalfe.models.build import Level, build_model
 from modalfe.models.mesh import MESH_FORMAT_VERSION, cache_dir
 from modalfe.results.modes import Mode, Modes

@@ -8,7 +8,7 @@ import pytest
 from modalfe.cli.main import main
 from tests.cli.test_cli_sensitivity import STRIP as SENSITIVITY_STRIP
 
-# a free 59 x 10 x 1 mm steel strip on 3 mm elements (as tests/response/test_calibration.py): (0,2) at 1492.2 Hz;
+# a free 59 x 10 x 1 mm steel strip on 3 mm elements (as tests/design/test_calibration.py): (0,2) at 1492.2 Hz;
 # f ~ sqrt(E) exactly (K linear in E), so 1492.2 * sqrt(1.1) = 1565.0 Hz is the strip with E = 220 GPa
 STRIP = SENSITIVITY_STRIP.replace("[60, 10, 1]", "[59, 10, 1]").replace("max_size = 2e-3", "max_size = 3e-3")
 MEASURED = '[[mode]]\nlabel = "(0,2)"\nfrequency = 1565.0\nsigma = 1.0\n'

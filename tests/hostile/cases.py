@@ -604,7 +604,7 @@ def _twice_identical(tmp: Path) -> bool:
     path = tmp / "bimorph.toml"
     path.write_text(BIMORPH)
     first = _run_cli(["forced", str(path), "--outputs", "tip,clamp", "--json"])
-    from modalfe import caches
+    import modalfe.caches as caches
 
     caches.clear(disk=True)  # a fresh process's state: meshes, models and answers made anew
     second = _run_cli(["forced", str(path), "--outputs", "tip,clamp", "--json"])
@@ -682,7 +682,7 @@ def _damaged_cache(tmp: Path) -> None:
 
     (tmp / "scene.toml").write_text(TINY)
     _run_cli(["modes", str(tmp / "scene.toml"), *SOLVE])
-    from modalfe import caches
+    import modalfe.caches as caches
 
     caches.clear()
     for path in (tmp / "cache").rglob("*.npz"):

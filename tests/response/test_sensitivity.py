@@ -204,8 +204,8 @@ def test_reduced_models_are_refused(ciliary):
 def test_a_tie_moves_its_members_together_so_a_half_model_keeps_its_mirror_images():
     """issue 35: docs/calibration.md's `--vary springs.foot_*.z` on cube_plate (a half model about y) was refused:
     each foot's spring was moved alone, which leaves it without its mirror image; the tie moves them together."""
+    from modalfe.design.tuning import check_variables
     from modalfe.response.sensitivity import parameter_value, with_values
-    from modalfe.response.tuning import check_variables
 
     scene = load_scene("cube_plate", **{f"springs.foot_{i}": [0, 0, 1e6] for i in range(1, 5)})
     tied = with_values(scene, {"springs.foot_*.z": 2e6})
@@ -218,7 +218,7 @@ def test_a_tie_moves_its_members_together_so_a_half_model_keeps_its_mirror_image
 
 def test_a_ties_derivative_is_the_sum_of_its_members():
     from modalfe.solve.api import solve_modes
-    from tests.response.test_calibration import _strip_on_springs
+    from tests.design.test_calibration import _strip_on_springs
 
     modes = solve_modes(_strip_on_springs(2e4, 2e4), near=1500.0, count=6, fidelity="solid", error_estimate=False)
     found = frequency_sensitivities(modes, ["springs.foot_*.z", "springs.foot_1.z", "springs.foot_2.z"])

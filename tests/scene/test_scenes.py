@@ -298,9 +298,11 @@ def test_builder_parameters_are_data():
 
 def test_a_mode_named_by_label_is_sought_near_that_working_mode():
     """issue 35: ``show honeycomb_tile --mode "(1,1)"`` was sought near the heave's 45 Hz, not the twist's 896 Hz."""
+    from modalfe.solve.api import seek
+
     tile = load_scene("honeycomb_tile")
-    assert tile.seek() == ("heave", 45.0)
-    assert tile.seek("(1,1)") == ("(1,1)", 896.0)
-    assert tile.seek("(1,1)#2") == ("(1,1)#2", 896.0)  # the pattern's working mode
-    assert tile.seek("(2,2)") == ("(2,2)", 45.0)  # no working mode of that label: the first's
-    assert tile.seek("(1,1)", 700.0) == ("(1,1)", 700.0)  # --near wins
+    assert seek(tile) == ("heave", 45.0)
+    assert seek(tile, "(1,1)") == ("(1,1)", 896.0)
+    assert seek(tile, "(1,1)#2") == ("(1,1)#2", 896.0)  # the pattern's working mode
+    assert seek(tile, "(2,2)") == ("(2,2)", 45.0)  # no working mode of that label: the first's
+    assert seek(tile, "(1,1)", 700.0) == ("(1,1)", 700.0)  # --near wins

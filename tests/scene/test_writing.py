@@ -150,7 +150,7 @@ def test_a_sweep_table_knows_its_geometry_file(tmp_path):
     # a sweep resumes a table only for the same device: editing the geometry file changes the scene's identity
     import shutil
 
-    from modalfe.sweeps.sweep import scene_identity
+    from modalfe.design.sweep import scene_identity
     from tests.scene.test_imported_scene import GEO, PARTS, ROLES
 
     shutil.copy(GEO, tmp_path / "plate.geo")

@@ -1,4 +1,4 @@
-"""Model updating (modalfe/response/calibration.py): synthetic truth recovered from exact and noisy data, the
+"""Model updating (modalfe/design/calibration.py): synthetic truth recovered from exact and noisy data, the
 unidentifiable pair named, the covariance's sigma scaling, and refusals of bad measurement files."""
 
 import math
@@ -6,14 +6,14 @@ import math
 import numpy as np
 import pytest
 
-from modalfe.errors import SceneError, SolverError
-from modalfe.response.calibration import (
+from modalfe.design.calibration import (
     Measurement,
     calibrate,
-    latin_hypercube,
     measurements_from_dict,
     read_measurements,
 )
+from modalfe.design.multistart import latin_hypercube
+from modalfe.errors import SceneError, SolverError
 from modalfe.response.sensitivity import with_values
 from modalfe.scene import scene_from_dict
 from modalfe.solve.api import solve_modes
@@ -193,7 +193,7 @@ def test_the_step_holds_a_parameter_its_gauss_newton_step_pushes_off_its_bound()
     direction -J^T r = (2, 2.03) pulls it inward, yet the step pushes it outward: it is held and the step of
     parameter 1 alone is the one-column least squares -(J_1 . r) / |J_1|^2 = 2.03 / 1.01 (clipping (-1, 3)
     instead would keep parameter 1's 3, the wrong step for the held design)."""
-    from modalfe.response.calibration import _bounded_step
+    from modalfe.design.calibration import _bounded_step
 
     J, r = np.array([[1.0, 1.0], [0.0, 0.1]]), np.array([-2.0, -0.3])
     x, low, high = np.zeros(2), np.array([0.0, -5.0]), np.array([5.0, 5.0])
@@ -239,7 +239,7 @@ def test_a_mode_whose_label_vanishes_is_found_by_its_shape():
     """_solve's fallback: a measured label the solve does not hold (here "(5,5)", near the (0,2) mode) takes the
     mode most alike in shape (MAC) to the last point's mode, so a relabelled mode is still followed; without a last
     point the measurement is refused, naming it."""
-    from modalfe.response.calibration import _solve
+    from modalfe.design.calibration import _solve
 
     scene = _strip()
     modes = solve_modes(scene, near=1500.0, count=6, fidelity="solid", error_estimate=False)

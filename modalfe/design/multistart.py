@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import contextlib
 import logging
+import math
 import os
 import time
 from collections.abc import Callable, Iterator, Mapping, Sequence
@@ -114,3 +115,22 @@ def run_starts(task: Callable, starts: Sequence[Mapping], *, scheduler: str | No
     finally:
         if bar is not None:
             bar.close()
+
+
+def latin_hypercube(bounds: Mapping[str, tuple[float, float]], count: int, *, seed: int = 0) -> list[dict]:
+    """``count`` starting points of a multi-start (``tune``, ``calibrate``), a Latin hypercube in ln |p| (the scale
+    both step in) within ``bounds`` (name -> (low, high), one sign):
+    each parameter's range cut in ``count`` equal slices of ln |p|, one point in each, slices paired at random
+    (McKay, Beckman & Conover, Technometrics 21 (1979) 239); ``seed`` makes it reproducible."""
+    if isinstance(count, bool) or not isinstance(count, int) or count < 1:
+        raise SceneError(f"--starts: must be an integer >= 1, got {count!r}")
+    rng = np.random.default_rng(seed)
+    starts: list[dict] = [{} for _ in range(count)]
+    for name, (lo, hi) in bounds.items():
+        if not (lo < hi and lo * hi > 0):
+            raise SceneError(f"--bounds {name}: LOW < HIGH of one sign needed for a start in ln |p|")
+        a, b = sorted((math.log(abs(lo)), math.log(abs(hi))))
+        fractions = (rng.permutation(count) + rng.random(count)) / count
+        for start, u in zip(starts, fractions):
+            start[name] = math.copysign(math.exp(a + u * (b - a)), lo)
+    return starts

@@ -10,8 +10,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from modalfe.design.sweep import grid_values, mac, read_table, sweep, track
 from modalfe.errors import SceneError
-from modalfe.sweeps.sweep import grid_values, mac, read_table, sweep, track
 
 ARGS = ["sweep", "ciliary_beam", "--param", "x0=0.05:0.08:6", "--workers", "2", "--json",
         "--set", "mesh.elements_per_wavelength=4.0"]
@@ -84,7 +84,7 @@ def test_a_sweep_point_of_a_disc_samples_its_shapes_inside_it():
     """The shapes are sampled on a grid over the device's bounding box; a round main part leaves its corners outside
     the device: those samples are 0, the others the disc's motion (the probe of a corner point was refused before,
     and every point of a disc sweep failed)."""
-    from modalfe.sweeps.sweep import GRID, evaluate_point
+    from modalfe.design.sweep import GRID, evaluate_point
 
     row = evaluate_point(str(DISC), {}, {"mesh.elements_per_wavelength": 4.0}, "R1", 99e3)
     assert row["status"] == "ok" and row["label"] == "R1"

@@ -34,9 +34,9 @@ from pathlib import Path
 
 import numpy as np
 
+from modalfe.design.multistart import INLINE, check_workers, dask_client, submit_all
 from modalfe.errors import ModalfeError, SceneError
 from modalfe.solve.api import DEFAULT_TOL
-from modalfe.sweeps.multistart import INLINE, check_workers, dask_client, submit_all
 
 log = logging.getLogger(__name__)
 

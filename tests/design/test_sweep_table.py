@@ -9,8 +9,8 @@ import csv
 
 import pytest
 
+from modalfe.design.sweep import COLUMNS, INLINE, read_table, sweep, table_lock
 from modalfe.errors import SceneError
-from modalfe.sweeps.sweep import COLUMNS, INLINE, read_table, sweep, table_lock
 
 BEAM = """
 name = "tiny-beam"

@@ -9,8 +9,8 @@ import operator
 
 import pytest
 
+from modalfe.design.multistart import INLINE, run_starts
 from modalfe.errors import SceneError
-from modalfe.sweeps.multistart import INLINE, run_starts
 
 STARTS = [{"x": 3.0}, {"y": 1.0}, {"x": -1.5}, {"x": 0.0}]
 TASK = operator.itemgetter("x")

@@ -507,7 +507,7 @@ def _feet_on_antinodes(scene, label: str, near: float) -> tuple[tuple[float, flo
 @dataclass(frozen=True)
 class TuneTask:
     """``tune`` from one start (a dict of parameter values), as a picklable callable for
-    ``modalfe.sweeps.multistart.run_starts``: the scene, the targets, the parameters and ``tune``'s options."""
+    ``modalfe.design.multistart.run_starts``: the scene, the targets, the parameters and ``tune``'s options."""
 
     scene: object
     targets: tuple[FrequencyTarget, ...]
@@ -516,18 +516,6 @@ class TuneTask:
 
     def __call__(self, start: Mapping[str, float]) -> TuningResult:
         return tune(with_values(self.scene, start), self.targets, self.parameters, **self.options)
-
-
-def latin_hypercube(bounds: Mapping[str, tuple[float, float]], count: int, *, seed: int = 0) -> list[dict]:
-    """``count`` starts spread over the box ``bounds`` (name -> (low, high)): a Latin hypercube (McKay, Beckman &
-    Conover, Technometrics 21 (1979) 239), each parameter's range cut in ``count`` equal strata, one start in
-    each; seeded, so a run repeats."""
-    from scipy.stats import qmc
-
-    names = list(bounds)
-    unit = qmc.LatinHypercube(d=len(names), seed=seed).random(count)
-    low, high = (np.array([bounds[n][k] for n in names]) for k in (0, 1))
-    return [dict(zip(names, (low + u * (high - low)).tolist())) for u in unit]
 
 
 def best_result(results: Sequence) -> int:

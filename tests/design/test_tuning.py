@@ -1,4 +1,4 @@
-"""Tuning modes to target frequencies (modalfe/response/tuning.py): Gauss-Newton on ln f with the modal
+"""Tuning modes to target frequencies (modalfe/design/tuning.py): Gauss-Newton on ln f with the modal
 sensitivities, several targets, k_eff maximized on the targets' null space, separation from neighbours, steps
 the device refuses, feet on the antinodes, multi-start; and its refusals.
 
@@ -11,8 +11,8 @@ import math
 import numpy as np
 import pytest
 
-from modalfe.errors import SceneError, SolverError
-from modalfe.response.tuning import (
+from modalfe.design.multistart import INLINE, latin_hypercube, run_starts
+from modalfe.design.tuning import (
     FrequencyTarget,
     TuneTask,
     _feasible,
@@ -21,12 +21,11 @@ from modalfe.response.tuning import (
     _step,
     best_result,
     check_variables,
-    latin_hypercube,
     tune,
 )
+from modalfe.errors import SceneError, SolverError
 from modalfe.scene import load_scene, scene_from_dict
 from modalfe.solve.api import solve_modes
-from modalfe.sweeps.multistart import INLINE, run_starts
 
 F0 = 1442.2  # the strip's (0,2) mode on this mesh [Hz]
 LENGTH, THICKNESS = "parts.strip.size.x", "parts.strip.size.z"
@@ -202,14 +201,14 @@ def test_a_step_the_device_refuses_is_shortened():
 
 
 def test_latin_hypercube_and_multistart():
-    """Each parameter's range is cut into as many strata as starts, one start in each (McKay et al. 1979); the
-    same seed gives the same starts. Two starts of the strip's length both reach 1300 Hz at the one length that
+    """Each parameter's range is cut into as many strata of ln |p| as starts, one start in each (McKay et al. 1979);
+    the same seed gives the same starts. Two starts of the strip's length both reach 1300 Hz at the one length that
     does it (f ~ 1 / L^2: 60 sqrt(1442.2 / 1300) = 63.2 mm), inline and in order; a start outside the bounds
     comes back as its error."""
-    starts = latin_hypercube({"a": (0.0, 1.0), "b": (10.0, 20.0)}, 5, seed=3)
-    assert starts == latin_hypercube({"a": (0.0, 1.0), "b": (10.0, 20.0)}, 5, seed=3)
-    assert sorted(int(s["a"] * 5) for s in starts) == list(range(5))
-    assert sorted(int((s["b"] - 10) / 2) for s in starts) == list(range(5))
+    starts = latin_hypercube({"a": (1.0, 32.0), "b": (10.0, 20.0)}, 5, seed=3)
+    assert starts == latin_hypercube({"a": (1.0, 32.0), "b": (10.0, 20.0)}, 5, seed=3)
+    assert sorted(int(math.log2(s["a"])) for s in starts) == list(range(5))  # 2^0..2^5: one stratum each
+    assert sorted(int(5 * math.log(s["b"] / 10) / math.log(2)) for s in starts) == list(range(5))
     task = TuneTask(_strip(), tuple(_one("(0,2)", 1300.0)), (LENGTH,), {"bounds": {LENGTH: (0.055, 0.070)}})
     results = run_starts(task, [{LENGTH: 0.058}, {LENGTH: 0.080}, {LENGTH: 0.068}], scheduler=INLINE)
     assert isinstance(results[1], SceneError)

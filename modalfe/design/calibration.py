@@ -31,6 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
+from modalfe.design.tuning import check_variables
 from modalfe.errors import SceneError, SolverError
 from modalfe.response.sensitivity import (
     frequency_sensitivities,
@@ -38,7 +39,6 @@ from modalfe.response.sensitivity import (
     perturbed_model,
     with_values,
 )
-from modalfe.response.tuning import check_variables
 from modalfe.results.labels import check_selector
 from modalfe.results.modes import select
 from modalfe.solve.api import solid_modes, solve_modes
@@ -325,24 +325,6 @@ class _Fit:
                 reason = "the trust region shrank below tol (the model does not follow its linearisation)"
                 break
         return point, chi2, converged, reason
-
-
-def latin_hypercube(bounds: Mapping[str, tuple[float, float]], count: int, *, seed: int = 0) -> list[dict]:
-    """``count`` starting points, Latin hypercube in ln |p| within ``bounds`` (name -> (low, high), one sign):
-    each parameter's range cut in ``count`` equal slices of ln |p|, one point in each, slices paired at random
-    (McKay, Beckman & Conover, Technometrics 21 (1979) 239); ``seed`` makes it reproducible."""
-    if isinstance(count, bool) or not isinstance(count, int) or count < 1:
-        raise SceneError(f"--starts: must be an integer >= 1, got {count!r}")
-    rng = np.random.default_rng(seed)
-    starts: list[dict] = [{} for _ in range(count)]
-    for name, (lo, hi) in bounds.items():
-        if not (lo < hi and lo * hi > 0):
-            raise SceneError(f"--bounds {name}: LOW < HIGH of one sign needed for a start in ln |p|")
-        a, b = sorted((math.log(abs(lo)), math.log(abs(hi))))
-        fractions = (rng.permutation(count) + rng.random(count)) / count
-        for start, u in zip(starts, fractions):
-            start[name] = math.copysign(math.exp(a + u * (b - a)), lo)
-    return starts
 
 
 def _positive(field: str, value) -> float:

@@ -171,12 +171,12 @@ def modalfe_solve(case: str, order: int | str, level: tuple[float, int]) -> dict
 
 def _fresh_modalfe_caches(folder: Path) -> None:
     """Forget meshes and models (new cache ``folder``) so that a repeat meshes and assembles again."""
+    import modalfe.caches as caches
     import modalfe.models.mesh
-    from modalfe.models.build import clear_cache
 
     os.environ["MODALFE_CACHE"] = str(folder)
     modalfe.models.mesh._memory_cache.clear()
-    clear_cache()
+    caches.clear()
 
 
 # ---- peer side (NGSolve) -----------------------------------------------------------------------

@@ -51,7 +51,7 @@ def answers(name: str, fresh: bool, folder: Path) -> list[tuple[str, float, floa
     """(command, frequency [Hz], stated error, seconds) of the case's working mode in every command."""
     label, near, band = CASES[name]
     scene = DISC if name == "disc" else name
-    at = ["--mode", label, "--near", str(near)] if near else []
+    at = ["--mode", label] + (["--near", str(near)] if near else [])  # the case's mode, not the first working one
     rows = []
 
     def ask(command: str, argv: list[str], pick) -> None:

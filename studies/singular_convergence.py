@@ -29,8 +29,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 os.environ["MODALFE_CACHE"] = "off"  # the meshes differ from the scene's own: never cache them under its key
 
+import modalfe.caches as caches
 import modalfe.models.mesh as mesh_module
-from modalfe.models.build import clear_cache
 from modalfe.report.report import working_windows
 from modalfe.results.modes import select
 from modalfe.scene import load_scene
@@ -45,7 +45,7 @@ def nested_frequency(window, split: int) -> tuple[float, int]:
     """(frequency [Hz] of the window's first working mode, DOFs) with every grid interval split ``split`` times."""
     mesh_module.divisions = lambda *args, **kwargs: _grid_divisions(*args, **kwargs) * split
     mesh_module._memory_cache.clear()
-    clear_cache()
+    caches.clear()
     try:
         modes = solve_modes(window.scene, near=window.near, count=6, fidelity="solid", error_estimate=False)
     finally:

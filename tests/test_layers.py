@@ -8,8 +8,8 @@ import pytest
 
 PACKAGE = Path(__file__).resolve().parents[1] / "modalfe"
 # top to bottom: a layer may import itself and the layers before it
-LAYERS = ("errors", "geometry", "scene", "models", "results", "solve", "response", "contact", "sweeps", "report",
-          "plot", "cli")
+LAYERS = ("errors", "caches", "geometry", "scene", "models", "results", "solve", "response", "contact", "design",
+          "report", "plot", "cli")
 
 
 def _imports(path: Path) -> set[str]:

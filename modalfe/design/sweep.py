@@ -122,14 +122,18 @@ def evaluate_point(scene_ref: str, params: dict, base: dict, selector: str, near
     from modalfe.errors import SolverError
     from modalfe.results.modes import select
     from modalfe.scene import load_scene
-    from modalfe.solve.api import solid_modes
+    from modalfe.solve.api import solid_modes, sought_near, working_question
 
     start = time.perf_counter()
     row = {"params": params, "status": "ok", "label": "", "frequency_hz": None, "error_estimate": None,
            "candidates": [], "dofs": 0, "extra": {}}
     try:
         scene = load_scene(scene_ref, **{**base, **params})
-        modes = solid_modes(scene, needs="the sweep", near=near, count=count, mode=selector, **(resolution or {}))
+        # sought where the scene's working mode of that selector is: the scene's own question about it, as ``modes``
+        # and ``forced`` ask it (one answer); elsewhere the window of ``count`` modes around ``near``
+        own = selector in {wm.selector for wm in scene.working_modes} and near == sought_near(scene, selector)
+        question = working_question(scene, selector) if own else {"near": near, "count": count, "mode": selector}
+        modes = solid_modes(scene, needs="the sweep", **question, **(resolution or {}))
         full = scene.full_assembly()
         main = full.main_part
         lo, hi = full.bounds

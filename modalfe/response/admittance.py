@@ -38,6 +38,15 @@ import numpy as np
 import scipy.sparse as sp
 
 from modalfe.errors import SceneError, SolverError
+from modalfe.response.losses import (
+    Losses,
+    fallback_eta,
+    loss_spec,
+    material_stiffness,
+    modal_losses,
+    qm_table,
+    resolve_losses,
+)
 
 WIDEN = 1.25  # modes solved in [f1 / WIDEN, f2 * WIDEN]: the nearest ones outside the band stay dynamic
 RIGID_HZ = 1e-3  # modes below this fraction of the band's top are rigid-body modes (no charge): left out
@@ -46,30 +55,6 @@ Z0 = 50.0  # Touchstone reference impedance [ohm]
 # 100,000 x modes complex numbers; more is a typo in --points (a direct FE solve per point would run for days)
 MAX_POINTS = 100_000
 CSV_HEADER = "frequency_Hz,Y_real_S,Y_imag_S,abs_Z_ohm,phase_Z_deg"
-
-
-@dataclass(frozen=True)
-class Losses:
-    """Mechanical loss ``mechanical`` (``Q=..``, ``zeta=..``, ``eta=..``, ``rayleigh=A,B`` or ``material``: each
-    material's Qm, the ``fallback`` where the table has none) and dielectric ``tan_delta``, each with its source;
-    ``per_mode``: label -> spec overriding the mechanical loss of that mode (modal superposition only)."""
-
-    mechanical: str
-    mechanical_source: str
-    tan_delta: float
-    tan_delta_source: str
-    fallback: str = ""
-    fallback_source: str = ""
-    per_mode: Mapping[str, str] = field(default_factory=dict)
-
-    def describe(self) -> list[str]:
-        lines = [f"mechanical: {self.mechanical} ({self.mechanical_source})"]
-        if self.mechanical == "material":
-            lines[0] = f"mechanical: per material, modal strain-energy weighted 1 / Qm ({self.mechanical_source})"
-            lines.append(f"materials without Qm and springs: {self.fallback} ({self.fallback_source})")
-        lines += [f"mode {label}: {spec} (set by the user)" for label, spec in self.per_mode.items()]
-        lines.append(f"dielectric: tan delta = {self.tan_delta:g} on the blocked capacitance ({self.tan_delta_source})")
-        return lines
 
 
 REFINE_SAMPLES = 2001  # fewest samples of the model's |Y| in the window of a mode, before Brent
@@ -81,90 +66,6 @@ def _grid_extrema(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     peaks = inner[(a[inner] > a[inner - 1]) & (a[inner] >= a[inner + 1])]
     dips = inner[(a[inner] < a[inner - 1]) & (a[inner] <= a[inner + 1])]
     return peaks, dips
-
-
-def _spec(field_name: str, text: str) -> tuple[str, tuple[float, ...]]:
-    """(kind, numbers) of a mechanical loss spec: zeta, Q, eta, rayleigh or material."""
-    from modalfe.response.forced import Damping
-    from modalfe.scene.scene import check_underdamped
-
-    text = str(text).strip()
-    if text == "material":
-        return "material", ()
-    key, _, value = text.partition("=")
-    if key not in ("Q", "zeta", "eta", "rayleigh"):
-        raise SceneError(f"{field_name}: expected Q=Q, zeta=Z, eta=ETA, rayleigh=ALPHA,BETA or material, "
-                         f"got '{text}'")
-    if key == "eta":
-        try:
-            eta = float(value)
-        except ValueError:
-            raise SceneError(f"{field_name}: expected eta=LOSS_FACTOR, got '{text}'") from None
-        if not (math.isfinite(eta) and eta >= 0):
-            raise SceneError(f"{field_name}: eta must be finite and >= 0, got {value}")
-        check_underdamped(field_name, eta / 2)
-        return "eta", (eta,)
-    try:
-        d = Damping.parse(text)
-    except SceneError as exc:  # its own message (a number out of range, an overdamped ratio), after the flag's name
-        raise SceneError(f"{field_name}: {exc}") from None
-    if d.zeta is not None:
-        return "zeta", (d.zeta,)
-    if d.Q is not None:
-        return "zeta", (1.0 / (2.0 * d.Q),)
-    return "rayleigh", (d.alpha, d.beta)
-
-
-def resolve_losses(scene, *, damping: str | None = None, tan_delta: float | None = None,
-                   per_mode: Mapping[str, str] | None = None) -> Losses:
-    """The losses of ``scene``: ``damping`` (default: the scene's ``drive.damping``), ``tan_delta`` (default: the
-    material table's value of the scene's piezoelectric materials, 0 when it has none)."""
-    default, default_source = scene.drive.damping, scene.drive.damping_source
-    mechanical, source = (default, default_source) if damping is None else (str(damping), "set by the user")
-    _spec("--damping", mechanical)
-    if mechanical == "material":
-        source = _material_loss_sources(scene, "Qm") or "no material of the scene has a sourced Qm"
-    for label, spec in (per_mode or {}).items():
-        if _spec(f"--mode-damping {label}", spec)[0] == "material":
-            raise SceneError(f"--mode-damping {label}: 'material' applies to all modes; give Q, zeta or eta")
-    if tan_delta is not None:
-        if not (math.isfinite(tan_delta) and 0 <= tan_delta < 1):
-            raise SceneError(f"--tan-delta: must lie in [0, 1), got {tan_delta:g}")
-        td, td_source = float(tan_delta), "set by the user"
-    else:
-        values = _piezo_tan_deltas(scene)
-        if not values:
-            td, td_source = 0.0, "no dielectric loss: the scene's piezoelectric materials have no sourced tan delta"
-        else:
-            td = max(values.values())
-            td_source = _material_loss_sources(scene, "tan_delta")
-            if len(set(values.values())) > 1:
-                td_source += f"; materials differ ({values}), the largest is applied to the whole capacitance"
-    return Losses(mechanical, source, td, td_source, default, default_source, dict(per_mode or {}))
-
-
-def _piezo_tan_deltas(scene) -> dict[str, float]:
-    from modalfe.scene.materials import material_loss
-
-    out = {}
-    for part in scene.assembly().parts:
-        name = scene.material(part.material).name
-        loss = material_loss(name)
-        if part.poling and loss is not None and loss.tan_delta is not None:
-            out[name] = loss.tan_delta
-    return out
-
-
-def _material_loss_sources(scene, what: str) -> str:
-    from modalfe.scene.materials import material_loss
-
-    parts = {}
-    for part in scene.assembly().parts:
-        name = scene.material(part.material).name
-        loss = material_loss(name)
-        if loss is not None and getattr(loss, what) is not None:
-            parts[name] = f"{name} {what} {getattr(loss, what):g}: {loss.source}"
-    return "; ".join(parts.values())
 
 
 @dataclass(frozen=True)
@@ -342,118 +243,6 @@ def blocked_capacitance(model) -> float:
     return float(C_b + F_phi @ splu(A.tocsc()).solve(F_phi))
 
 
-def material_stiffness(model, names) -> dict[str, sp.csr_matrix]:
-    """(n_u, n_u) elastic stiffness K_uu of the parts made of each material in ``names`` (solid model), for the
-    modal strain energy U_m = u^T K_m u / 2."""
-    from skfem import Basis, ElementVector
-
-    from modalfe.models.solid import _contract, _scatter, _strain_and_value, element_for
-
-    scene = model.scene
-    if not hasattr(model, "u_basis"):
-        raise SolverError("material losses: need the 3-D solid model")
-    scalar = element_for(scene.mesh)
-    intorder = 2 * scene.mesh.order
-    mesh = model.u_basis.mesh
-    out = {}
-    for part in scene.assembly().parts:
-        mat = scene.material(part.material)
-        if mat.name not in names:
-            continue
-        if part.poling:
-            mat = mat.poled(part.poling)
-        if model.frame is not None:
-            mat = mat.rotated(model.frame)
-        elements = model.mesh.parts[part.name]
-        for chunk in np.array_split(elements, max(1, int(np.ceil(len(elements) / 500)))):
-            b = Basis(mesh, ElementVector(scalar), intorder=intorder, elements=chunk)
-            Bv, _ = _strain_and_value(b)
-            Ke = _scatter(b.element_dofs, b.element_dofs, _contract(Bv, mat.C, Bv, b.dx), model.n_u, model.n_u)
-            out[mat.name] = out.get(mat.name, 0) + Ke
-    return {k: sp.csr_matrix(v) for k, v in out.items()}
-
-
-def _qm_table(model) -> dict[str, float]:
-    """Material name -> Qm for the scene's materials with a sourced Qm."""
-    from modalfe.scene.materials import material_loss
-
-    out = {}
-    for part in model.scene.assembly().parts:
-        name = model.scene.material(part.material).name
-        loss = material_loss(name)
-        if loss is not None and loss.Qm is not None:
-            out[name] = loss.Qm
-    return out
-
-
-def _fallback_eta(spec: str, omega: np.ndarray) -> np.ndarray:
-    """Loss factor equivalent at resonance (eta = 2 zeta = 1 / Q) of a spec, per angular frequency."""
-    kind, v = _spec("drive.damping", spec)
-    if kind == "eta":
-        return np.full_like(omega, v[0])
-    if kind == "zeta":
-        return np.full_like(omega, 2 * v[0])
-    if kind == "rayleigh":
-        return v[0] / omega + v[1] * omega
-    raise SceneError("drive.damping: 'material' cannot be its own fallback")
-
-
-def modal_losses(modes_list, model, losses: Losses) -> tuple[np.ndarray, np.ndarray, list[str]]:
-    """(c_r, h_r, descriptions): d_r = omega_r^2 - omega^2 + i (c_r omega + h_r), viscous c_r = 2 zeta_r
-    omega_r, hysteretic h_r = eta_r omega_r^2, per mode."""
-    from modalfe.scene.scene import check_underdamped
-
-    omega = np.array([m.omega for m in modes_list])
-    c, h = np.zeros(len(omega)), np.zeros(len(omega))
-    text = [""] * len(omega)
-    kind, v = _spec("--damping", losses.mechanical)
-    if kind != "material":
-        c[:], h[:] = _viscous_hysteretic(kind, v, omega)
-    else:
-        qm = _qm_table(model)
-        stiff = material_stiffness(model, set(qm))
-        n_u = model.n_u
-        K_mech = model.K[:n_u, :n_u]
-        eta = np.zeros(len(omega))
-        covered = np.zeros(len(omega))
-        for i, m in enumerate(modes_list):
-            u = m.shape[:n_u]
-            total = float(u @ (K_mech @ u))
-            for name, K_m in stiff.items():
-                frac = float(u @ (K_m @ u)) / total
-                eta[i] += frac / qm[name]
-                covered[i] += frac
-        eta += (1 - covered) * _fallback_eta(losses.fallback, omega)
-        h[:] = eta * omega**2
-        text = [f"eta {e:.3g} ({100 * f:.0f} % of the strain energy in materials with Qm)"
-                for e, f in zip(eta, covered)]
-    for i, m in enumerate(modes_list):
-        if m.label in losses.per_mode:
-            k2, v2 = _spec(f"--mode-damping {m.label}", losses.per_mode[m.label])
-            c[i], h[i] = _viscous_hysteretic(k2, v2, omega[i])
-            text[i] = f"{losses.per_mode[m.label]} (per mode)"
-        if not text[i]:
-            text[i] = f"zeta {c[i] / (2 * omega[i]):.3g}" if c[i] else f"eta {h[i] / omega[i] ** 2:.3g}"
-        field_name = f"--mode-damping {m.label}" if m.label in losses.per_mode else "--damping"
-        check_underdamped(field_name, c[i] / (2 * omega[i]) + h[i] / (2 * omega[i] ** 2),
-                          f" at mode {m.label} ({m.frequency:.6g} Hz)")
-    unknown = set(losses.per_mode) - {m.label for m in modes_list}
-    if unknown:
-        raise SceneError(f"--mode-damping: no mode labelled {sorted(unknown)} among "
-                         f"{[m.label for m in modes_list]}")
-    return c, h, text
-
-
-def _viscous_hysteretic(kind: str, v: tuple[float, ...], omega) -> tuple:
-    """(c, h) of d = omega_r^2 - omega^2 + i (c omega + h) at ``omega`` = omega_r for a zeta, rayleigh or eta spec."""
-    zero = 0 * omega
-    if kind == "zeta":
-        return 2 * v[0] * omega, zero
-    if kind == "rayleigh":
-        return v[0] + v[1] * omega**2, zero
-    return zero, v[0] * omega**2
-
-
 def modal_admittance(modes, frequency, losses: Losses, *, residual: str = "centre", note: str = "") -> Admittance:
     """Y(f) [S] by modal superposition of ``modes`` (short circuit, one model; none for a band without a resonance:
     the blocked capacitance and the residual) with the residual of the modes left out at ``residual`` (module
@@ -574,7 +363,7 @@ def direct_admittance(model, frequency, losses: Losses, *, progress: bool = Fals
     K = model.K.astype(complex)
     K_mech = model.mechanical_stiffness()
     notes = []
-    kind, v = _spec("--damping", losses.mechanical)
+    kind, v = loss_spec("--damping", losses.mechanical)
     C = sp.csr_matrix(K.shape)
     w_c = 0.5 * (w.min() + w.max())
     if kind == "zeta":
@@ -586,10 +375,10 @@ def direct_admittance(model, frequency, losses: Losses, *, progress: bool = Fals
     elif kind == "eta":
         K = K + 1j * v[0] * K_mech
     else:
-        qm = _qm_table(model)
+        qm = qm_table(model)
         stiff = material_stiffness(model, set(qm))
         rest = model.K[:n_u, :n_u] - sum(stiff.values(), sp.csr_matrix((n_u, n_u)))
-        eta_rest = float(_fallback_eta(losses.fallback, np.array([w_c]))[0])
+        eta_rest = float(fallback_eta(losses.fallback, np.array([w_c]))[0])
         lossy = eta_rest * rest + sum((K_m / qm[name] for name, K_m in stiff.items()), sp.csr_matrix((n_u, n_u)))
         K = K + 1j * sp.block_diag([lossy, sp.csr_matrix((model.n_phi, model.n_phi))], format="csr")
     if losses.tan_delta and model.n_phi:

@@ -45,7 +45,7 @@ def test_json_gives_estimates_and_a_named_unidentifiable_pair(files, capsys):
     # on the resolved model (the default) the frequency's stated error joins the 1 Hz sigma: a wider sd, said so
     assert main(["calibrate", scene, "--measured", measured, "--vary", "materials.steel.E", "--json"]) == 0
     resolved = json.loads(capsys.readouterr().out)
-    assert resolved["parameters"]["materials.steel.E"]["sd"] > 1.5 * out["parameters"]["materials.steel.E"]["sd"]
+    assert resolved["parameters"]["materials.steel.E"]["sd"] > out["parameters"]["materials.steel.E"]["sd"]
     assert "stated discretization error added" in resolved["reason"]
     assert out["unidentified"] == [] and out["measurements"][0]["quantity"] == "(0,2) frequency"
     assert main(["calibrate", scene, "--measured", measured, "--vary", "materials.steel.E,materials.steel.rho",

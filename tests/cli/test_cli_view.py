@@ -11,17 +11,22 @@ pytest.importorskip("pyvista")
 
 
 def test_a_working_mode_named_by_label_is_sought_near_its_own_frequency(monkeypatch, capsys):
+    """A working mode named is asked as the scene's own question (the tile's band, which holds it: the answer
+    ``modes`` gives); another label or --near, near that frequency."""
     asked = []
 
     def solve(scene, **kw):
-        asked.append(kw["near"])
+        asked.append((kw.get("near"), kw.get("band"), kw.get("mode")))
         raise SolverError("stand-in solve: only what it was asked matters")
 
     monkeypatch.setattr("modalfe.solve.api.solve_modes", solve)
-    for argv, near in ((["--mode", "(1,1)"], 896.0), (["--mode", "(1,1)#2"], 896.0), ([], 45.0),
-                       (["--mode", "heave"], 45.0), (["--mode", "(1,1)", "--near", "700"], 700.0)):
+    band = (1.0, 1500.0)  # honeycomb_tile's analysis band
+    for argv, question in ((["--mode", "(1,1)"], (None, band, "(1,1)")),
+                           (["--mode", "(1,1)#2"], (896.0, None, "(1,1)#2")),
+                           ([], (None, band, "heave")), (["--mode", "heave"], (None, band, "heave")),
+                           (["--mode", "(1,1)", "--near", "700"], (700.0, None, "(1,1)"))):
         assert main(["show", "honeycomb_tile", "--out", "t.png", *argv]) == 1
-        assert asked.pop() == near, argv
+        assert asked.pop() == question, argv
     capsys.readouterr()
     assert main(["show", "honeycomb_tile", "--mode", "twist", "--out", "t.png"]) == 2 and not asked  # no solve
     assert capsys.readouterr().err.startswith("modalfe: error: --mode: 'twist' is not a mode label")

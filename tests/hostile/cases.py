@@ -466,6 +466,20 @@ def _solve(tmp: Path, **kw):
     return modalfe.solve_modes(_api_scene(tmp), **{"fidelity": "solid", "error_estimate": False, **kw})
 
 
+def _fr_fa_beside_the_mode(out: str) -> bool:
+    """The admittance's fr (|Y| maximum) within 1 % of its strongest mode's frequency (Q = 150: fr - f_r ~ 0.3 %
+    at most from the residual), and fa (the minimum) above it: read off the model, not the coarse grid."""
+    import re
+
+    fr = re.search(r"maxima \(near fr\) \[Hz\]: ([0-9.]+)", out)
+    fa = re.search(r"minima \(near fa\) \[Hz\]: ([0-9.]+)", out)
+    mode = re.search(r"bending-z 1\s+([0-9.]+) Hz", out)
+    if not (fr and fa and mode):
+        return False
+    f_r, f_a, f = (float(m.group(1)) for m in (fr, fa, mode))
+    return abs(f_r / f - 1) < 0.01 and f_a > f_r
+
+
 def _bimorph_mode(tmp: Path):
     import modalfe
 
@@ -838,7 +852,7 @@ ISSUE_35 = [
              check=lambda out: "no resonance in the band" in out and "maxima (near fr) [Hz]: none" in out),
     _bimorph("admittance-band-centred-on-resonance", ("admittance", "{file}", "--band", "445.222", "645.222",
                                                       "--points", "5"), "", expect="ok",
-             check=lambda out: "maxima (near fr) [Hz]: 544.5" in out),
+             check=lambda out: _fr_fa_beside_the_mode(out)),
     _bimorph("set-damping-overdamped", ("forced", "{file}", "--set", 'drive.damping="zeta=2"'),
              "drive.damping: modal damping ratio 2 is overdamped"),
     _bimorph("forced-mode-index", ("forced", "{file}", "--mode", "0"), "--mode: '0' is a number"),
@@ -854,8 +868,7 @@ ISSUE_35 = [
                                            "materials.steel.E"), "{tmp}/measured.toml: not UTF-8 text",
              files={"measured.toml": bytes(range(256))}),
     _bimorph("admittance-coarse-grid", ("admittance", "{file}", "--band", "400", "700", "--points", "4"), "",
-             expect="ok", check=lambda out: "maxima (near fr) [Hz]: 544.5" in out and "minima (near fa) [Hz]: 549.5"
-             in out and "wider than the resonance" in out),
+             expect="ok", check=lambda out: _fr_fa_beside_the_mode(out) and "wider than the resonance" in out),
 ]
 
 CASES: list[Case] = [*SCENE_FILES, *MATERIALS, *FLAGS, *SETS, *PATHS, *SWEEPS, *API, *ELECTRODES_AND_MODELS,

@@ -131,7 +131,7 @@ def test_plate_piezo_patch_couples_like_the_solid():
 ])
 def test_plate_model_error_estimate_covers_the_solid_difference(name, check):
     scene = load_scene(name)
-    auto = solve_modes(scene, fidelity="auto", check=check)
+    auto = solve_modes(scene, fidelity="auto", check=check, tol=0.02)  # at 2 % the plate answers
     assert auto.fidelity == "plate"
     assert "plate answered" in auto.fidelity_note
     solid = solve_modes(scene, fidelity="solid", tol=OWN_MESH)  # the scene's own mesh, as the cross-check's

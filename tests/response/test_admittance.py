@@ -16,9 +16,8 @@ from modalfe.response.admittance import (
     Admittance,
     direct_admittance,
     modal_admittance,
-    modal_losses,
-    resolve_losses,
 )
+from modalfe.response.losses import modal_losses, resolve_losses
 from modalfe.scene.materials import MATERIALS
 from modalfe.solve.api import solve_modes
 from tests.oracles.analytic import k31_bar
@@ -215,19 +214,19 @@ def test_fr_and_fa_do_not_depend_on_the_grid(bimorph, points, low, high):
 def test_damping_that_is_not_light_is_refused(zeta, form):
     """A modal damping ratio >= 1 (Q <= 0.5, eta >= 2) has no resonance: refused by the resonator models, for
     every way of giving it, naming the flag; anything lighter is taken."""
-    from modalfe.response.admittance import _spec
     from modalfe.response.forced import Damping
+    from modalfe.response.losses import loss_spec
 
     spec = {"zeta": f"zeta={zeta!r}", "Q": f"Q={1 / (2 * zeta)!r}", "eta": f"eta={2 * zeta!r}"}[form]
     ratio = {"zeta": zeta, "Q": 1 / (2 * (1 / (2 * zeta))), "eta": 2 * zeta / 2}[form]
     if ratio >= 1:
         with pytest.raises(SceneError, match=r"^--damping: .*overdamped"):
-            _spec("--damping", spec)
+            loss_spec("--damping", spec)
         if form != "eta":
             with pytest.raises(SceneError, match=rf"^damping\.{form}: .*overdamped"):
                 Damping.parse(spec)
     else:
-        assert _spec("--damping", spec)[0] == ("eta" if form == "eta" else "zeta")
+        assert loss_spec("--damping", spec)[0] == ("eta" if form == "eta" else "zeta")
 
 
 def test_a_band_without_a_resonance_is_a_capacitor(bimorph):

@@ -1,0 +1,236 @@
+"""Losses of a piezoelectric device's modes and of its electrodes: mechanical viscous (modal zeta, Q = 1 / 2 zeta,
+Rayleigh alpha + beta omega_r^2 = 2 zeta_r omega_r) or hysteretic (loss factor eta, and per material eta_r =
+sum_m U_m,r / U_r / Qm_m, the modal strain-energy method, Johnson & Kienholz, AIAA J. 20 (1982) 1284); dielectric:
+eps^S (1 - i tan delta). Resolved from the options given, else the scene's drive and the material table
+(``resolve_losses``), with each one's source; used by the admittance (``modalfe.response.admittance``)."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+
+from modalfe.errors import SceneError, SolverError
+
+
+@dataclass(frozen=True)
+class Losses:
+    """Mechanical loss ``mechanical`` (``Q=..``, ``zeta=..``, ``eta=..``, ``rayleigh=A,B`` or ``material``: each
+    material's Qm, the ``fallback`` where the table has none) and dielectric ``tan_delta``, each with its source;
+    ``per_mode``: label -> spec overriding the mechanical loss of that mode (modal superposition only)."""
+
+    mechanical: str
+    mechanical_source: str
+    tan_delta: float
+    tan_delta_source: str
+    fallback: str = ""
+    fallback_source: str = ""
+    per_mode: Mapping[str, str] = field(default_factory=dict)
+
+    def describe(self) -> list[str]:
+        lines = [f"mechanical: {self.mechanical} ({self.mechanical_source})"]
+        if self.mechanical == "material":
+            lines[0] = f"mechanical: per material, modal strain-energy weighted 1 / Qm ({self.mechanical_source})"
+            lines.append(f"materials without Qm and springs: {self.fallback} ({self.fallback_source})")
+        lines += [f"mode {label}: {spec} (set by the user)" for label, spec in self.per_mode.items()]
+        lines.append(f"dielectric: tan delta = {self.tan_delta:g} on the blocked capacitance ({self.tan_delta_source})")
+        return lines
+
+
+def loss_spec(field_name: str, text: str) -> tuple[str, tuple[float, ...]]:
+    """(kind, numbers) of a mechanical loss spec: zeta, Q, eta, rayleigh or material."""
+    from modalfe.response.forced import Damping
+    from modalfe.scene.scene import check_underdamped
+
+    text = str(text).strip()
+    if text == "material":
+        return "material", ()
+    key, _, value = text.partition("=")
+    if key not in ("Q", "zeta", "eta", "rayleigh"):
+        raise SceneError(f"{field_name}: expected Q=Q, zeta=Z, eta=ETA, rayleigh=ALPHA,BETA or material, "
+                         f"got '{text}'")
+    if key == "eta":
+        try:
+            eta = float(value)
+        except ValueError:
+            raise SceneError(f"{field_name}: expected eta=LOSS_FACTOR, got '{text}'") from None
+        if not (math.isfinite(eta) and eta >= 0):
+            raise SceneError(f"{field_name}: eta must be finite and >= 0, got {value}")
+        check_underdamped(field_name, eta / 2)
+        return "eta", (eta,)
+    try:
+        d = Damping.parse(text)
+    except SceneError as exc:  # its own message (a number out of range, an overdamped ratio), after the flag's name
+        raise SceneError(f"{field_name}: {exc}") from None
+    if d.zeta is not None:
+        return "zeta", (d.zeta,)
+    if d.Q is not None:
+        return "zeta", (1.0 / (2.0 * d.Q),)
+    return "rayleigh", (d.alpha, d.beta)
+
+
+def resolve_losses(scene, *, damping: str | None = None, tan_delta: float | None = None,
+                   per_mode: Mapping[str, str] | None = None) -> Losses:
+    """The losses of ``scene``: ``damping`` (default: the scene's ``drive.damping``), ``tan_delta`` (default: the
+    material table's value of the scene's piezoelectric materials, 0 when it has none)."""
+    default, default_source = scene.drive.damping, scene.drive.damping_source
+    mechanical, source = (default, default_source) if damping is None else (str(damping), "set by the user")
+    loss_spec("--damping", mechanical)
+    if mechanical == "material":
+        source = _material_loss_sources(scene, "Qm") or "no material of the scene has a sourced Qm"
+    for label, spec in (per_mode or {}).items():
+        if loss_spec(f"--mode-damping {label}", spec)[0] == "material":
+            raise SceneError(f"--mode-damping {label}: 'material' applies to all modes; give Q, zeta or eta")
+    if tan_delta is not None:
+        if not (math.isfinite(tan_delta) and 0 <= tan_delta < 1):
+            raise SceneError(f"--tan-delta: must lie in [0, 1), got {tan_delta:g}")
+        td, td_source = float(tan_delta), "set by the user"
+    else:
+        values = _piezo_tan_deltas(scene)
+        if not values:
+            td, td_source = 0.0, "no dielectric loss: the scene's piezoelectric materials have no sourced tan delta"
+        else:
+            td = max(values.values())
+            td_source = _material_loss_sources(scene, "tan_delta")
+            if len(set(values.values())) > 1:
+                td_source += f"; materials differ ({values}), the largest is applied to the whole capacitance"
+    return Losses(mechanical, source, td, td_source, default, default_source, dict(per_mode or {}))
+
+
+def _piezo_tan_deltas(scene) -> dict[str, float]:
+    from modalfe.scene.materials import material_loss
+
+    out = {}
+    for part in scene.assembly().parts:
+        name = scene.material(part.material).name
+        loss = material_loss(name)
+        if part.poling and loss is not None and loss.tan_delta is not None:
+            out[name] = loss.tan_delta
+    return out
+
+
+def _material_loss_sources(scene, what: str) -> str:
+    from modalfe.scene.materials import material_loss
+
+    parts = {}
+    for part in scene.assembly().parts:
+        name = scene.material(part.material).name
+        loss = material_loss(name)
+        if loss is not None and getattr(loss, what) is not None:
+            parts[name] = f"{name} {what} {getattr(loss, what):g}: {loss.source}"
+    return "; ".join(parts.values())
+
+
+def material_stiffness(model, names) -> dict[str, sp.csr_matrix]:
+    """(n_u, n_u) elastic stiffness K_uu of the parts made of each material in ``names`` (solid model), for the
+    modal strain energy U_m = u^T K_m u / 2."""
+    from skfem import Basis, ElementVector
+
+    from modalfe.models.solid import _contract, _scatter, _strain_and_value, element_for
+
+    scene = model.scene
+    if not hasattr(model, "u_basis"):
+        raise SolverError("material losses: need the 3-D solid model")
+    scalar = element_for(scene.mesh)
+    intorder = 2 * scene.mesh.order
+    mesh = model.u_basis.mesh
+    out = {}
+    for part in scene.assembly().parts:
+        mat = scene.material(part.material)
+        if mat.name not in names:
+            continue
+        if part.poling:
+            mat = mat.poled(part.poling)
+        if model.frame is not None:
+            mat = mat.rotated(model.frame)
+        elements = model.mesh.parts[part.name]
+        for chunk in np.array_split(elements, max(1, int(np.ceil(len(elements) / 500)))):
+            b = Basis(mesh, ElementVector(scalar), intorder=intorder, elements=chunk)
+            Bv, _ = _strain_and_value(b)
+            Ke = _scatter(b.element_dofs, b.element_dofs, _contract(Bv, mat.C, Bv, b.dx), model.n_u, model.n_u)
+            out[mat.name] = out.get(mat.name, 0) + Ke
+    return {k: sp.csr_matrix(v) for k, v in out.items()}
+
+
+def qm_table(model) -> dict[str, float]:
+    """Material name -> Qm for the scene's materials with a sourced Qm."""
+    from modalfe.scene.materials import material_loss
+
+    out = {}
+    for part in model.scene.assembly().parts:
+        name = model.scene.material(part.material).name
+        loss = material_loss(name)
+        if loss is not None and loss.Qm is not None:
+            out[name] = loss.Qm
+    return out
+
+
+def fallback_eta(spec: str, omega: np.ndarray) -> np.ndarray:
+    """Loss factor equivalent at resonance (eta = 2 zeta = 1 / Q) of a spec, per angular frequency."""
+    kind, v = loss_spec("drive.damping", spec)
+    if kind == "eta":
+        return np.full_like(omega, v[0])
+    if kind == "zeta":
+        return np.full_like(omega, 2 * v[0])
+    if kind == "rayleigh":
+        return v[0] / omega + v[1] * omega
+    raise SceneError("drive.damping: 'material' cannot be its own fallback")
+
+
+def modal_losses(modes_list, model, losses: Losses) -> tuple[np.ndarray, np.ndarray, list[str]]:
+    """(c_r, h_r, descriptions): d_r = omega_r^2 - omega^2 + i (c_r omega + h_r), viscous c_r = 2 zeta_r
+    omega_r, hysteretic h_r = eta_r omega_r^2, per mode."""
+    from modalfe.scene.scene import check_underdamped
+
+    omega = np.array([m.omega for m in modes_list])
+    c, h = np.zeros(len(omega)), np.zeros(len(omega))
+    text = [""] * len(omega)
+    kind, v = loss_spec("--damping", losses.mechanical)
+    if kind != "material":
+        c[:], h[:] = _viscous_hysteretic(kind, v, omega)
+    else:
+        qm = qm_table(model)
+        stiff = material_stiffness(model, set(qm))
+        n_u = model.n_u
+        K_mech = model.K[:n_u, :n_u]
+        eta = np.zeros(len(omega))
+        covered = np.zeros(len(omega))
+        for i, m in enumerate(modes_list):
+            u = m.shape[:n_u]
+            total = float(u @ (K_mech @ u))
+            for name, K_m in stiff.items():
+                frac = float(u @ (K_m @ u)) / total
+                eta[i] += frac / qm[name]
+                covered[i] += frac
+        eta += (1 - covered) * fallback_eta(losses.fallback, omega)
+        h[:] = eta * omega**2
+        text = [f"eta {e:.3g} ({100 * f:.0f} % of the strain energy in materials with Qm)"
+                for e, f in zip(eta, covered)]
+    for i, m in enumerate(modes_list):
+        if m.label in losses.per_mode:
+            k2, v2 = loss_spec(f"--mode-damping {m.label}", losses.per_mode[m.label])
+            c[i], h[i] = _viscous_hysteretic(k2, v2, omega[i])
+            text[i] = f"{losses.per_mode[m.label]} (per mode)"
+        if not text[i]:
+            text[i] = f"zeta {c[i] / (2 * omega[i]):.3g}" if c[i] else f"eta {h[i] / omega[i] ** 2:.3g}"
+        field_name = f"--mode-damping {m.label}" if m.label in losses.per_mode else "--damping"
+        check_underdamped(field_name, c[i] / (2 * omega[i]) + h[i] / (2 * omega[i] ** 2),
+                          f" at mode {m.label} ({m.frequency:.6g} Hz)")
+    unknown = set(losses.per_mode) - {m.label for m in modes_list}
+    if unknown:
+        raise SceneError(f"--mode-damping: no mode labelled {sorted(unknown)} among "
+                         f"{[m.label for m in modes_list]}")
+    return c, h, text
+
+
+def _viscous_hysteretic(kind: str, v: tuple[float, ...], omega) -> tuple:
+    """(c, h) of d = omega_r^2 - omega^2 + i (c omega + h) at ``omega`` = omega_r for a zeta, rayleigh or eta spec."""
+    zero = 0 * omega
+    if kind == "zeta":
+        return 2 * v[0] * omega, zero
+    if kind == "rayleigh":
+        return v[0] + v[1] * omega**2, zero
+    return zero, v[0] * omega**2

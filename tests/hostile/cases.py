@@ -623,7 +623,20 @@ def _twice_identical(tmp: Path) -> bool:
     caches.clear(disk=True)  # a fresh process's state: meshes, models and answers made anew
     second = _run_cli(["forced", str(path), "--outputs", "tip,clamp", "--json"])
     a, b = json.loads(first[1]), json.loads(second[1])
-    return a["reduced_model"] == b["reduced_model"] and a == b
+    return _same(a, b)
+
+
+def _same(a, b) -> bool:
+    """JSON documents equal, numbers to 1e-6 relative: the frequencies agree to the bit, but an answer read back
+    from the kept ones reaches fa, C0 and the quasi-static residual through fresh factorizations where the solve that
+    made it reused its short circuit's (bordered); measured apart by up to 1.2e-7 (C0 3.5e-8, the FRF 1.1e-7)."""
+    if isinstance(a, dict):
+        return isinstance(b, dict) and a.keys() == b.keys() and all(_same(a[k], b[k]) for k in a)
+    if isinstance(a, list):
+        return isinstance(b, list) and len(a) == len(b) and all(_same(x, y) for x, y in zip(a, b))
+    if isinstance(a, float) and isinstance(b, float):
+        return abs(a - b) <= 1e-6 * max(abs(a), abs(b))
+    return a == b
 
 
 def _assumptions_follow(tmp: Path) -> bool:

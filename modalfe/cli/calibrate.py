@@ -130,8 +130,24 @@ def _print(result) -> None:
             print(f"{name:<{width}} " + " ".join(f"{c:+7.3f}" for c in row))
     print("\nsingular values of the weighted Jacobian: " + ", ".join(f"{s:.3g}" for s in result.singular_values))
     print("\n".join(result.unidentified) if result.unidentified else "every parameter is identified by the data")
-    print("parameters: " + " ".join(f"--set {n}={v:.9g}" for n, v in zip(result.parameters, result.values)
-                                     if not n.startswith("parts.") and "*" not in n))
+    print("parameters: " + " ".join(_reproduce(result)))
+
+
+def _reproduce(result) -> list[str]:
+    """The ``--set`` options that give the fitted scene: every member of a tie (``springs.foot_*.z``: each foot's
+    spring, whole, as ``--set`` takes it) at full precision (``repr``); box parts' sizes are in the scene written by
+    ``tune --out``, not here."""
+    from modalfe.response.sensitivity import parameter_value, tied_members
+
+    scene, sets = result.scene, {}
+    for name in result.parameters:
+        for member in tied_members(scene, name):
+            head, group = member.split(".")[:2]
+            if head == "springs":
+                sets[f"springs.{group}"] = "[" + ", ".join(repr(float(k)) for k in scene.springs[group]) + "]"
+            elif head != "parts":
+                sets[member] = repr(parameter_value(scene, member))
+    return [f"--set '{k}={v}'" if v.startswith("[") else f"--set {k}={v}" for k, v in sets.items()]
 
 
 def _document(scene, result, starts) -> dict:

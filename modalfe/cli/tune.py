@@ -149,14 +149,22 @@ def _tune(args) -> int:
             print(f"k_eff {result.iterates[0].k_eff:.5f} at the start, {start}, {final.k_eff:.5f} final{gain}")
         if final.feet:
             print(f"feet: {feet_text(final.feet)}")
-        print("parameters: " + " ".join(f"--set {n}={v:.9g}" for n, v in final.values.items()
-                                         if not n.startswith("parts.")))
+        print("parameters: " + " ".join(_reproduce(final)))
         if args.out is not None:
             print(f"design written to {args.out}")
     if not result.converged:
         print(f"modalfe: tune: not converged (tol {args.tol:.2%}): {result.reason}", file=sys.stderr)
         return 1
     return 0
+
+
+def _reproduce(final) -> list[str]:
+    """The ``--set`` options that give the final design: its parameters at full precision (``repr``: the design
+    itself, not a rounding of it) and the feet it moved."""
+    sets = [f"--set {n}={v!r}" for n, v in final.values.items() if not n.startswith("parts.")]
+    if final.feet:
+        sets.append("--set 'feet=[" + ", ".join(f"[{x!r}, {y!r}]" for x, y in final.feet) + "]'")
+    return sets
 
 
 def _line(k: int, it, targets) -> str:

@@ -107,3 +107,21 @@ def test_a_measured_label_of_no_label_form_is_refused_before_any_solve(files, tm
     bad.write_text(MEASURED.replace('"(0,2)"', '"mode 2"'))
     assert main(["calibrate", scene, "--measured", str(bad), "--vary", "materials.steel.E"]) == 2
     assert capsys.readouterr().err.startswith(f"modalfe: error: {bad}: mode[0].label: 'mode 2' is not a mode label")
+
+
+def test_the_printed_set_lines_give_the_fitted_scene():
+    """issue 34: the reproduce line left out the springs a tie fitted; now every member, at full precision."""
+    from types import SimpleNamespace
+
+    from modalfe.cli.calibrate import _reproduce
+    from modalfe.cli.options import parse_overrides
+    from modalfe.response.sensitivity import with_values
+    from tests.design.test_calibration import _strip_on_springs
+
+    base = _strip_on_springs(1.5e4, 1.5e4)
+    fitted = with_values(base, {"springs.foot_1.z": 2.0123456789e4, "springs.foot_2.z": 2.0123456789e4,
+                                "materials.steel.E": 2.0987654321e11})
+    lines = _reproduce(SimpleNamespace(parameters=("springs.foot_*.z", "materials.steel.E"), scene=fitted))
+    assert len(lines) == 3 and all(line.startswith("--set ") for line in lines)
+    again = base.with_overrides(**parse_overrides([line.split(" ", 1)[1].strip("'") for line in lines]))
+    assert again.springs == fitted.springs and again.materials == fitted.materials

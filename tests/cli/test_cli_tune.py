@@ -84,3 +84,22 @@ def test_malformed_options_are_refused_in_one_line(strip, capsys, extra, message
     assert main(["tune", strip, "--vary", "parts.strip.size.x", *extra]) == 2
     err = capsys.readouterr().err.strip()
     assert message in err and "\n" not in err
+
+
+def test_the_printed_set_lines_give_the_design_with_its_feet():
+    """issue 34: the reproduce line left out the feet tune moved; now the parameters at full precision and the feet."""
+    from types import SimpleNamespace
+
+    from modalfe.cli.options import parse_overrides
+    from modalfe.cli.tune import _reproduce
+    from modalfe.geometry import builder_parameters
+
+    feet = builder_parameters("cube_plate")["feet"].default  # moved along x: their mirror images stay
+    final = SimpleNamespace(values={"length": 0.06298765432109876, "ceramic_thickness": 6.5123456789e-4},
+                            feet=tuple((x + 1.23456789e-4, y) for x, y in feet))
+    lines = _reproduce(final)
+    overrides = parse_overrides([line.split(" ", 1)[1].strip("'") for line in lines])
+    scene = load_scene("cube_plate", **overrides)
+    assert scene.params["length"] == final.values["length"]
+    assert scene.params["ceramic_thickness"] == final.values["ceramic_thickness"]
+    assert tuple(tuple(f) for f in scene.params["feet"]) == final.feet

@@ -33,7 +33,8 @@ import time
 
 import numpy as np
 
-from modalfe.design.calibration import CALIBRATE_COUNT, Measurement, calibrate, posterior
+from modalfe.design.calibration import CALIBRATE_COUNT, calibrate, posterior
+from modalfe.design.measurements import Measurement
 from modalfe.scene import load_scene
 from modalfe.solve.api import OWN_MESH, solve_modes
 

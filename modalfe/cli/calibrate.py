@@ -43,7 +43,8 @@ def register(sub) -> None:
 
 
 def _calibrate(args) -> int:
-    from modalfe.design.calibration import calibrate, read_measurements
+    from modalfe.design.calibration import calibrate
+    from modalfe.design.measurements import read_measurements
     from modalfe.scene import load_scene
 
     names = parse_names(args.vary)

@@ -27,10 +27,10 @@ import math
 import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
-from pathlib import Path
 
 import numpy as np
 
+from modalfe.design.measurements import Measurement
 from modalfe.design.tuning import check_variables
 from modalfe.errors import SceneError, SolverError
 from modalfe.response.sensitivity import (
@@ -39,7 +39,6 @@ from modalfe.response.sensitivity import (
     perturbed_model,
     with_values,
 )
-from modalfe.results.labels import check_selector
 from modalfe.results.modes import select
 from modalfe.solve.api import solid_modes, solve_modes
 from modalfe.solve.estimates import partner
@@ -54,72 +53,6 @@ WAVELENGTH_STEP = 1e-3  # relative step of the wavelength's central difference (
 _SHIFT = 0.995  # solves are shifted this far below the expected frequency: never onto an eigenvalue
 _ACCEPT = 0.1  # actual / predicted chi^2 reduction above which a trial point is accepted
 _MESH_MARGIN = 1.1  # the mesh resolves the highest measured frequency with this margin
-_FIELDS = {"label", "frequency", "sigma", "wavelength", "wavelength_sigma"}
-
-
-@dataclass(frozen=True)
-class Measurement:
-    """One measured mode: ``label`` (its shape, e.g. ``(0,6)``), ``frequency`` and its 1-sigma ``sigma`` [Hz];
-    optionally its bending ``wavelength`` along the length and ``wavelength_sigma`` [m] (NaN when not measured)."""
-
-    label: str
-    frequency: float
-    sigma: float
-    wavelength: float = math.nan
-    wavelength_sigma: float = math.nan
-
-
-def read_measurements(path: str | Path) -> tuple[Measurement, ...]:
-    """Measurements from a TOML file of ``[[mode]]`` tables (``measurements_from_dict``); SceneError naming the
-    file and field at fault."""
-    from modalfe.scene.loading import tomllib  # the standard library's, or tomli before Python 3.11
-
-    try:
-        with open(path, "rb") as handle:
-            data = tomllib.load(handle)
-    except tomllib.TOMLDecodeError as exc:
-        raise SceneError(f"{path}: not valid TOML ({exc})") from None
-    except UnicodeDecodeError as exc:
-        raise SceneError(f"{path}: not UTF-8 text (byte {exc.start}: a binary file?); --measured takes a TOML file "
-                         f"of [[mode]] tables") from None
-    return measurements_from_dict(data, source=str(path))
-
-
-def measurements_from_dict(data: Mapping, *, source: str = "measured") -> tuple[Measurement, ...]:
-    """``{"mode": [{"label": "(0,6)", "frequency": 40.7e3, "sigma": 50.0, "wavelength": ..., "wavelength_sigma":
-    ...}, ...]}``: frequency, sigma [Hz] and wavelength, wavelength_sigma [m] positive; sigma is required (there is
-    no default uncertainty), wavelength_sigma with a wavelength; labels distinct."""
-    if not isinstance(data, Mapping) or set(data) != {"mode"}:
-        extra = sorted(set(data) - {"mode"}) if isinstance(data, Mapping) else []
-        raise SceneError(f"{source}: {extra[0] if extra else 'mode'}: expected only [[mode]] tables")
-    rows = data["mode"]
-    if not isinstance(rows, list) or not rows or not all(isinstance(row, Mapping) for row in rows):
-        raise SceneError(f"{source}: mode: give one or more [[mode]] tables")
-    out = []
-    for i, row in enumerate(rows):
-        where = f"{source}: mode[{i}]"
-        unknown = sorted(set(row) - _FIELDS)
-        if unknown:
-            raise SceneError(f"{where}.{unknown[0]}: unknown field; known: {sorted(_FIELDS)}")
-        label = row.get("label")
-        if not isinstance(label, str) or not label.strip():
-            raise SceneError(f"{where}.label: required, the mode's shape label, e.g. \"(0,6)\"")
-        check_selector(label, f"{where}.label")  # its form, before any solve
-        values = {key: _positive(f"{where}.{key}", row[key]) if key in row else math.nan
-                  for key in ("frequency", "sigma", "wavelength", "wavelength_sigma")}
-        for key in ("frequency", "sigma"):
-            if math.isnan(values[key]):
-                raise SceneError(f"{where}.{key}: required ({'Hz' if key == 'frequency' else '1-sigma, Hz'})")
-        if math.isnan(values["wavelength"]) != math.isnan(values["wavelength_sigma"]):
-            missing, given = (("wavelength_sigma", "wavelength") if math.isnan(values["wavelength_sigma"])
-                              else ("wavelength", "wavelength_sigma"))
-            raise SceneError(f"{where}.{missing}: required with {given} [m]")
-        out.append(Measurement(label.strip(), **values))
-    labels = [m.label for m in out]
-    for i, name in enumerate(labels):
-        if name in labels[:i]:
-            raise SceneError(f"{source}: mode[{i}].label: '{name}' measured twice; give each mode once")
-    return tuple(out)
 
 
 @dataclass(frozen=True)
@@ -327,12 +260,6 @@ class _Fit:
         return point, chi2, converged, reason
 
 
-def _positive(field: str, value) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not (math.isfinite(value) and value > 0):
-        raise SceneError(f"{field}: must be a positive number (SI: Hz, m), got {value!r}")
-    return float(value)
-
-
 def _data(measurements: Sequence[Measurement]) -> tuple[tuple[str, ...], np.ndarray, np.ndarray]:
     """Quantities (frequencies first, in measurement order, then wavelengths), measured values and sigmas."""
     waved = [m for m in measurements if not math.isnan(m.wavelength)]
@@ -430,8 +357,9 @@ def _solve(scene, measurements, near, x, previous: tuple = (), resolved: Mapping
     solves = [first]
     chosen = []
     for m, f in zip(measurements, near):
-        try:
-            mode = select(_covering(solves, first.model, f), m.label, f)
+        try:  # on the resolved model, the resolved solve's own mode (with its stated error) where it holds one
+            mode = select(first if resolved is not None and _holds(first, m.label) else
+                          _covering(solves, first.model, f), m.label, f)
         except SolverError:  # crowded by other modes: once more with four times as many around it
             analysis = replace(scene.analysis, near=_SHIFT * f, count=4 * CALIBRATE_COUNT, band=None, circuit="short")
             solves.append(modes_of(first.model, analysis, fidelity="solid"))
@@ -449,6 +377,15 @@ def _solve(scene, measurements, near, x, previous: tuple = (), resolved: Mapping
     waved = [mode.wavelength for m, mode in zip(measurements, chosen) if not math.isnan(m.wavelength)]
     return _Point(np.asarray(x, dtype=float), scene, np.array([mode.frequency for mode in chosen] + waved),
                   tuple(chosen), first)
+
+
+def _holds(modes, label: str) -> bool:
+    """Whether ``modes`` hold a mode of ``label`` (``select`` finds it)."""
+    try:
+        select(modes, label, modes[0].frequency if len(modes) else 0.0)
+    except SolverError:
+        return False
+    return True
 
 
 def _covering(solves: list, model, frequency: float):

@@ -7,11 +7,9 @@ import numpy as np
 import pytest
 
 from modalfe.design.calibration import (
-    Measurement,
     calibrate,
-    measurements_from_dict,
-    read_measurements,
 )
+from modalfe.design.measurements import Measurement, measurements_from_dict, read_measurements
 from modalfe.design.multistart import latin_hypercube
 from modalfe.errors import SceneError, SolverError
 from modalfe.response.sensitivity import with_values

@@ -173,9 +173,12 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
     mode = select(modes, selector, near)
     rom = reduce(mode, outputs=outputs, damping=damping, load=None if voltage else load)
     fa = None
-    if voltage:  # sought where the one-mode circuit puts it: a strongly coupled mode's fa lies past other modes
-        try:
-            fa = open_circuit_partner(modes, mode, near=rom.antiresonance).frequency
+    if voltage:  # at the short circuit's shift (its factorization reused), else where the one-mode circuit puts it:
+        try:  # a strongly coupled mode's fa lies past other modes (a disc's R1)
+            try:
+                fa = open_circuit_partner(modes, mode, near=question.get("near", mode.frequency)).frequency
+            except SolverError:
+                fa = open_circuit_partner(modes, mode, near=rom.antiresonance).frequency
         except SolverError as exc:
             notes_fa = f"open-circuit fa not found ({exc}); the BVD's one-mode fa stands alone"
         else:

@@ -184,10 +184,12 @@ def admittance(scene, band: tuple[float, float], points: int, *, damping: str | 
         raise SceneError(f"widen: must be >= 1, got {widen:g}")
     lo, hi = band[0] / widen, band[1] * widen
     # the working modes in the band drive the resolution, as ``modes`` resolves them (one fr in every command); in a
-    # band without one, the mode nearest its centre, as ``modes --near`` the centre would (every mode of a wide band
-    # of a disc refined its flexural modes for minutes)
+    # band without one, the mode nearest the scene's analysis.near (else the band's centre), as ``modes`` asks it
+    # (every mode of a wide band of a disc refined its flexural modes for minutes)
+    near = scene.analysis.near if scene.analysis.near is not None and lo <= scene.analysis.near <= hi else \
+        0.5 * (band[0] + band[1])  # the scene's own frequency where the band holds it: the mode ``modes`` resolves
     working = tuple((wm.selector, wm.near) for wm in scene.working_modes if lo <= wm.near <= hi) \
-        or ((NEAREST, 0.5 * (band[0] + band[1])),)
+        or ((NEAREST, near),)
     try:
         modes = solid_modes(scene, needs="the admittance", band=(lo, hi), circuit="short", check=working,
                             **resolution)

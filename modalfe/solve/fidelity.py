@@ -44,10 +44,11 @@ from modalfe.solve.estimates import (
     LOWEST_P_LEVEL,
     MIN_ORDER,
     MIN_P_RATE,
-    axis_ratio,
+    MIN_RATIO,
     coarse_level,
     coarser,
     level_layers,
+    level_ratio,
     p_extrapolation,
     partner,
     richardson,
@@ -230,12 +231,23 @@ def solid_estimates(fine: Modes, levels: list[Modes], scene, step_level: Modes |
     else:
         coarse, coarsest = levels
         singular = singular_field(scene)
-        estimates = richardson(fine, coarse, axis_ratio(fine.model.mesh, coarse.model.mesh, scene), coarsest,
-                               axis_ratio(fine.model.mesh, coarsest.model.mesh, scene),
+        ratios = [level_ratio(fine.model.mesh, level.model.mesh, scene) for level in levels]
+        estimates = richardson(fine, coarse, ratios[0][0], coarsest, ratios[1][0],
                                ceiling=MIN_ORDER if singular else CONVERGENCE_ORDER)
-        method = "h-refinement: Richardson through three grids (elements x1, x1.5, x2.25)"
+        unused = [f"x{factor:g} (its {where} is coarser by {ratio:.2f} only)"
+                  for factor, (ratio, where) in zip(CHECK_FACTORS, ratios) if ratio < MIN_RATIO and where]
+        if ratios[0][0] >= MIN_RATIO and ratios[1][0] >= MIN_RATIO:
+            method = "h-refinement: Richardson through three grids (elements x1, x1.5, x2.25)"
+        elif ratios[1][0] >= MIN_RATIO or ratios[0][0] >= MIN_RATIO:
+            used = CHECK_FACTORS[0 if ratios[0][0] >= MIN_RATIO else 1]
+            method = f"h-refinement: Richardson from two grids (elements x1, x{used:g})"
+            method += "" if singular else f" at order {MIN_ORDER:g}"
+        else:
+            method = "h-refinement: no coarser level coarsens every part: error unknown (infinite)"
         if singular:
             method += f" at order {MIN_ORDER:g}, the least a singular field converges at ({singular})"
+        if unused:
+            method += f"; level not used as a step: {'; '.join(unused)}"
         if checks_order_step(scene):
             step, _ = p_extrapolation(fine, step_level)
             estimates = {i: max(e, step.get(i, e)) for i, e in estimates.items()}

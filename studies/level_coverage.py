@@ -23,48 +23,9 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from modalfe.results.modes import select
-from modalfe.scene import scene_from_dict
 from modalfe.solve.fidelity import solve_estimated
 from modalfe.solve.levels import solve_level
-
-
-def stack_scene(max_size: float = 0.75e-3, near: float = 191.8e3, count: int = 6):
-    """The free disc stack (module docstring); ``max_size`` [m]."""
-    return scene_from_dict({
-        "name": "disc-stack", "units": "mm",
-        "parts": [
-            {"name": "plate", "shape": "cylinder", "material": "Al-5052", "centre": [0, 0, 0], "axis": "z",
-             "radius": 6, "height": 1.5},
-            {"name": "glue", "shape": "cylinder", "material": "epoxy", "centre": [0, 0, 1.5], "axis": "z",
-             "radius": 4, "height": 0.05},
-            {"name": "ceramic", "shape": "cylinder", "material": "PZT-5A", "centre": [0, 0, 1.55], "axis": "z",
-             "radius": 4, "height": 1.2, "poling": 1},
-        ],
-        "faces": {"top": ["ceramic.top"], "bottom": ["ceramic.bottom"]},
-        "electrodes": {"top": "drive", "bottom": "ground"},
-        "analysis": {"near": near, "count": count}, "mesh": {"max_size": max_size},
-    })
-
-
-def strip_scene(max_size: float = 2e-3, near: float = 20e3, count: int = 4):
-    """A thick Cu-Be plate 20 x 16 x 2 mm clamped (all components) on a 2 mm strip across its lower face."""
-    return scene_from_dict({
-        "name": "strip-plate", "units": "mm", "kind": "plate",
-        "parts": [{"name": "plate", "material": "CuBe", "origin": [0, 0, 0], "size": [20, 16, 2]}],
-        "faces": {"strip": [{"face": "plate.zmin", "window": [[0, 7], [20, 9]]}]},
-        "clamps": {"strip": "xyz"}, "analysis": {"near": near, "count": count},
-        "mesh": {"max_size": max_size},
-    })
-
-
-def cantilever_plate_scene(max_size: float = 2.5e-3, near: float = 3e3, count: int = 4):
-    """A thin Cu-Be plate 30 x 10 x 0.5 mm clamped (all components) on its end xmin."""
-    return scene_from_dict({
-        "name": "cantilever-plate", "units": "mm", "kind": "plate",
-        "parts": [{"name": "plate", "material": "CuBe", "origin": [0, 0, 0], "size": [30, 10, 0.5]}],
-        "faces": {"root": ["plate.xmin"]}, "clamps": {"root": "xyz"}, "analysis": {"near": near, "count": count},
-        "mesh": {"max_size": max_size},
-    })
+from tests.oracles.cases import cantilever_plate_scene, stack_scene, strip_scene
 
 
 def at_order(scene, order: int):

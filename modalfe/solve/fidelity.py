@@ -271,7 +271,8 @@ def h_estimates(fine: Modes, levels: list[Modes], scene) -> tuple[dict[int, floa
     estimates = {m.index: max(e.get(m.index, math.inf) for _, e in found) for m in fine if
                  any(m.index in e for _, e in found)}
     grids = " and ".join(f"x{factor:g}" for factor, _ in found)
-    method = (f"h-refinement: Richardson from two grids (elements x1 and {grids}, the larger) at order "
+    method = (f"h-refinement: Richardson from two grids (elements x1 against {grids}"
+              f"{', the larger' if len(found) > 1 else ''}) at order "
               f"{MIN_ORDER:g}" + (f" ({singular})" if singular else "") + f"; not used as a step: {'; '.join(unused)}")
     return estimates, method
 

@@ -244,7 +244,7 @@ def h_estimates(fine: Modes, levels: list[Modes], scene) -> tuple[dict[int, floa
     ``MIN_RATIO`` along every axis (``level_ratio``: a part or face window whose element count rounds to the same on
     two grids is not coarsened there, and the step between them misses its error); else no order is observed, and
     each grid that coarsens every part of ``fine`` gives a two-level estimate at ``MIN_ORDER``, the larger used; with
-    none, infinite (no level measures the error)."""
+    none, infinite (no level measures the error). A level without a partner for a mode (inf) yields to the other."""
     coarse, coarsest = levels
     singular = singular_field(scene)
     ceiling = MIN_ORDER if singular else CONVERGENCE_ORDER
@@ -268,8 +268,14 @@ def h_estimates(fine: Modes, levels: list[Modes], scene) -> tuple[dict[int, floa
         return ({m.index: math.inf for m in fine if m.frequency >= 1e-6 * max(x.frequency for x in fine)},
                 f"h-refinement: no coarser grid coarsens every part: error unknown; levels not used: "
                 f"{'; '.join(unused)}")
-    estimates = {m.index: max(e.get(m.index, math.inf) for _, e in found) for m in fine if
-                 any(m.index in e for _, e in found)}
+    # each usable level bounds the error at order 1 by itself: a level that does not hold a mode (no partner, inf)
+    # adds nothing where the other does
+    estimates = {}
+    for m in fine:
+        values = [e[m.index] for _, e in found if m.index in e]
+        if values:
+            finite = [v for v in values if math.isfinite(v)]
+            estimates[m.index] = max(finite) if finite else math.inf
     grids = " and ".join(f"x{factor:g}" for factor, _ in found)
     method = (f"h-refinement: Richardson from two grids (elements x1 against {grids}"
               f"{', the larger' if len(found) > 1 else ''}) at order "

@@ -282,7 +282,9 @@ CASES = {
     "cantilever, solid": lambda: _cantilever_rows("solid"),
     "cantilever, beam": lambda: _cantilever_rows("beam"),
     "free plate, plate": lambda: _against_finer("free plate", free_plate_scene(), 5e3, FREE_PLATE_COUNT, "plate", 0.5),
-    "clamped bar, solid": lambda: _against_finer("clamped bar", clamped_bar_scene(0.3, 2e-3), 1.5e3, 4, "solid", 0.5),
+    # elements 4x smaller than the bar's 2 mm (was 2x): refined to tol the solid now lands within the 2x reference's own
+    # stated error of it (estimate levels judged per part and interval, issue 34), which could no longer tell (~50 s)
+    "clamped bar, solid": lambda: _against_finer("clamped bar", clamped_bar_scene(0.3, 2e-3), 1.5e3, 4, "solid", 0.25),
     "thin SS plate, solid": lambda: _plate_rows("thin SS plate", THIN, THIN[0] / 24, "solid"),
     "clamped thin plate, solid": lambda: _against_finer("clamped plate", clamped_plate_scene(40e-3 / 12), 6e3, 6,
                                                         "solid", 0.25),
@@ -293,7 +295,8 @@ CASES = {
 # checked (it was, then was not, when PARDISO's iterative refinement went); 10 holds all six and (0,2) to (1,2)
 FREE_PLATE_COUNT = 10
 # 10-60 s each (the k31 bar's 3x finer reference, the free plate's cross-check): run with -m slow
-SLOW = ("k31 bar", "free plate, plate", "thin SS plate, solid", "clamped thin plate, solid", "piezo cube, solid")
+SLOW = ("k31 bar", "free plate, plate", "thin SS plate, solid", "clamped thin plate, solid", "piezo cube, solid",
+        "clamped bar, solid")
 
 
 def order_cases(order: int | str = 4) -> dict:

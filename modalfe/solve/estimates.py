@@ -348,6 +348,60 @@ def axis_ratio(fine_mesh, coarse_mesh, scene) -> float:
     return float(ratios[can].min()) if can.any() else float(ratios.min())
 
 
+def interval_extents(mesh, scene) -> dict[tuple[str, int, int], tuple[float, float]]:
+    """{(part, axis, grid interval): (largest element extent [m] along the axis, the interval's length [m])} of a
+    hexahedral ``mesh`` (``DeviceMesh``), over each part's elements whose centres lie in that interval of the
+    assembly's grid (``grid_breaks``: the parts' faces and face windows' edges, which every level of the scene keeps
+    as element boundaries): along every axis on box hexahedra, along the sweep axis alone on swept ones (their
+    section meshes are unstructured); {} on tetrahedra. The largest extent, not the mean: layers graded toward a
+    clamped face scale with the level's element size, the uniform elements beside them are the level's own size."""
+    from modalfe.geometry.gmsh_model import grid_breaks
+
+    if mesh.element != "hex":
+        return {}
+    assembly = scene.assembly()
+    axes = range(3) if not assembly.shaped else (() if assembly.sweep_axis is None else (assembly.sweep_axis,))
+    breaks = grid_breaks(assembly)
+    p, t = mesh.mesh.p, mesh.mesh.t[:8]
+    out = {}
+    for name, cells in mesh.parts.items():
+        for axis in axes:
+            coords = p[axis][t[:, cells]]
+            extent, centre = coords.max(axis=0) - coords.min(axis=0), coords.mean(axis=0)
+            where = np.clip(np.searchsorted(breaks[axis], centre) - 1, 0, len(breaks[axis]) - 2)
+            for i in np.unique(where):
+                length = float(breaks[axis][i + 1] - breaks[axis][i])
+                out[name, int(axis), int(i)] = (float(extent[where == i].max()), length)
+    return out
+
+
+def uncoarsened(fine_mesh, coarse_mesh, scene) -> tuple[float, str]:
+    """(the least element-size ratio, coarse over fine, over every part's grid intervals along each axis that the
+    fine level splits into two elements or more (``interval_extents``), inf where there is none; the part, axis and
+    interval of that least ratio in words). A part or a face window's interval whose element count rounds to the
+    same on both levels (ceil of its length over the level's size: 0.5 mm of ceramic at 0.30 and 0.45 mm elements is
+    2 layers on both) has ratio 1: the coarse level sees none of the error there, however much the main part
+    coarsens (``axis_ratio`` measures the main part alone)."""
+    fine, coarse = interval_extents(fine_mesh, scene), interval_extents(coarse_mesh, scene)
+    worst, where = math.inf, ""
+    for key, (h, length) in fine.items():
+        if key not in coarse or h > length * (1 - 1e-6):
+            continue  # one element across: no level can coarsen it (its grid lines are the geometry's)
+        ratio = coarse[key][0] / h
+        if ratio < worst:
+            part, axis, i = key
+            worst, where = ratio, f"part '{part}' along {'xyz'[axis]} (grid interval {i}, {length * 1e3:.3g} mm)"
+    return worst, where
+
+
+def level_ratio(fine_mesh, coarse_mesh, scene) -> tuple[float, str]:
+    """(the refinement ratio every direction of every part has at least between two levels: the smaller of
+    ``axis_ratio`` and ``uncoarsened``; where the second decides it, the part and interval in words, else "")."""
+    main = axis_ratio(fine_mesh, coarse_mesh, scene)
+    least, where = uncoarsened(fine_mesh, coarse_mesh, scene)
+    return (least, where) if least < main else (main, "")
+
+
 def refinement_ratio(fine_mesh, coarse_mesh, scene) -> float:
     """Mean element-size ratio between two meshes of the main part: (n_fine / n_coarse)^(1/3)."""
     main = scene.assembly().main_part.name

@@ -87,3 +87,44 @@ def two_patch_bar_scene(**extra):
     for key, value in extra.items():
         data[key] = {**data[key], **value} if isinstance(value, dict) and key in data else value
     return scene_from_dict(data)
+
+
+def stack_scene(max_size: float = 0.75e-3, near: float = 191.8e3, count: int = 6):
+    """A free aluminium disc (12 x 1.5 mm) with a PZT-5A disc (8 x 1.2 mm) bonded by 50 um of epoxy, on elements of
+    ``max_size`` [m] (studies/level_coverage.py): at 0.75 mm the ceramic is 2 layers on the scene's grid and on the x1.5
+    estimate level, 1 on the x2.25 one; its torsion mode T2 near 192 kHz."""
+    return scene_from_dict({
+        "name": "disc-stack", "units": "mm",
+        "parts": [
+            {"name": "plate", "shape": "cylinder", "material": "Al-5052", "centre": [0, 0, 0], "axis": "z",
+             "radius": 6, "height": 1.5},
+            {"name": "glue", "shape": "cylinder", "material": "epoxy", "centre": [0, 0, 1.5], "axis": "z",
+             "radius": 4, "height": 0.05},
+            {"name": "ceramic", "shape": "cylinder", "material": "PZT-5A", "centre": [0, 0, 1.55], "axis": "z",
+             "radius": 4, "height": 1.2, "poling": 1},
+        ],
+        "faces": {"top": ["ceramic.top"], "bottom": ["ceramic.bottom"]},
+        "electrodes": {"top": "drive", "bottom": "ground"},
+        "analysis": {"near": near, "count": count}, "mesh": {"max_size": max_size},
+    })
+
+
+def strip_scene(max_size: float = 1.2e-3, near: float = 20e3, count: int = 4):
+    """A thick Cu-Be plate 20 x 16 x 2 mm clamped (all components) on a 2 mm strip across its lower face."""
+    return scene_from_dict({
+        "name": "strip-plate", "units": "mm", "kind": "plate",
+        "parts": [{"name": "plate", "material": "CuBe", "origin": [0, 0, 0], "size": [20, 16, 2]}],
+        "faces": {"strip": [{"face": "plate.zmin", "window": [[0, 7], [20, 9]]}]},
+        "clamps": {"strip": "xyz"}, "analysis": {"near": near, "count": count},
+        "mesh": {"max_size": max_size},
+    })
+
+
+def cantilever_plate_scene(max_size: float = 2.5e-3, near: float = 3e3, count: int = 4):
+    """A thin Cu-Be plate 30 x 10 x 0.5 mm clamped (all components) on its end xmin."""
+    return scene_from_dict({
+        "name": "cantilever-plate", "units": "mm", "kind": "plate",
+        "parts": [{"name": "plate", "material": "CuBe", "origin": [0, 0, 0], "size": [30, 10, 0.5]}],
+        "faces": {"root": ["plate.xmin"]}, "clamps": {"root": "xyz"}, "analysis": {"near": near, "count": count},
+        "mesh": {"max_size": max_size},
+    })

@@ -91,6 +91,7 @@ def test_two_parameters_take_the_minimum_norm_step():
     assert d_l / d_t == pytest.approx(-2.0, rel=0.02)  # sensitivities -2.000 / +0.997 at the start
 
 
+@pytest.mark.slow  # 30 s: two targets verified on their resolved models; test_length_to_a_target covers the stages
 def test_two_targets_two_parameters():
     """(0,2) bending (d ln f / d ln L ~ -2, d ln f / d ln t ~ +1) and (1,1) twisting (Saint-Venant: f ~ t / (w L),
     so ~ -1 and ~ +1) are independent in (L, t): +5 % and -3 % are both met."""

@@ -172,7 +172,7 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
     modes = solid_modes(scene, needs="the forced response", **question, **resolution)
     mode = select(modes, selector, near)
     rom = reduce(mode, outputs=outputs, damping=damping, load=None if voltage else load)
-    fa = None
+    fa, notes_fa = None, ""
     if voltage:  # at the short circuit's shift (its factorization reused), else where the one-mode circuit puts it:
         try:  # a strongly coupled mode's fa lies past other modes (a disc's R1)
             try:
@@ -181,8 +181,6 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
                 fa = open_circuit_partner(modes, mode, near=rom.antiresonance).frequency
         except SolverError as exc:
             notes_fa = f"open-circuit fa not found ({exc}); the BVD's one-mode fa stands alone"
-        else:
-            notes_fa = ""
     amp = {o: float(abs(rom.frf(rom.frequency, o))) for o in rom.shapes}
     omega = rom.omega
     accel = {o: (omega**2 * a, 2 / np.pi * omega**2 * a) for o, a in amp.items()}
@@ -213,7 +211,7 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
                                      (not isinstance(o, str) and o[0] == rom.reference)],
                                      damping=damping, reference_omega=omega, load=None if voltage else load)
         frf_full = response.displacement[rom.reference][:, 2]
-    notes = [f"damping {rom.damping_description} ({source})"] + ([notes_fa] if voltage and notes_fa else [])
+    notes = [f"damping {rom.damping_description} ({source})"] + ([notes_fa] if notes_fa else [])
     if not voltage and load.kind == "base-acceleration":
         notes.append("displacement, velocity and acceleration are relative to the base; absolute acceleration "
                      "= relative + base")

@@ -627,9 +627,10 @@ def _twice_identical(tmp: Path) -> bool:
 
 
 def _same(a, b) -> bool:
-    """JSON documents equal, numbers to 1e-6 relative: the frequencies agree to the bit, but an answer read back
-    from the kept ones reaches fa, C0 and the quasi-static residual through fresh factorizations where the solve that
-    made it reused its short circuit's (bordered); measured apart by up to 1.2e-7 (C0 3.5e-8, the FRF 1.1e-7)."""
+    """JSON documents equal, numbers to 1e-6 relative: the frequencies agree to the bit, but the mode shapes of two
+    solves of one question agree only to ARPACK's residual tolerance (1e-8, on 2 PARDISO threads not bitwise
+    repeatable), and what is linear in a shape (C0 of the one-mode circuit, the FRF, fa through a fresh or a reused
+    factorization) carries that, divided by the mode's gap: measured up to 1.2e-7 apart (C0 3.5e-8, FRF 1.1e-7)."""
     if isinstance(a, dict):
         return isinstance(b, dict) and a.keys() == b.keys() and all(_same(a[k], b[k]) for k in a)
     if isinstance(a, list):

@@ -13,6 +13,7 @@ from modalfe.cli.options import (
     positive_int,
     solve_keywords,
     solve_options,
+    stated,
 )
 from modalfe.errors import SceneError
 
@@ -103,8 +104,8 @@ def _admittance(args) -> int:
         print(f"  loss {line}")
     for note in result.notes:
         print(f"  note: {note}")
-    print(f"  blocked capacitance C0 {1e9 * result.capacitance_blocked:.4g} nF; |Y| at {band[0]:g} Hz "
-          f"{abs(result.Y[0]):.4g} S")
+    print(f"  blocked capacitance C0 {1e9 * result.capacitance_blocked:.4g} nF [{stated(result.capacitance_error)}]; "
+          f"|Y| at {band[0]:g} Hz {abs(result.Y[0]):.4g} S")
     ext = result.extrema()
     print("  |Y| maxima (near fr) [Hz]: " + (", ".join(f"{f:.1f}" for f in ext["max_abs_Y_hz"]) or "none"))
     print("  |Y| minima (near fa) [Hz]: " + (", ".join(f"{f:.1f}" for f in ext["min_abs_Y_hz"]) or "none"))
@@ -113,11 +114,21 @@ def _admittance(args) -> int:
         print("  strongest modes (modal force per volt, loss):")
         for r in sorted(strong, key=lambda r: r["frequency_hz"]):
             print(f"    {r['label']:<13} {r['frequency_hz']:10.1f} Hz  theta {r['theta_N_per_V_sqrtkg']:+.4g} "
-                  f"N/(V kg^0.5)  {r['loss']}")
+                  f"N/(V kg^0.5) [{_stated(r, 'theta')}]  {r['loss']}")
+            if "peak_hz" in r:
+                dip = f", |Y| min above it {r['dip_hz']:.1f} Hz [{_stated(r, 'dip_hz')}]" if "dip_hz" in r else ""
+                print(f"      |Y| max {r['peak_S']:.4g} S [{_stated(r, 'peak_S')}] at {r['peak_hz']:.1f} Hz "
+                      f"[{_stated(r, 'peak_hz')}]{dip}")
+    print("  [stated errors in brackets, from the frequencies' estimate levels]")
     for flag, path in (("csv", args.csv), ("s1p", args.s1p), ("plot", args.plot)):
         if path:
             print(f"  wrote {flag}: {path}")
     return 0
+
+
+def _stated(row: dict, name: str) -> str:
+    error = row.get(f"{name}_error")
+    return stated(float("inf") if error is None else error) if f"{name}_error" in row else "n/a"
 
 
 def _table(args) -> int:

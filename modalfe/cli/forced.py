@@ -96,22 +96,30 @@ def _forced(args) -> int:
           f"{rom.damping_description} ({fig.damping_source})")
     print(f"  {fig.resolution}")
     unit = fig.load_unit
-    print(f"  reduced model at {rom.reference}: m {rom.modal_mass:.4g} kg, k {rom.stiffness:.4g} N/m, "
-          f"c {rom.damping:.4g} N s/m, force factor {rom.force_factor:.4g} N/{unit}")
+
+    def pm(name: str) -> str:  # the stated error of a number, as every figure is printed
+        return f" [{stated(fig.error(name))}]"
+
+    print(f"  reduced model at {rom.reference}: m {rom.modal_mass:.4g} kg{pm('modal_mass')}, k {rom.stiffness:.4g} "
+          f"N/m{pm('stiffness')}, c {rom.damping:.4g} N s/m{pm('damping')}, force factor {rom.force_factor:.4g} "
+          f"N/{unit}{pm('force_factor')}")
+    print("  [stated errors in brackets, from the frequency's estimate levels]")
     if unit != "V":
-        _print_load(fig)
-        _print_stress(fig)
+        _print_load(fig, pm)
+        _print_stress(fig, pm)
         return 0
     bvd = rom.bvd
-    print(f"  BVD: C0 {bvd['C0']:.4g} F, R1 {bvd['R1']:.4g} ohm, L1 {bvd['L1']:.4g} H, C1 {bvd['C1']:.4g} F; "
-          f"one-mode fa {rom.antiresonance:.1f} Hz, k_eff {rom.k_eff:.4f}")
+    print(f"  BVD: C0 {bvd['C0']:.4g} F{pm('bvd:C0')}, R1 {bvd['R1']:.4g} ohm{pm('bvd:R1')}, L1 {bvd['L1']:.4g} "
+          f"H{pm('bvd:L1')}, C1 {bvd['C1']:.4g} F{pm('bvd:C1')}; one-mode fa {rom.antiresonance:.1f} "
+          f"Hz{pm('bvd_fa')}, k_eff {rom.k_eff:.4f}{pm('bvd_k_eff')}")
     if fig.antiresonance is not None:
-        print(f"  open circuit (same model): fa {fig.antiresonance:.2f} Hz, "
-              f"k_eff {k_eff(rom.frequency, fig.antiresonance):.4f}")
+        print(f"  open circuit (same model): fa {fig.antiresonance:.2f} Hz{pm('fa')}, "
+              f"k_eff {k_eff(rom.frequency, fig.antiresonance):.4f}{pm('k_eff')}")
     print(f"  amplitude build-up time constant {1e3 * fig.time_constant:.3f} ms")
     for o, a in fig.amplitude_per_volt.items():
         peak, avg = fig.acceleration[o]
-        print(f"  {o:<14} {1e9 * a:10.3f} nm/V 0-peak   accel {peak:.4g} m/s^2/V peak, {avg:.4g} half-period avg")
+        print(f"  {o:<14} {1e9 * a:10.3f} nm/V 0-peak{pm(f'amplitude:{o}')}   accel {peak:.4g} m/s^2/V peak, "
+              f"{avg:.4g} half-period avg")
     for name, volts in fig.volts_for.items():
         print(f"  volts for {name}: {volts:.2f} V")
     for name, a in fig.amplitude_at.items():
@@ -119,7 +127,7 @@ def _forced(args) -> int:
               f"({100 * a['deviation']:+.0f}%)")
     for note in fig.notes:
         print(f"  note: {note}")
-    _print_stress(fig)
+    _print_stress(fig, pm)
     return 0
 
 
@@ -132,13 +140,14 @@ def _check_volts(args, load) -> None:
         raise SceneError("--volts: scales only the --plot curve (the printed figures are per volt); give --plot FILE")
 
 
-def _print_load(fig) -> None:
+def _print_load(fig, pm) -> None:
     """Outputs per unit of a force, pressure or base acceleration at resonance."""
     unit = fig.load_unit
     print(f"  load: {fig.load_description} ({fig.load_source})")
     print(f"  amplitude build-up time constant {1e3 * fig.time_constant:.3f} ms")
     for o, a in fig.amplitude_per_volt.items():
-        line = (f"  {o:<16} {1e9 * a:10.4g} nm/{unit} 0-peak   velocity {1e3 * fig.velocity[o]:.4g} mm/s/{unit}   "
+        line = (f"  {o:<16} {1e9 * a:10.4g} nm/{unit} 0-peak{pm(f'amplitude:{o}')}   "
+                f"velocity {1e3 * fig.velocity[o]:.4g} mm/s/{unit}   "
                 f"accel {fig.acceleration[o][0]:.4g} m/s^2/{unit} peak")
         if o in fig.absolute_acceleration:
             line += f" (relative; absolute {fig.absolute_acceleration[o]:.4g} per m/s^2 of base)"
@@ -147,7 +156,7 @@ def _print_load(fig) -> None:
         print(f"  note: {note}")
 
 
-def _print_stress(fig) -> None:
+def _print_stress(fig, pm) -> None:
     """Peak stress and field per unit load at resonance, and the load that reaches each material limit."""
     if fig.stress is None:
         return
@@ -158,11 +167,11 @@ def _print_stress(fig) -> None:
         return "(" + ", ".join(f"{1e3 * c:.2f}" for c in p.point) + ")"
 
     for p in fig.stress:
-        line = (f"    {p.part:<12} {p.material:<10} von Mises {p.von_mises.value / 1e6:.4g} MPa/{unit} "
-                f"at {at(p.von_mises)}"
-                f"   max principal {p.principal.value / 1e6:.4g} MPa/{unit} at {at(p.principal)}")
+        line = (f"    {p.part:<12} {p.material:<10} von Mises {p.von_mises.value / 1e6:.4g} MPa/{unit}"
+                f"{pm(f'von_mises:{p.part}')} at {at(p.von_mises)}   max principal {p.principal.value / 1e6:.4g} "
+                f"MPa/{unit}{pm(f'principal:{p.part}')} at {at(p.principal)}")
         if p.field is not None:
-            line += f"   |E| {p.field.value / 1e3:.4g} V/mm per {unit} at {at(p.field)}"
+            line += f"   |E| {p.field.value / 1e3:.4g} V/mm per {unit}{pm(f'field:{p.part}')} at {at(p.field)}"
         print(line)
     for row in fig.limits:
         what = "depolarising field" if row["limit"] == "depolarising_field" else "tensile strength"

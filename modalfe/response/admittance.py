@@ -31,7 +31,7 @@ from __future__ import annotations
 import itertools
 import math
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -57,6 +57,7 @@ MAX_POINTS = 100_000
 CSV_HEADER = "frequency_Hz,Y_real_S,Y_imag_S,abs_Z_ohm,phase_Z_deg"
 
 
+UNDRIVEN = 1e-6  # a mode whose theta is below this fraction of the strongest's is not driven: no error stated on it
 REFINE_SAMPLES = 2001  # fewest samples of the model's |Y| in the window of a mode, before Brent
 
 
@@ -72,8 +73,10 @@ def _grid_extrema(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 class Admittance:
     """Admittance of the driven electrodes (whole device): frequency [Hz], Y [S] complex; method; losses (each
     with its source); capacitance_blocked C_0 [F] (u = 0, lossless); modes: per mode used, label, frequency_hz,
-    error_estimate (relative, None: not estimated), theta (modal force per volt [N/(V kg^0.5)]) and its loss;
-    notes."""
+    error_estimate (relative, None: not estimated), theta (modal force per volt [N/(V kg^0.5)]) and its loss, and
+    where the answer states errors (``with_stated_errors``) the |Y| maximum nearest the mode (``peak_hz``, ``peak_S``)
+    and the minimum above it (``dip_hz``) with their stated errors (``*_error``, as ``theta_error``);
+    ``capacitance_error``: C_0's stated error; notes."""
 
     scene: str
     frequency: np.ndarray
@@ -85,6 +88,7 @@ class Admittance:
     modes: tuple[dict, ...] = ()
     notes: tuple[str, ...] = ()
     model_Y: Callable[[np.ndarray], np.ndarray] | None = field(default=None, repr=False, compare=False)
+    capacitance_error: float = float("nan")
 
     @property
     def Z(self) -> np.ndarray:  # noqa: N802 (the impedance's own symbol)
@@ -199,9 +203,60 @@ def admittance(scene, band: tuple[float, float], points: int, *, damping: str | 
             raise
     if direct:
         return direct_admittance(modes.model, frequency, losses, progress=progress)
-    return modal_admittance(modes, frequency, losses, residual=residual,
-                            note=f"short-circuit modes in [{lo:.6g}, {hi:.6g}] Hz (the band widened {widen:g}x); "
-                                 f"resolved: {modes.resolution}")
+    result = modal_admittance(modes, frequency, losses, residual=residual,
+                              note=f"short-circuit modes in [{lo:.6g}, {hi:.6g}] Hz (the band widened {widen:g}x); "
+                                   f"resolved: {modes.resolution}")
+    return with_stated_errors(result, modes, losses, residual) if len(modes) else result
+
+
+def with_stated_errors(result: Admittance, modes, losses: Losses, residual: str) -> Admittance:
+    """``result`` (``modal_admittance`` of ``modes``) with the stated errors of what a designer reads off it: each
+    mode's theta, the |Y| maximum nearest it (frequency and value) and the minimum above it, and C_0, from the
+    same estimate levels as the frequencies (``modalfe.solve.api.derived_errors``): the admittance of each level's
+    modes over the same grid, read at the partner of each mode."""
+    from modalfe.solve.api import derived_errors
+
+    plan = modes.estimate
+    by_model = {} if plan is None else {id(level.model): level for level in (*plan.levels, plan.floor) if level}
+    curves = {id(modes.model): (result, result.extrema())}
+
+    strongest = max(abs(r["theta_N_per_V_sqrtkg"]) for r in result.modes) if result.modes else 0.0
+
+    def numbers(m) -> dict[str, float]:
+        if id(m.model) not in curves:
+            level = modal_admittance(by_model[id(m.model)], result.frequency, losses, residual=residual)
+            curves[id(m.model)] = (level, level.extrema())
+        curve, ext = curves[id(m.model)]
+        out = {"C0": curve.capacitance_blocked}
+        theta = abs(float(m.shape @ m.model.voltage_load(1.0)))
+        if theta > UNDRIVEN * strongest:
+            out["theta"] = theta
+        own = [r["frequency_hz"] for r in curve.modes]
+        # the maxima whose nearest mode is this one: merged resonances give their one peak to the nearest mode
+        peaks = [f for f in ext["max_abs_Y_hz"] if min(own, key=lambda g: abs(g - f)) == m.frequency]
+        if peaks:
+            peak = min(peaks, key=lambda f: abs(f - m.frequency))
+            out.update(peak_hz=peak, peak_S=float(np.abs(curve.model_Y(peak))[0]))
+            above = [f for f in ext["min_abs_Y_hz"] if f > peak]
+            if above:
+                out["dip_hz"] = min(above)
+        return out
+
+    rows, c0_error = [], math.nan
+    for row in result.modes:
+        m = next(m for m in modes if m.frequency == row["frequency_hz"])
+        fine = numbers(m)
+        errors = derived_errors(modes, m, numbers, fine)
+        c0_error = errors["C0"][0] if math.isnan(c0_error) else max(c0_error, errors["C0"][0])
+        rows.append({**row, **{k: v for k, v in fine.items() if k in ("peak_hz", "peak_S", "dip_hz")},
+                     **{f"{k}_error": _finite_or_none(e) for k, (e, _) in errors.items() if k != "C0"}})
+    return replace(result, modes=tuple(rows), capacitance_error=c0_error,
+                   notes=(*result.notes, "stated errors of theta, the |Y| extrema and C0: from the frequencies' "
+                                         "estimate levels (the admittance of each level's modes)"))
+
+
+def _finite_or_none(x: float) -> float | None:
+    return float(x) if math.isfinite(x) else None
 
 
 def _no_modes(scene, band: tuple[float, float]):

@@ -29,7 +29,8 @@ class ForcedFigures:
     ``error_estimate``: the stated relative error of the mode's frequency (NaN: not estimated) on the discretization
     ``resolution`` describes (the answer ``modes`` gives for the same question). ``antiresonance`` [Hz]: fa of the
     mode's open-circuit partner on the same model (as ``table`` and ``report`` give it); the BVD's fa is the one-mode
-    circuit's approximation of it.
+    circuit's approximation of it. ``errors``: name -> (stated relative error, "" or why not estimated) of every
+    number ``device_numbers`` lists, from the frequency's own estimate levels (``modalfe.solve.api.derived_errors``).
     """
 
     scene: str
@@ -56,6 +57,11 @@ class ForcedFigures:
     error_estimate: float = float("nan")
     resolution: str = ""
     antiresonance: float | None = None
+    errors: dict[str, tuple[float, str]] = field(default_factory=dict)
+
+    def error(self, name: str) -> float:
+        """The stated relative error of the number ``name`` (``device_numbers``' keys), NaN when not estimated."""
+        return self.errors.get(name, (float("nan"), ""))[0]
 
     def to_json(self) -> dict:
         rom = self.rom
@@ -91,7 +97,9 @@ class ForcedFigures:
             outputs[o]["absolute_acceleration_per_unit_base_acceleration"] = a
         extra = {"load": self.load_description, "load_source": self.load_source, "load_unit": unit,
                  "outputs_per_load": outputs, "frequency_error_estimate": _finite(self.error_estimate),
-                 "resolution": self.resolution}
+                 "resolution": self.resolution,
+                 "stated_errors": {name: _finite(e) for name, (e, _) in self.errors.items()},
+                 "errors_not_estimated": {name: why for name, (_, why) in self.errors.items() if why}}
         if self.stress is not None:
             extra["stress_at_resonance_per_load"] = [
                 {"part": p.part, "material": p.material,
@@ -129,11 +137,12 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
     ``stress``: True (every part) or part names for the peak stress and field at resonance. The mode is the one
     ``modes`` gives for the scene's question about it (``modalfe.solve.api.working_question``), solved at
     ``resolution`` (``solve_modes``' tol, fidelity, error_estimate) on the 3-D solid."""
-    from modalfe.response.forced import Damping, harmonic_response, reduce
+    from modalfe.response.forced import Damping, harmonic_response, reduce, resonant_state
     from modalfe.response.loads import Load, check_forcing, check_outputs
+    from modalfe.response.stress import limit_loads, part_peaks
     from modalfe.results.labels import check_selector
     from modalfe.results.modes import select
-    from modalfe.solve.api import open_circuit_partner, solid_modes, sought_near, working_question
+    from modalfe.solve.api import derived_errors, open_circuit_partner, solid_modes, sought_near, working_question
 
     if load is None:
         load, load_source = scene.drive.load, scene.drive.load_source
@@ -233,20 +242,100 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
                  f"{1e3 * where[0]:.1f} mm, y = {1e3 * where[1]:.1f} mm")
     peaks = limits = None
     if parts is not None:
-        from modalfe.response.forced import resonant_state
-        from modalfe.response.stress import limit_loads, part_peaks
-
         state = resonant_state(mode, damping=damping, load=None if voltage else load)
         peaks = part_peaks(mode.model, state, parts)
         limits = limit_loads(peaks, scene)
         if scene.symmetry:
             notes.append(f"stress: solved on the part of the device kept by symmetry ({', '.join(scene.symmetry)}); "
                          f"each peak has a mirror image")
+    fine = device_numbers(rom, fa, peaks)
+
+    def level_numbers(m) -> dict[str, float]:  # the same numbers from a mode's partner on an estimate level
+        r = reduce(m, outputs=outputs, damping=damping, reference=rom.reference, load=None if voltage else load)
+        at_level = None if not voltage else fe_antiresonance(m, r.antiresonance)
+        level_peaks = None if parts is None else part_peaks(
+            m.model, resonant_state(m, damping=damping, load=None if voltage else load), parts)
+        return device_numbers(r, at_level, level_peaks)
+
+    errors = derived_errors(modes, mode, level_numbers, fine, eigenvalues=("fa",))
+    if peaks is not None:
+        notes += singular_peak_notes(scene, mode.model, peaks)
     return ForcedFigures(scene.name, rom, source, amp, volts_for, accel,
                          rom.envelope_time_constant, f, rom.frf(f), rom.admittance(f) if voltage else None, frf_full,
                          notes, amplitude_at, peak, load.describe() if not voltage else
                          "voltage on the driven electrodes", load_source, load.unit, velocity, absolute, peaks, limits,
-                         mode.error_estimate, modes.resolution, fa)
+                         mode.error_estimate, modes.resolution, fa, errors)
+
+
+def device_numbers(rom, fa: float | None, peaks=None) -> dict[str, float]:
+    """The numbers ``forced`` states of a reduced model ``rom`` (``modalfe.response.forced.reduce``), by name: the
+    reduced model's mass, stiffness, damping and force factor, the amplitude per unit load at each output, and for a
+    voltage drive the BVD circuit, its one-mode fa and k_eff and the open circuit's ``fa`` and k_eff; with ``peaks``
+    (``modalfe.response.stress.part_peaks``) each part's peak von Mises and principal stress and field."""
+    numbers = {"modal_mass": rom.modal_mass, "stiffness": rom.stiffness,
+               "damping": rom.damping, "force_factor": abs(rom.force_factor),
+               **{f"amplitude:{o}": rom.amplitude_per_volt(o) for o in rom.shapes}}
+    if rom.is_voltage_driven:
+        numbers.update({f"bvd:{k}": v for k, v in rom.bvd.items()}, bvd_fa=rom.antiresonance, bvd_k_eff=rom.k_eff)
+        if fa is not None:
+            numbers.update(fa=fa, k_eff=k_eff(rom.frequency, fa))
+    for p in peaks or ():
+        numbers[f"von_mises:{p.part}"] = p.von_mises.value
+        numbers[f"principal:{p.part}"] = p.principal.value
+        if p.field is not None:
+            numbers[f"field:{p.part}"] = p.field.value
+    return numbers
+
+
+def fe_antiresonance(mode, near: float) -> float | None:
+    """fa [Hz] of ``mode``'s open-circuit partner on its own model, sought near the mode, else near ``near`` (where
+    the one-mode circuit puts it: a strongly coupled mode's fa lies past other modes); None if neither holds it."""
+    from modalfe.results.coupling import antiresonance
+    from modalfe.solve.api import open_circuit_modes
+
+    for at in (mode.frequency, near):
+        try:
+            return antiresonance(mode, open_circuit_modes(mode, near=at, count=6)).frequency
+        except SolverError:
+            continue
+    return None
+
+
+def singular_peak_notes(scene, model, peaks) -> list[str]:
+    """Notes on the peaks (``part_peaks``) that sit within an element of an edge of their part's box where
+    ``scene``'s field is singular (``modalfe.solve.estimates.singular_field``: bonded parts, clamps, springs): there
+    the stress (and field) grows without bound as the mesh refines, and a stated error does not bound it."""
+    from modalfe.geometry.parts import Box
+    from modalfe.solve.estimates import singular_field
+
+    why = singular_field(scene)
+    if not why:
+        return []
+    parts = {p.name: p for p in scene.full_assembly().parts}
+    mesh = model.mesh.mesh
+    at_edges = []
+    for peak in peaks:
+        part = parts.get(peak.part)
+        if not isinstance(part, Box):
+            continue  # a curved or imported part: its edges are not its box's
+        cells = mesh.t[:, model.mesh.parts[peak.part]]
+        h = np.median(mesh.p[:, cells].max(axis=1) - mesh.p[:, cells].min(axis=1), axis=1)  # element extents
+        found = [name for name, at in (("von Mises", peak.von_mises), ("principal", peak.principal),
+                                       ("field", peak.field)) if at is not None and _near_edge(at.point, part, h)]
+        if found:
+            at_edges.append(f"{peak.part} ({', '.join(found)})")
+    if not at_edges:
+        return []
+    return [f"peaks at an edge of their part, where {why} make the field singular: {'; '.join(at_edges)}; they grow "
+            f"as the mesh refines, and their stated errors do not bound them"]
+
+
+def _near_edge(point, part, h: np.ndarray) -> bool:
+    """Whether ``point`` lies within an element (extents ``h`` per axis) of two of the box ``part``'s faces that meet
+    at an edge (two axes)."""
+    x = np.asarray(point)
+    close = [min(abs(x[a] - part.lo[a]), abs(x[a] - part.hi[a])) <= h[a] for a in range(3)]
+    return sum(close) >= 2
 
 
 def _finite(x: float) -> float | None:

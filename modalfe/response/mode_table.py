@@ -27,7 +27,10 @@ CSV_COLUMNS = (
     "index", "label", "frequency_Hz", "error_estimate_rel", "meff_x_kg", "meff_y_kg", "meff_z_kg",
     "cum_fraction_x", "cum_fraction_y", "cum_fraction_z", "gamma_x_sqrtkg", "gamma_y_sqrtkg", "gamma_z_sqrtkg",
     "fa_Hz", "k_eff", "theta_N_per_V_sqrtkg", "force_factor_N_per_V",
+    "meff_error_rel", "fa_error_rel", "k_eff_error_rel", "force_factor_error_rel",
 )
+UNCOUPLED = 1e-3  # k_eff below this: a mode the electrodes do not drive, its k_eff and force factor given no error
+SIGNIFICANT_MASS = 1e-3  # effective masses below this fraction of the total are not given an error (noise-level)
 
 
 @dataclass(frozen=True)
@@ -60,7 +63,8 @@ class ModeTable:
                  + " / ".join(f"{1e3 * self.total_mass[d]:.4g}" for d in "xyz") + " g"]
         lines += [f"note: {n}" for n in self.notes]
         lines.append(f"{'#':>3} {'f [Hz]':>11} {'label':<13} {'err':>7} {'meff x/y/z [g]':>26} "
-                     f"{'cum % x/y/z':>17} {'fa [Hz]':>11} {'k_eff':>6} {'N [N/V]':>9}")
+                     f"{'cum % x/y/z':>17} {'fa [Hz]':>11} {'k_eff':>6} {'N [N/V]':>9}  "
+                     f"{'err meff/fa/k_eff/N':>25}")
         for r in self.rows:
             err = "n/a" if _clean(r["error_estimate_rel"]) is None else f"{100 * r['error_estimate_rel']:.2f}%"
             meff = " ".join(f"{1e3 * r[f'meff_{d}_kg']:8.3g}" for d in "xyz")
@@ -68,9 +72,16 @@ class ModeTable:
             fa = "-" if r["fa_Hz"] is None else f"{r['fa_Hz']:.1f}"
             k = "-" if r["k_eff"] is None else f"{r['k_eff']:.3f}"
             n = "-" if r["force_factor_N_per_V"] is None else f"{r['force_factor_N_per_V']:.3g}"
+            errors = "/".join(_percent(r[c]) for c in CSV_COLUMNS[-4:])
             lines.append(f"{r['index']:>3} {r['frequency_Hz']:>11.1f} {r['label']:<13} {err:>7} {meff:>26} "
-                         f"{cum:>17} {fa:>11} {k:>6} {n:>9}")
+                         f"{cum:>17} {fa:>11} {k:>6} {n:>9}  {errors:>25}")
         return "\n".join(lines)
+
+
+def _percent(error) -> str:
+    if error is None:
+        return "-"
+    return "?" if math.isnan(error) else "inf" if math.isinf(error) else f"{100 * error:.2g}%"
 
 
 def _clean(v):
@@ -103,7 +114,7 @@ def mode_table(scene, *, near: float | None = None, count: int | None = None,
     (default: the scene's analysis), the answer ``modes`` gives for that question at ``resolution``
     (``solve_modes``' tol, fidelity, error_estimate). fa from one open-circuit solve on the same model, each short
     mode's partner by shape (``modalfe.results.coupling.antiresonance``)."""
-    from modalfe.solve.api import open_circuit_modes, solid_modes
+    from modalfe.solve.api import derived_errors, open_circuit_modes, solid_modes
 
     short = solid_modes(scene, needs="the mode table", near=near, count=count, band=band, **resolution)
     if band is None and near is None:
@@ -134,9 +145,41 @@ def mode_table(scene, *, near: float | None = None, count: int | None = None,
         load = model.voltage_load(1.0)
     else:
         notes.append("no driven electrode: no fa, k_eff or force factor")
+    notes.append(f"err meff/fa/k_eff/N: stated errors from the frequency's estimate levels (meff: the largest over the "
+                 f"directions holding {SIGNIFICANT_MASS:.1%} of the mass or more; none for the k_eff and N of a mode "
+                 f"with k_eff < {UNCOUPLED:g}); ? not estimated, - not applicable")
     gamma, total = effective_masses(short)
     meff = gamma**2
     cum = np.cumsum(meff, axis=0) / np.where(total > 0, total, np.inf)
+    level_opens: dict[int, object] = {}
+
+    def numbers(m, opens) -> dict[str, float]:
+        """The numbers of a row that depend on the discretization: effective masses, fa, k_eff, force factor."""
+        shape = m.shape
+        g = (m.model.M @ rigid_translations(m.model).T).T @ shape
+        out = {f"meff_{d}": float(g[k] ** 2) for k, d in enumerate("xyz")
+               if g[k] ** 2 >= SIGNIFICANT_MASS * total[k]}
+        if driven:
+            try:
+                fa = antiresonance(m, opens).frequency
+            except SolverError:
+                return out
+            out.update(fa=fa, k_eff=k_eff(m.frequency, fa))
+            theta = float(shape @ m.model.voltage_load(1.0))
+            umax = float(np.max(np.abs(m.model.nodal_displacement(shape))))
+            if umax > 0:
+                out["force_factor"] = abs(theta) / umax
+            if out["k_eff"] < UNCOUPLED:  # noise relative to nothing
+                del out["k_eff"], out["force_factor"]
+        return out
+
+    def at_level(m) -> dict[str, float]:  # a mode's partner on an estimate level, its open circuit solved once
+        if driven and id(m.model) not in level_opens:
+            level_opens[id(m.model)] = (open_circuit_modes(m, band=(band[0], OPEN_MARGIN * band[1])) if band
+                                        else open_circuit_modes(m, near=near or scene.analysis.near,
+                                                                count=len(short) + 6))
+        return numbers(m, level_opens.get(id(m.model)))
+
     rows = []
     for i, m in enumerate(short):
         fa = ke = theta = force = None
@@ -149,12 +192,17 @@ def mode_table(scene, *, near: float | None = None, count: int | None = None,
             theta = float(m.shape @ load)
             umax = float(np.max(np.abs(model.nodal_displacement(m.shape))))
             force = theta / umax if umax > 0 else None
+        errors = derived_errors(short, m, at_level, eigenvalues=("fa",)) if m.frequency > 0 else {}
+        meff_errors = [e for name, (e, _) in errors.items() if name.startswith("meff_")]
         rows.append({
             "index": m.index, "label": m.label, "frequency_Hz": m.frequency, "error_estimate_rel": m.error_estimate,
             **{f"meff_{d}_kg": float(meff[i, k]) for k, d in enumerate("xyz")},
             **{f"cum_fraction_{d}": float(cum[i, k]) for k, d in enumerate("xyz")},
             **{f"gamma_{d}_sqrtkg": float(gamma[i, k]) for k, d in enumerate("xyz")},
             "fa_Hz": fa, "k_eff": ke, "theta_N_per_V_sqrtkg": theta, "force_factor_N_per_V": force,
+            "meff_error_rel": max(meff_errors) if meff_errors else None,
+            **{f"{name}_error_rel": errors[name][0] if name in errors else None
+               for name in ("fa", "k_eff", "force_factor")},
         })
     return ModeTable(scene.name, tuple(rows), {d: float(total[k]) for k, d in enumerate("xyz")}, short.dofs,
                      tuple(notes))

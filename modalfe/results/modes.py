@@ -75,6 +75,8 @@ class Modes:
     mesh_frequency : the highest frequency [Hz] the mesh resolves at the scene's elements per wavelength;
     estimate_method : how the error estimates were made (p- or h-refinement), empty when not estimated
     level : the discretization solved (``modalfe.models.build.Level``), None for a model built elsewhere
+    estimate : how the solid's errors were estimated (``modalfe.solve.estimates.EstimatePlan``: its levels and rule,
+        which numbers derived from a mode are estimated by too), None where no level estimates them
     """
 
     modes: tuple[Mode, ...]
@@ -88,6 +90,7 @@ class Modes:
     mesh_frequency: float = float("nan")
     estimate_method: str = ""
     level: object = None
+    estimate: object = None
 
     def __len__(self) -> int:
         return len(self.modes)

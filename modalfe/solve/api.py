@@ -251,6 +251,21 @@ def open_circuit_partner(short: Modes, mode, *, near: float, solver: str = "auto
             count = min(2 * count, len(short))
 
 
+def derived_errors(modes: Modes, mode, values, fine: dict[str, float] | None = None,
+                   eigenvalues: tuple[str, ...] = ()) -> dict[str, tuple[float, str]]:
+    """{name: (stated relative error, "" or why not estimated)} of the numbers ``values(mode)`` derives from ``mode``
+    of the answer ``modes`` (``fine``: those numbers when already computed): from the same levels and rule as the
+    frequency's estimate (``modalfe.solve.estimates.EstimatePlan.derived_errors``; ``eigenvalues``: the names that are
+    eigenvalues, estimated at the frequency's orders), NaN with the reason where the
+    answer states no estimate (``--no-error-estimate``, a reduced model's answer)."""
+    fine = values(mode) if fine is None else fine
+    if modes.estimate is None:
+        reason = f"not estimated ({modes.estimate_method or 'no estimate levels kept'})"
+        return {name: (math.nan, reason) for name in fine}
+    with single_threaded_blas():
+        return modes.estimate.derived_errors(mode, values, fine, eigenvalues)
+
+
 def single_threaded_blas():
     """Context with one BLAS thread. numpy's OpenBLAS threads spin while they wait; on a small machine shared
     with MKL PARDISO's threads and other processes, the small dense operations of a solve (the labels'

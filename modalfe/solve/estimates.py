@@ -31,6 +31,8 @@ from __future__ import annotations
 import logging
 import math
 import weakref
+from collections.abc import Callable
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -60,6 +62,11 @@ SAMPLES = 400  # sample points for the MAC: 1200 values a shape, enough to tell 
 # studies/verification_errors.py --order 4: rates above 2.8 under-stated clamped cantilevers and bars). A rate
 # observed below the floor (not yet converging) is used: it raises the estimate.
 MIN_P_RATE = 2.0
+# a number derived from a mode's shape (an amplitude, a force factor, a mass at a point, fa through the open circuit's
+# shape) converges at the energy norm's rate, not at its square as an eigenvalue does (Strang & Fix 1973, ch. 6: the
+# eigenvalue error is the square of the eigenvector's energy-norm error): its orders and rates are the eigenvalue's
+# halved (``EstimatePlan.derived_errors``). Measured with studies/derived_errors.py (issue 34)
+SHAPE_SLOWDOWN = 2.0
 LOWEST_P_LEVEL = 2  # order-1 hexahedra lock in bending (their error is not the start of the p-sequence)
 
 
@@ -205,6 +212,50 @@ def observed_order(f0: float, f1: float, f2: float, r1: float, r2: float) -> flo
     return 0.5 * (lo + hi)
 
 
+def richardson_error(q0: float, q1: float, q2: float | None = None, ratio: float = COARSE_FACTOR,
+                     ratio_2: float | None = None, ceiling: float = CONVERGENCE_ORDER, alike: float = 1.0,
+                     floor: float = MIN_ORDER) -> float:
+    """Relative error estimate of a number ``q0`` on the fine level from its values ``q1`` on a level ``ratio`` x
+    coarser and ``q2`` (or None) on one ``ratio_2`` x coarser: |q0 - q1| / ((ratio^p - 1) |q0|) at the order p
+    observed through the three within [``floor``, ``ceiling``], else (two levels, differences changing sign, or a
+    coarsest partner less ``alike`` than ``SUBSPACE_PAIR``: pre-asymptotic) the larger step at ``floor`` (module
+    docstring; MIN_ORDER for an eigenvalue). inf where ``q0`` is zero and the levels differ."""
+    order, step = floor, abs(q1 - q0)
+    if q2 is not None:
+        p = observed_order(q0, q1, q2, ratio, ratio_2)
+        if p is None or alike < SUBSPACE_PAIR:
+            # pre-asymptotic: the larger step at the lowest order. A coarsest partner less alike than a cluster
+            # must be is a mixed shape: the tile's twisting mode on its quarter, 1121.74 Hz at x1.5, pairs at MAC
+            # 0.805 with a 1402 Hz pad twist at x2.25 (its own (1,1) there mixed with the pad's), and the last
+            # step alone (0.10 %, at order 2) stated 0.18 % against an error of 0.23 %
+            step = max(step, abs(q2 - q1))
+        else:
+            order = min(max(p, floor), ceiling)
+    return _relative(step / (ratio**order - 1), q0)
+
+
+def order_tail(p: int, q0: float, q1: float, q2: float | None = None,
+               rate: float = MIN_P_RATE) -> tuple[float, float | None]:
+    """(relative error estimate of a number ``q0`` at element order ``p`` from its values at orders p-1 (``q1``) and
+    p-2 (``q2``, or None) on the same grid: the tail of e_k = C k^-q beyond order p at q = ``rate`` (``MIN_P_RATE``
+    for an eigenvalue), or at the rate observed through the three where that is slower; the rate observed, else None).
+    Where the steps change sign (pre-asymptotic), the larger step at ``rate``."""
+    step, q, observed = q1 - q0, rate, None
+    if q2 is not None:
+        observed = p_rate(p, q2 - q1, step)
+        if observed is not None:
+            q = min(observed, rate)
+        else:
+            step = max(abs(step), abs(q2 - q1))
+    return _relative(abs(step) / ((p / (p - 1)) ** q - 1), q0), observed
+
+
+def _relative(error: float, q0: float) -> float:
+    if q0 == 0:
+        return 0.0 if error == 0 else math.inf
+    return error / abs(q0)
+
+
 def richardson(fine: Modes, coarse: Modes, ratio: float, coarsest: Modes | None = None,
                ratio_2: float | None = None, ceiling: float = CONVERGENCE_ORDER) -> dict[int, float]:
     """Relative error estimate of each fine mode from its coarse partner (by shape): |f_h - f_coarse| /
@@ -234,20 +285,8 @@ def richardson(fine: Modes, coarse: Modes, ratio: float, coarsest: Modes | None 
             estimates[mode.index] = math.inf
             continue
         other, f1, _ = pairs[mode.index]
-        order = MIN_ORDER
-        step = abs(f1 - mode.frequency)
-        if other.index in chain:
-            _, f2, alike = chain[other.index]
-            p = observed_order(mode.frequency, f1, f2, ratio, ratio_2)
-            if p is None or alike < SUBSPACE_PAIR:
-                # pre-asymptotic: the larger step at the lowest order. A coarsest partner less alike than a cluster
-                # must be is a mixed shape: the tile's twisting mode on its quarter, 1121.74 Hz at x1.5, pairs at MAC
-                # 0.805 with a 1402 Hz pad twist at x2.25 (its own (1,1) there mixed with the pad's), and the last
-                # step alone (0.10 %, at order 2) stated 0.18 % against an error of 0.23 %
-                step = max(step, abs(f2 - f1))
-            else:
-                order = min(max(p, MIN_ORDER), ceiling)
-        estimates[mode.index] = step / ((ratio**order - 1) * mode.frequency)
+        f2, alike = chain[other.index][1:] if other.index in chain else (None, 1.0)
+        estimates[mode.index] = richardson_error(mode.frequency, f1, f2, ratio, ratio_2, ceiling, alike)
     return estimates
 
 
@@ -313,16 +352,10 @@ def p_extrapolation(fine: Modes, lower: Modes, lowest: Modes | None = None) -> t
             estimates[mode.index] = math.inf
             continue
         other, f1, _ = pairs[mode.index]
-        step = f1 - mode.frequency
-        q = MIN_P_RATE
-        if other.index in chain:
-            observed = p_rate(p, chain[other.index][1] - f1, step)
-            if observed is not None:
-                rates.append(observed)
-                q = min(observed, MIN_P_RATE)
-            else:  # pre-asymptotic: the larger step at the lowest rate
-                step = max(abs(step), abs(chain[other.index][1] - f1))
-        estimates[mode.index] = abs(step) / (((p / (p - 1)) ** q - 1) * mode.frequency)
+        f2 = chain[other.index][1] if other.index in chain else None
+        estimates[mode.index], observed = order_tail(p, mode.frequency, f1, f2)
+        if observed is not None:
+            rates.append(observed)
     return estimates, rates
 
 
@@ -410,8 +443,114 @@ def refinement_ratio(fine_mesh, coarse_mesh, scene) -> float:
 
 def partner(mode: Mode, candidates: Modes) -> Mode | None:
     """The mode of ``candidates`` most alike ``mode`` in shape (MAC >= ``MAC_PAIR``, frequency within 30 %)."""
-    from dataclasses import replace
-
     one = replace(candidates, modes=(replace(mode, index=0),), model=mode.model)
     found = shape_partners(one, candidates, sample_points(candidates)).get(0)
     return found[0] if found is not None else None
+
+
+@dataclass(frozen=True)
+class EstimatePlan:
+    """How a solid's stated errors are made, fixed once its estimate levels are solved, and applied alike to its
+    frequencies (``frequency_errors``) and to every number derived from one of its modes (``derived_error``):
+
+    rule ``grids``: Richardson through ``levels`` (two coarser grids, elements ``ratios`` x the solid's) at the order
+    observed within [MIN_ORDER, ``ceiling``]; ``grid``: two-level Richardson at MIN_ORDER from each of ``levels``
+    (the grids that coarsen every part), the larger; ``orders``: the order tail from orders p-1 and p-2 on the
+    solid's grid (``levels``); ``none``: no level measures the error (inf). ``floor``: the order-2 solve on the
+    grid whose step the estimate is at least (cubic hexahedra, ``modalfe.solve.fidelity.checks_order_step``), else
+    None. ``method``: the plan in words (``Modes.estimate_method``)."""
+
+    rule: str
+    levels: tuple[Modes, ...] = ()
+    ratios: tuple[float, ...] = ()
+    ceiling: float = CONVERGENCE_ORDER
+    floor: Modes | None = None
+    method: str = ""
+
+    def frequency_errors(self, fine: Modes) -> dict[int, float]:
+        """{mode index: relative error estimate} of every mode of ``fine`` (partners by shape, module docstring)."""
+        if self.rule == "orders":
+            estimates, _ = p_extrapolation(fine, *self.levels)
+        elif self.rule == "grids":
+            estimates = richardson(fine, self.levels[0], self.ratios[0], self.levels[1], self.ratios[1],
+                                   ceiling=self.ceiling)
+        elif self.rule == "grid":  # each level bounds the error at order 1 by itself; one without a partner yields
+            found = [richardson(fine, level, ratio) for level, ratio in zip(self.levels, self.ratios)]
+            estimates = {}
+            for m in fine:
+                values = [e[m.index] for e in found if m.index in e]
+                if values:
+                    finite = [v for v in values if math.isfinite(v)]
+                    estimates[m.index] = max(finite) if finite else math.inf
+        else:
+            top = max(m.frequency for m in fine)
+            estimates = {m.index: math.inf for m in fine if m.frequency >= 1e-6 * top}
+        if self.floor is not None:
+            step, _ = p_extrapolation(fine, self.floor)
+            estimates = {i: max(e, step.get(i, e)) for i, e in estimates.items()}
+        return estimates
+
+    def derived_errors(self, mode: Mode, values: Callable[[Mode], dict[str, float]],
+                       fine: dict[str, float] | None = None,
+                       eigenvalues: tuple[str, ...] = ()) -> dict[str, tuple[float, str]]:
+        """{name: (relative error estimate, "" or why it is not estimated)} of the numbers ``values(mode)`` derives
+        from ``mode`` (fa, masses, amplitudes per volt): each number on ``mode``'s partner (by shape) on each level,
+        through this plan's rule, ``values`` called once a level. A number a level cannot give (missing, None or
+        not finite there) is inf with the reason; ``fine``: ``values(mode)`` when already computed. Orders and rates
+        are the eigenvalue's halved (``SHAPE_SLOWDOWN``) but for the ``eigenvalues`` named (an open circuit's fa)."""
+        fine = values(mode) if fine is None else fine
+        order = mode.model.scene.mesh.order
+        chain = self.rule in ("grids", "orders")
+        levels = _level_values(mode, self.levels, values, chain) if self.rule != "none" else []
+        floor_level = _level_values(mode, (self.floor,), values, False)[0] if self.floor is not None else None
+        out = {}
+        for name, q0 in fine.items():
+            slowdown = 1.0 if name in eigenvalues else SHAPE_SLOWDOWN
+            floor, rate = MIN_ORDER / slowdown, MIN_P_RATE / slowdown
+            if q0 is None or not math.isfinite(q0):
+                out[name] = (math.inf, "not found on the answer's own model")
+                continue
+            if self.rule == "none":
+                out[name] = (math.inf, self.method)
+                continue
+            q = [_get(level, name) for level in levels]
+            if self.rule == "grid":
+                found = [richardson_error(q0, v, None, r, floor=floor) for v, r in zip(q, self.ratios)
+                         if v is not None]
+                error = max(found) if found else None
+            elif q[0] is None:
+                error = None
+            elif self.rule == "grids":
+                error = richardson_error(q0, q[0], q[1], self.ratios[0], self.ratios[1],
+                                         self.ceiling / slowdown, floor=floor)
+            else:
+                error, _ = order_tail(order, q0, q[0], q[1], rate=rate)
+            if error is None:
+                out[name] = (math.inf, "no estimate level holds the mode or this number (error unknown)")
+                continue
+            if self.floor is not None:
+                step = _get(floor_level, name)
+                if step is None:
+                    out[name] = (math.inf, "the order-2 level holds no partner of the mode (error unknown)")
+                    continue
+                error = max(error, order_tail(order, q0, step, rate=rate)[0])
+            out[name] = (error, "")
+        return out
+
+
+def _level_values(mode: Mode, levels, values: Callable[[Mode], dict[str, float]],
+                  chain: bool) -> list[dict[str, float] | None]:
+    """``values`` on ``mode``'s partner on each of ``levels`` (None where it has none): with ``chain``, the partner
+    on a level is that of the partner on the level before (as ``richardson`` and ``p_extrapolation`` pair them)."""
+    out, current = [], mode
+    for level in levels:
+        source = current if chain else mode
+        found = partner(source, level) if source is not None else None
+        out.append(values(found) if found is not None else None)
+        current = found
+    return out
+
+
+def _get(level_values: dict[str, float] | None, name: str) -> float | None:
+    q = None if level_values is None else level_values.get(name)
+    return float(q) if q is not None and math.isfinite(q) else None

@@ -45,13 +45,13 @@ from modalfe.solve.estimates import (
     MIN_ORDER,
     MIN_P_RATE,
     MIN_RATIO,
+    EstimatePlan,
     coarse_level,
     coarser,
     level_layers,
     level_ratio,
     p_extrapolation,
     partner,
-    richardson,
     shape_partners,
     singular_field,
     uncoarsened,
@@ -221,30 +221,37 @@ def without_estimates(fine: Modes, reason: str) -> Modes:
 
 
 def solid_estimates(fine: Modes, levels: list[Modes], scene, step_level: Modes | None = None) -> Modes:
-    """``fine`` (the solid) with its error estimates from ``solid_levels`` (and, where ``checks_order_step``, at
-    least the step to ``step_level``, ``order_step_level``) and ``estimate_method`` saying how; for a solid whose
-    ``no_estimate_reason`` is None (else ``without_estimates``)."""
+    """``fine`` (the solid) with its error estimates by ``solid_plan`` and the plan itself (``Modes.estimate``: a
+    number derived from a mode is estimated alike); for a solid whose ``no_estimate_reason`` is None (else
+    ``without_estimates``)."""
+    plan = solid_plan(fine, levels, scene, step_level)
+    return replace(fine.with_error_estimates(plan.frequency_errors(fine)), estimate_method=plan.method, estimate=plan)
+
+
+def solid_plan(fine: Modes, levels: list[Modes], scene, step_level: Modes | None = None) -> EstimatePlan:
+    """How the solid ``fine``'s errors are estimated from its ``solid_levels`` (and, where ``checks_order_step``, at
+    least the step to ``step_level``, ``order_step_level``): the orders on one grid (``uses_orders``), else
+    ``h_plan``."""
     if uses_orders(scene):
-        estimates, rates = p_extrapolation(fine, *levels)
+        _, rates = p_extrapolation(fine, *levels)
         orders = "-".join(str(m.model.scene.mesh.order) for m in (*reversed(levels), fine))
         seen = f"; observed {min(rates):.1f}-{max(rates):.1f}" if rates else ""
-        method = f"p-refinement: orders {orders} on one grid (error ~ p^-q, q = {MIN_P_RATE:g} or slower{seen})"
-    else:
-        estimates, method = h_estimates(fine, levels, scene)
-        if checks_order_step(scene):
-            step, _ = p_extrapolation(fine, step_level)
-            estimates = {i: max(e, step.get(i, e)) for i, e in estimates.items()}
-            method += ", at least the order 2-3 step on the grid at the rate p^-2"
-    return replace(fine.with_error_estimates(estimates), estimate_method=method)
+        return EstimatePlan("orders", tuple(levels), method=f"p-refinement: orders {orders} on one grid (error ~ "
+                            f"p^-q, q = {MIN_P_RATE:g} or slower{seen})")
+    plan = h_plan(fine, levels, scene)
+    if checks_order_step(scene):
+        plan = replace(plan, floor=step_level,
+                       method=plan.method + ", at least the order 2-3 step on the grid at the rate p^-2")
+    return plan
 
 
-def h_estimates(fine: Modes, levels: list[Modes], scene) -> tuple[dict[int, float], str]:
-    """(error estimate of each mode of ``fine``, the method in words) from its two coarser grids ``levels`` (elements
-    x1.5 and x2.25): Richardson through the three where each grid coarsens every part of the one before it by at least
-    ``MIN_RATIO`` along every axis (``level_ratio``: a part or face window whose element count rounds to the same on
-    two grids is not coarsened there, and the step between them misses its error); else no order is observed, and
-    each grid that coarsens every part of ``fine`` gives a two-level estimate at ``MIN_ORDER``, the larger used; with
-    none, infinite (no level measures the error). A level without a partner for a mode (inf) yields to the other."""
+def h_plan(fine: Modes, levels: list[Modes], scene) -> EstimatePlan:
+    """The h-refinement plan of ``fine`` from its two coarser grids ``levels`` (elements x1.5 and x2.25): Richardson
+    through the three (``grids``) where each grid coarsens every part of the one before it by at least ``MIN_RATIO``
+    along every axis (``level_ratio``: a part or face window whose element count rounds to the same on two grids is
+    not coarsened there, and the step between them misses its error); else no order is observed, and each grid that
+    coarsens every part of ``fine`` gives a two-level estimate at ``MIN_ORDER``, the larger used (``grid``); with none,
+    ``none`` (no level measures the error)."""
     coarse, coarsest = levels
     singular = singular_field(scene)
     ceiling = MIN_ORDER if singular else CONVERGENCE_ORDER
@@ -254,33 +261,24 @@ def h_estimates(fine: Modes, levels: list[Modes], scene) -> tuple[dict[int, floa
     unused = [f"x{factor:g} (its {where} is coarser than the solid's by {ratio:.2f} only)"
               for factor, (ratio, where), ok in zip(CHECK_FACTORS, ratios, usable) if not ok and where]
     if all(usable) and chain[0] >= MIN_RATIO:
-        estimates = richardson(fine, coarse, ratios[0][0], coarsest, ratios[1][0], ceiling=ceiling)
         method = "h-refinement: Richardson through three grids (elements x1, x1.5, x2.25)"
         if singular:
             method += f" at order {MIN_ORDER:g}, the least a singular field converges at ({singular})"
-        return estimates, method
+        return EstimatePlan("grids", tuple(levels), tuple(r for r, _ in ratios), ceiling, method=method)
     if all(usable):
         unused.append(f"x{CHECK_FACTORS[1]:g} as a third grid (its {chain[1]} is coarser than the "
                       f"x{CHECK_FACTORS[0]:g} level's by {chain[0]:.2f} only: no order observed)")
-    found = [(factor, richardson(fine, level, ratio)) for factor, level, (ratio, _), ok
-             in zip(CHECK_FACTORS, levels, ratios, usable) if ok]
+    found = [(factor, level, ratio) for factor, level, (ratio, _), ok in zip(CHECK_FACTORS, levels, ratios, usable)
+             if ok]
     if not found:
-        return ({m.index: math.inf for m in fine if m.frequency >= 1e-6 * max(x.frequency for x in fine)},
-                f"h-refinement: no coarser grid coarsens every part: error unknown; levels not used: "
-                f"{'; '.join(unused)}")
-    # each usable level bounds the error at order 1 by itself: a level that does not hold a mode (no partner, inf)
-    # adds nothing where the other does
-    estimates = {}
-    for m in fine:
-        values = [e[m.index] for _, e in found if m.index in e]
-        if values:
-            finite = [v for v in values if math.isfinite(v)]
-            estimates[m.index] = max(finite) if finite else math.inf
-    grids = " and ".join(f"x{factor:g}" for factor, _ in found)
+        return EstimatePlan("none", method=f"h-refinement: no coarser grid coarsens every part: error unknown; levels "
+                                           f"not used: {'; '.join(unused)}")
+    grids = " and ".join(f"x{factor:g}" for factor, _, _ in found)
     method = (f"h-refinement: Richardson from two grids (elements x1 against {grids}"
               f"{', the larger' if len(found) > 1 else ''}) at order "
               f"{MIN_ORDER:g}" + (f" ({singular})" if singular else "") + f"; not used as a step: {'; '.join(unused)}")
-    return estimates, method
+    return EstimatePlan("grid", tuple(level for _, level, _ in found), tuple(ratio for _, _, ratio in found),
+                        MIN_ORDER, method=method)
 
 
 def solve_estimated(scene, analysis, fidelity: str, *, size_factor: float = 1.0, solver: str = "auto",

@@ -29,10 +29,11 @@ import modalfe.caches as caches
 from modalfe.models.build import Level, build_model
 from modalfe.models.mesh import MESH_FORMAT_VERSION, cache_dir
 from modalfe.results.modes import Mode, Modes
+from modalfe.solve.estimates import EstimatePlan
 
 log = logging.getLogger(__name__)
 
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2  # 2: the estimate plan and its levels kept with the answer
 KEPT_IN_MEMORY = 4  # answers kept in this process (a report's windows, the command's own question)
 KEPT_ON_DISK = 64  # answer files kept in the cache folder, the least recently written dropped first
 _MEMORY: OrderedDict[str, Modes] = OrderedDict()
@@ -136,7 +137,12 @@ def _remember(key: str, modes: Modes) -> None:
 
 
 def _storable(modes: Modes) -> bool:
-    return modes.level is not None and all(_storable(level) for level in modes.cross_check)
+    return modes.level is not None and all(_storable(level) for level in (*modes.cross_check, *_estimate_levels(modes)))
+
+
+def _estimate_levels(modes: Modes) -> tuple[Modes, ...]:
+    plan = modes.estimate
+    return () if plan is None else (*plan.levels, *([plan.floor] if plan.floor is not None else []))
 
 
 def _prune(where: Path) -> None:
@@ -161,7 +167,20 @@ def _describe(modes: Modes, name: str, arrays: dict) -> dict:
         "fidelity_note": modes.fidelity_note, "mesh_frequency": modes.mesh_frequency,
         "estimate_method": modes.estimate_method,
         "cross_check": [_describe(c, f"{name}.{i}", arrays) for i, c in enumerate(modes.cross_check)],
+        "estimate": None if modes.estimate is None else _describe_plan(modes.estimate, f"{name}.estimate", arrays),
     }
+
+
+def _describe_plan(plan: EstimatePlan, name: str, arrays: dict) -> dict:
+    return {"rule": plan.rule, "ratios": list(plan.ratios), "ceiling": plan.ceiling, "method": plan.method,
+            "levels": [_describe(level, f"{name}.{i}", arrays) for i, level in enumerate(plan.levels)],
+            "floor": None if plan.floor is None else _describe(plan.floor, f"{name}.floor", arrays)}
+
+
+def _restore_plan(meta: dict, data, name: str, scene) -> EstimatePlan:
+    levels = tuple(_restore(level, data, f"{name}.{i}", scene) for i, level in enumerate(meta["levels"]))
+    floor = None if meta["floor"] is None else _restore(meta["floor"], data, f"{name}.floor", scene)
+    return EstimatePlan(meta["rule"], levels, tuple(meta["ratios"]), meta["ceiling"], floor, meta["method"])
 
 
 def _restore(meta: dict, data, name: str, scene) -> Modes:
@@ -178,5 +197,6 @@ def _restore(meta: dict, data, name: str, scene) -> Modes:
     modes = tuple(Mode(m["index"], m["frequency"], m["label"], shapes[:, i].copy(), model, m["circuit"],
                        m["error_estimate"], m["wavelength"], m["model_error"]) for i, m in enumerate(meta["modes"]))
     cross = tuple(_restore(c, data, f"{name}.{i}", scene) for i, c in enumerate(meta["cross_check"]))
+    plan = None if meta["estimate"] is None else _restore_plan(meta["estimate"], data, f"{name}.estimate", scene)
     return Modes(modes, model, meta["circuit"], meta["fidelity"], meta["dofs"], dict(meta["timings"]),
-                 meta["fidelity_note"], cross, meta["mesh_frequency"], meta["estimate_method"], level)
+                 meta["fidelity_note"], cross, meta["mesh_frequency"], meta["estimate_method"], level, plan)

@@ -257,7 +257,8 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
             m.model, resonant_state(m, damping=damping, load=None if voltage else load), parts)
         return device_numbers(r, at_level, level_peaks)
 
-    errors = derived_errors(modes, mode, level_numbers, fine, eigenvalues=("fa",))
+    errors = with_composed_errors(derived_errors(modes, mode, level_numbers, fine, eigenvalues=("fa",)),
+                                  mode.error_estimate, voltage)
     if peaks is not None:
         notes += singular_peak_notes(scene, mode.model, peaks)
     return ForcedFigures(scene.name, rom, source, amp, volts_for, accel,
@@ -268,15 +269,16 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
 
 
 def device_numbers(rom, fa: float | None, peaks=None) -> dict[str, float]:
-    """The numbers ``forced`` states of a reduced model ``rom`` (``modalfe.response.forced.reduce``), by name: the
-    reduced model's mass, stiffness, damping and force factor, the amplitude per unit load at each output, and for a
-    voltage drive the BVD circuit, its one-mode fa and k_eff and the open circuit's ``fa`` and k_eff; with ``peaks``
-    (``modalfe.response.stress.part_peaks``) each part's peak von Mises and principal stress and field."""
-    numbers = {"modal_mass": rom.modal_mass, "stiffness": rom.stiffness,
-               "damping": rom.damping, "force_factor": abs(rom.force_factor),
+    """The numbers ``forced`` estimates on the levels, of a reduced model ``rom`` (``modalfe.response.forced.reduce``),
+    by name: the reduced model's mass and force factor, the amplitude per unit load at each output, and for a voltage
+    drive C0, the one-mode circuit's fa and k_eff and the open circuit's ``fa`` and k_eff; with ``peaks``
+    (``modalfe.response.stress.part_peaks``) each part's peak von Mises and principal stress and field. The numbers
+    made of these and the frequency (stiffness, damping, R1, L1, C1) get their errors composed
+    (``with_composed_errors``)."""
+    numbers = {"modal_mass": rom.modal_mass, "force_factor": abs(rom.force_factor),
                **{f"amplitude:{o}": rom.amplitude_per_volt(o) for o in rom.shapes}}
     if rom.is_voltage_driven:
-        numbers.update({f"bvd:{k}": v for k, v in rom.bvd.items()}, bvd_fa=rom.antiresonance, bvd_k_eff=rom.k_eff)
+        numbers.update({"bvd:C0": rom.capacitance}, bvd_fa=rom.antiresonance, bvd_k_eff=rom.k_eff)
         if fa is not None:
             numbers.update(fa=fa, k_eff=k_eff(rom.frequency, fa))
     for p in peaks or ():
@@ -285,6 +287,27 @@ def device_numbers(rom, fa: float | None, peaks=None) -> dict[str, float]:
         if p.field is not None:
             numbers[f"field:{p.part}"] = p.field.value
     return numbers
+
+
+def with_composed_errors(errors: dict[str, tuple[float, str]], frequency_error: float,
+                         voltage: bool) -> dict[str, tuple[float, str]]:
+    """``errors`` (``device_numbers``' names) with those of the numbers made of them and the frequency (error
+    ``frequency_error``): stiffness k = m omega^2, damping c = 2 zeta omega m, and for a voltage drive the BVD's
+    R1 = c / N^2, L1 = m / N^2, C1 = N^2 / k: a product's relative error is at most the sum of its factors' times
+    their powers (first order)."""
+    def composed(*terms: tuple[str | None, float]) -> tuple[float, str]:
+        parts = [(frequency_error, "") if name is None else errors[name] for name, _ in terms]
+        reasons = "; ".join(dict.fromkeys(why for _, why in parts if why))
+        return sum(abs(power) * e for (_, power), (e, _) in zip(terms, parts)), reasons
+
+    out = dict(errors)
+    out["stiffness"] = composed(("modal_mass", 1), (None, 2))
+    out["damping"] = composed(("modal_mass", 1), (None, 1))
+    if voltage:
+        out["bvd:R1"] = composed(("modal_mass", 1), (None, 1), ("force_factor", 2))
+        out["bvd:L1"] = composed(("modal_mass", 1), ("force_factor", 2))
+        out["bvd:C1"] = composed(("force_factor", 2), ("modal_mass", 1), (None, 2))
+    return out
 
 
 def fe_antiresonance(mode, near: float) -> float | None:

@@ -62,10 +62,14 @@ SAMPLES = 400  # sample points for the MAC: 1200 values a shape, enough to tell 
 # studies/verification_errors.py --order 4: rates above 2.8 under-stated clamped cantilevers and bars). A rate
 # observed below the floor (not yet converging) is used: it raises the estimate.
 MIN_P_RATE = 2.0
-# a number derived from a mode's shape (an amplitude, a force factor, a mass at a point, fa through the open circuit's
-# shape) converges at the energy norm's rate, not at its square as an eigenvalue does (Strang & Fix 1973, ch. 6: the
-# eigenvalue error is the square of the eigenvector's energy-norm error): its orders and rates are the eigenvalue's
-# halved (``EstimatePlan.derived_errors``). Measured with studies/derived_errors.py (issue 34)
+# a number derived from a mode's shape (an amplitude, a force factor, a mass at a point, k_eff) converges at the energy
+# norm's rate, not at its square as an eigenvalue does (Strang & Fix 1973, ch. 6: the eigenvalue error is the square of
+# the eigenvector's energy-norm error): its orders and rates are the eigenvalue's halved (``EstimatePlan.
+# derived_errors``), h^0.5 at the least (alpha = 1/2, an electrode's or a bond's edge). Measured (studies/
+# derived_errors.py, issue 34): the ciliary beam's force factor converges at h^0.49 (quartic, one layer: 0.04006,
+# 0.03929, 0.03874 N/V on grids x2, x1, x0.5), while its orders 2-3-4 on one grid step 8.4 % then 0.85 % (the
+# smooth part's fast phase hides the singular part's slow tail: 3.9 % left): on a p-plan a number of the shape is
+# taken as pre-asymptotic, the larger step at the halved rate
 SHAPE_SLOWDOWN = 2.0
 LOWEST_P_LEVEL = 2  # order-1 hexahedra lock in bending (their error is not the start of the p-sequence)
 
@@ -234,15 +238,16 @@ def richardson_error(q0: float, q1: float, q2: float | None = None, ratio: float
     return _relative(step / (ratio**order - 1), q0)
 
 
-def order_tail(p: int, q0: float, q1: float, q2: float | None = None,
-               rate: float = MIN_P_RATE) -> tuple[float, float | None]:
+def order_tail(p: int, q0: float, q1: float, q2: float | None = None, rate: float = MIN_P_RATE,
+               observe: bool = True) -> tuple[float, float | None]:
     """(relative error estimate of a number ``q0`` at element order ``p`` from its values at orders p-1 (``q1``) and
     p-2 (``q2``, or None) on the same grid: the tail of e_k = C k^-q beyond order p at q = ``rate`` (``MIN_P_RATE``
     for an eigenvalue), or at the rate observed through the three where that is slower; the rate observed, else None).
-    Where the steps change sign (pre-asymptotic), the larger step at ``rate``."""
+    Where the steps change sign (pre-asymptotic), or without ``observe`` (taken as pre-asymptotic), the larger step at
+    ``rate``."""
     step, q, observed = q1 - q0, rate, None
     if q2 is not None:
-        observed = p_rate(p, q2 - q1, step)
+        observed = p_rate(p, q2 - q1, step) if observe else None
         if observed is not None:
             q = min(observed, rate)
         else:
@@ -523,8 +528,8 @@ class EstimatePlan:
             elif self.rule == "grids":
                 error = richardson_error(q0, q[0], q[1], self.ratios[0], self.ratios[1],
                                          self.ceiling / slowdown, floor=floor)
-            else:
-                error, _ = order_tail(order, q0, q[0], q[1], rate=rate)
+            else:  # a number of the shape: the orders' steps taken as pre-asymptotic (``SHAPE_SLOWDOWN``)
+                error, _ = order_tail(order, q0, q[0], q[1], rate=rate, observe=slowdown == 1.0)
             if error is None:
                 out[name] = (math.inf, "no estimate level holds the mode or this number (error unknown)")
                 continue

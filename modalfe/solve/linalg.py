@@ -216,8 +216,8 @@ class _PardisoFactor:
             raise RuntimeError(f"PARDISO solve failed (error {error.value})")
         return np.ascontiguousarray(x).reshape(b.shape)
 
-    def __del__(self):
-        with contextlib.suppress(Exception):  # at interpreter shutdown MKL may already be gone
+    def __del__(self, suppress=contextlib.suppress):  # bound now: at interpreter shutdown the module's globals are gone
+        with suppress(Exception):  # and MKL may be gone too
             self._ps.free_memory(everything=True)
 
 

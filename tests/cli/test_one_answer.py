@@ -67,3 +67,7 @@ def test_forced_after_modes_solves_nothing_and_a_fresh_solve_gives_what_was_kept
     kept = next(m["frequency_hz"] for m in first["modes"] if m["label"] == MODE)
     assert forced["frequency_hz"] == kept  # read back bit for bit
     assert fresh["frequency_hz"] == pytest.approx(kept, rel=SAME)
+    # the estimate levels are kept with the answer: the derived numbers' stated errors are the fresh solve's
+    assert set(forced["stated_errors"]) == set(fresh["stated_errors"]) >= {"fa", "k_eff", "modal_mass", "bvd:C1"}
+    for name, error in fresh["stated_errors"].items():
+        assert error is not None and forced["stated_errors"][name] == pytest.approx(error, rel=1e-3), name

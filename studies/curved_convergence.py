@@ -12,7 +12,7 @@ Cases (issue 20, items 4 and 5):
 Each convergence case is solved with one element size for every part, ``LEVELS`` x the part's thickness (ratio 1.25,
 ``mesh.min_layers = 1``, so the thickness caps no level), extrapolated from the three finest levels with the observed
 order (Richardson); then the coarsest mesh that states an error (the fewest ``mesh.min_layers``,
-modalfe.solve.fidelity.no_estimate_reason: 3 on these thin parts) is solved with ``error_estimate=True`` and its
+modalfe.solve.rung.Rung.no_estimate_reason: 3 on these thin parts) is solved with ``error_estimate=True`` and its
 stated error set against its actual error from the extrapolated value, unless it exceeds ``MAX_DOFS``.
 
     python studies/curved_convergence.py [disc steel_ring pzt_ring sensor]
@@ -33,7 +33,7 @@ from modalfe.results.modes import select
 from modalfe.scene import load_scene
 from modalfe.scene.loading import scene_from_dict
 from modalfe.solve.api import OWN_MESH, solve_modes
-from modalfe.solve.fidelity import no_estimate_reason
+from modalfe.solve.rung import Rung
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root: tests.oracles
 from tests.oracles.discs import (
@@ -151,10 +151,10 @@ def convergence(name: str, levels: tuple[float, ...] = LEVELS) -> dict[str, tupl
 
 def stated_error(name: str, quantities: list[Quantity], build: Callable, extrapolated: dict[str, float]) -> None:
     """Stated (``Mode.error_estimate``) against actual error from ``extrapolated`` on the fewest layers whose mesh
-    states one (``no_estimate_reason``); skipped, with the DOFs it would take, above ``MAX_DOFS``."""
+    states one (``Rung.no_estimate_reason``); skipped, with the DOFs it would take, above ``MAX_DOFS``."""
     for layers in (1, 2, 3):
         scene = build(math.inf, layers)
-        reason = no_estimate_reason(scene)
+        reason = Rung(scene).no_estimate_reason
         if reason is None:
             break
         print(f"{name}: min_layers {layers} states no error ({reason[:60]}...)", flush=True)
@@ -180,7 +180,7 @@ def sensor(layers: tuple[int, ...] = (1, 2)) -> dict[tuple[str, int], tuple[floa
     """(0,6) of the Cu-Be plate with no, a square and a round 5 mm ceramic at ``SENSOR_AT``, all on tetrahedra with
     the same mesh settings, for each ``mesh.min_layers`` in ``layers``: (label, layers) -> (Hz, DOFs). The whole
     plate (the sensor breaks the y mirror): its tetrahedra are the plate's thickness / layers, ~290k DOFs at the 3
-    layers that state an error (``no_estimate_reason``), over ``MAX_DOFS``; the shift's change from one mesh to
+    layers that state an error (``Rung.no_estimate_reason``), over ``MAX_DOFS``; the shift's change from one mesh to
     the next is its mesh error instead."""
     out = {}
     for n in layers:

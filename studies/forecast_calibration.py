@@ -25,6 +25,7 @@ from modalfe.scene import load_scene, scene_from_dict
 from modalfe.scene.scene import Analysis
 from modalfe.solve import fidelity
 from modalfe.solve.api import single_threaded_blas
+from modalfe.solve.rung import Rung
 
 
 def _family(name: str, window: int = 0, **overrides):
@@ -90,16 +91,16 @@ def calibrate(case: str, factory, near: float, *, count: int = 4) -> Calibration
     """Forecast and stated errors of one case (see the module's docstring)."""
     start = time.perf_counter()
     scene = factory()
-    if not fidelity.raises_order(scene):
+    rung = Rung(scene)
+    if not rung.raises_order:
         raise ValueError(f"{case}: not quadratic box hexahedra, the forecast does not apply")
     analysis = Analysis(near=near, count=count, circuit=scene.analysis.circuit)
     with single_threaded_blas():
-        levels = fidelity.solid_levels(scene, analysis, 1.0, "auto")
-        own = fidelity.solve_estimated(scene, analysis, "solid", levels=levels)
+        levels = fidelity.solid_levels(rung, analysis)
+        own = fidelity.solve_estimated(rung, analysis, "solid", levels=levels)
         check = _nearest_check(own, near)
-        forecast = fidelity.scene_grid_forecast(scene, levels, check)
-        finer, factor = fidelity.refinement_step(scene, 1)
-        step = fidelity.solve_estimated(finer, analysis, "solid", size_factor=factor)
+        forecast = fidelity.scene_grid_forecast(rung, levels, check)
+        step = fidelity.solve_estimated(rung.step(1), analysis, "solid")
     # the step's mode: the one nearest the grid's (its label may differ: the labeller reads a coarse quartic grid
     # at its vertices)
     return Calibration(case, own.dofs, forecast, fidelity.worst_checked(own, check)[0],

@@ -29,6 +29,7 @@ from modalfe.results.modes import select
 from modalfe.solve.api import solve_modes
 from modalfe.solve.fidelity import solve_estimated
 from modalfe.solve.levels import solve_level
+from modalfe.solve.rung import Rung
 from tests.oracles.cases import cantilever_plate_scene, stack_scene, strip_scene
 
 
@@ -55,7 +56,7 @@ def rows(name: str) -> list[tuple]:
     out = []
     for how in ("grid", "solid"):
         start = time.perf_counter()
-        found = (solve_estimated(scene, scene.analysis, "solid") if how == "grid"
+        found = (solve_estimated(Rung(scene), scene.analysis, "solid") if how == "grid"
                  else solve_modes(scene, fidelity="solid"))
         seconds = time.perf_counter() - start
         for mode in found:

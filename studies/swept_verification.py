@@ -13,7 +13,7 @@ For each case, on the mesh its scene asks for (``mesh.elements_per_wavelength``)
 - h: order 2 on elements x1, x1/1.25, x1/1.5625 (non-nested section meshes), the observed order;
 - stated vs actual: the default (20-node serendipity, three layers, Richardson through three grids) and order 4
   with one layer (also Richardson: on curved hexahedra the orders share one geometry and their steps miss its
-  error, ``modalfe.solve.fidelity.uses_orders``), each stated error against the actual one from the reference.
+  error, ``modalfe.solve.rung.Rung.uses_orders``), each stated error against the actual one from the reference.
 ``round_feet``: the default's stated error against order 3 on the same mesh (``round_feet``).
 
     python studies/swept_verification.py [disc steel_ring pzt_ring round_feet]

@@ -134,11 +134,11 @@ def solve(scene, *, fidelity: str = "solid", **options):
     """``solve_modes``, and {mode index: rate q observed through orders p-2, p-1, p} where the solid's estimate
     is p-refinement (else {})."""
     from modalfe.solve.estimates import p_rate, shape_partners
-    from modalfe.solve.fidelity import uses_orders
+    from modalfe.solve.rung import Rung
 
     with _observed_levels() as seen:
         found = solve_modes(scene, fidelity=fidelity, tol=OWN_MESH, **options)
-    if fidelity != "solid" or not uses_orders(scene) or not seen:
+    if fidelity != "solid" or not Rung(scene).uses_orders or not seen:
         return found, {}
     lower, lowest = seen[-1]
     pairs, chain = shape_partners(found, lower), shape_partners(lower, lowest)

@@ -9,7 +9,7 @@ inside no part is left out. Elements are thin through the thickness and wide in 
 grid of box devices, where tetrahedra must be equilateral: a thin disc needs a few layers, not a few hundred
 thousand tetrahedra, and the Gauss-Lobatto hexahedra of any order (``modalfe.models.hex_elements``) apply. Their
 error is estimated from coarser grids, not from orders on one grid: the orders share this mesh's geometry
-(``modalfe.solve.fidelity.uses_orders``).
+(``modalfe.solve.rung.Rung.uses_orders``).
 
 Each hexahedron's geometry is the tensor product of its quadrilateral's quadratic map and a linear one along the
 axis: exact on the end planes and walls parallel to the axis, a circle met at every node of the section mesh.

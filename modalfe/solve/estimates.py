@@ -462,7 +462,7 @@ class EstimatePlan:
     observed within [MIN_ORDER, ``ceiling``]; ``grid``: two-level Richardson at MIN_ORDER from each of ``levels``
     (the grids that coarsen every part), the larger; ``orders``: the order tail from orders p-1 and p-2 on the
     solid's grid (``levels``); ``none``: no level measures the error (inf). ``floor``: the order-2 solve on the
-    grid whose step the estimate is at least (cubic hexahedra, ``modalfe.solve.fidelity.checks_order_step``), else
+    grid whose step the estimate is at least (cubic hexahedra, ``modalfe.solve.rung.Rung.checks_order_step``), else
     None. ``method``: the plan in words (``Modes.estimate_method``)."""
 
     rule: str

@@ -19,9 +19,12 @@ the estimated error of the modes asked about is within ``tol`` (the model error 
 misses ``tol``, the reduced model's own estimate levels are not solved); otherwise the 3-D solid answers,
 reusing the cross-check's levels for its own error estimate (nothing is solved twice or for nothing), and refined
 while its own estimate exceeds ``tol`` (``refined_to_tol``): quadratic box hexahedra by the order first (quartic on
-a coarser grid, ``refinement_step``), other meshes by the grid; where the cross-check's levels forecast that the
+a coarser grid, ``Rung.step``), other meshes by the grid; where the cross-check's levels forecast that the
 scene's own grid would miss ``tol`` by far, auto starts past it (``first_step``).
-``Modes.fidelity_note`` says which fidelity answered and why, ``Modes.estimate_method`` how errors were estimated.
+``Modes.fidelity_note`` says which fidelity answered and why, ``Modes.estimate_method`` how errors were estimated,
+``Modes.estimate`` the plan that made them (levels and rule, ``modalfe.solve.estimates.EstimatePlan``). Each solid
+discretization on the way is one value, a ``modalfe.solve.rung.Rung`` (scene, element size, layers, solver, frame),
+which decides once how it is estimated and refined.
 
 Where the scene declares mirror symmetry the plate model solves the symmetric part, as the solid does;
 the beam model solves the whole beam and the modes antisymmetric about those planes are dropped, so that
@@ -30,7 +33,6 @@ every fidelity returns the same family.
 
 from __future__ import annotations
 
-import itertools
 import logging
 import math
 import time
@@ -41,14 +43,11 @@ from modalfe.results.modes import Modes, select
 from modalfe.solve.estimates import (
     COARSE_FACTOR,
     CONVERGENCE_ORDER,
-    LOWEST_P_LEVEL,
     MIN_ORDER,
     MIN_P_RATE,
     MIN_RATIO,
     EstimatePlan,
-    coarse_level,
     coarser,
-    level_layers,
     level_ratio,
     p_extrapolation,
     partner,
@@ -56,23 +55,12 @@ from modalfe.solve.estimates import (
     singular_field,
     uncoarsened,
 )
-from modalfe.solve.levels import solve_level
 from modalfe.solve.reduced import model_errors, reduced_estimates, solve_reduced_level, with_model_errors
+from modalfe.solve.rung import CHECK_FACTORS, UNCOARSENED, Rung
 
 log = logging.getLogger(__name__)
 
-CHECK_FACTORS = (COARSE_FACTOR, COARSE_FACTOR**2)  # the cross-check's two solid levels
-REFINE_RATIO = COARSE_FACTOR  # auto's refinement of a solid whose estimate exceeds tol: elements 1.5x smaller a step
 MAX_REFINE_STEPS = 3  # at most 1.5^3 = 3.4x smaller elements (~40x the DOFs) than the scene's mesh
-# auto refines a solid of quadratic box hexahedra by the order first (``raises_order``): quartic Lagrange elements
-# on a grid P_COARSENING x coarser (layers too, at least one), whose node spacing (3h / 4) is the quadratic grid's
-# at 1.5h, then that grid REFINE_RATIO finer a step. Measured at tol 0.5 % (stated / actual against
-# studies/report_tolerance.py's references): the Cu-Be plate's (0,6) 0.283 / 0.211 % at 15,514 DOFs where the
-# quadratic grid needed 34,547 (0.454 / 0.282 %); the glass plate's (0,16) 0.350 / 0.077 % at 18,348 DOFs (93,994
-# and 28 s quadratic, 6 s quartic); the ciliary beam's bending-z 6 0.342 / 0.166 % at 3,510 DOFs (30,404). Its
-# p-estimate (``modalfe.solve.estimates.p_extrapolation``) takes a singular field's rate floor as h takes its order
-P_ORDER = 4
-P_COARSENING = 3.0
 # auto starts where even an optimistic reading of ``scene_grid_forecast`` says the grids before would miss tol: the
 # least ratio over studies/forecast_calibration.py's plates and beams (none a window the report solves) of what the
 # scene's quadratic grid then stated to its forecast (0.397; 0.42-2.45 the rest), and of what the first quartic step
@@ -97,149 +85,81 @@ def solve_at_fidelity(scene, analysis, *, fidelity: str, tol: float, check, size
     meets ``tol``: ``auto`` the cheapest fidelity (``solve_auto``), ``solid`` the solid refined to ``tol``
     (``refined_to_tol``), a reduced model on its own mesh with its discretization and model error. Without
     ``error_estimate``: the scene's own mesh once (``auto``: the solid), every error unknown (NaN,
-    ``NOT_ESTIMATED``)."""
+    ``NOT_ESTIMATED``). The solid's rungs are ``Rung`` values from here on."""
+    rung = Rung(scene, size_factor, solver=solver, frame=frame)
     if not error_estimate:
-        fine = solve_estimated(scene, analysis, "solid" if fidelity == "auto" else fidelity, size_factor=size_factor,
-                               solver=solver, error_estimate=False, frame=frame)
+        fine = solve_estimated(rung, analysis, "solid" if fidelity == "auto" else fidelity, error_estimate=False)
         return replace(fine, estimate_method=NOT_ESTIMATED)
     if fidelity == "auto":
         if frame is not None:
             raise SolverError("frame: rotating the device is supported at solid fidelity only")
-        return solve_auto(scene, analysis, tol=tol, check=check, size_factor=size_factor, solver=solver)
+        return solve_auto(rung, analysis, tol=tol, check=check)
     if fidelity == "solid" and frame is None:
-        solid = solve_auto(scene, analysis, tol=tol, check=check, size_factor=size_factor, solver=solver, fidelities=())
+        solid = solve_auto(rung, analysis, tol=tol, check=check, fidelities=())
         return replace(solid, fidelity_note=solid.fidelity_note.replace("auto: solid answered", "solid asked", 1))
-    modes = solve_estimated(scene, analysis, fidelity, size_factor=size_factor, solver=solver, frame=frame)
+    modes = solve_estimated(rung, analysis, fidelity)
     if fidelity == "solid":  # a rotated device: its own mesh, estimated (``solid_levels`` rotated alike)
         return modes
     # a reduced model asked directly states its model error too: the same cross-check as ``auto``
     start = time.perf_counter()
-    levels = solid_levels(scene, analysis, size_factor, solver)
-    checked = with_model_errors(modes, model_errors(modes, levels, scene, orders=uses_orders(scene)))
+    levels = solid_levels(rung, analysis)
+    checked = with_model_errors(modes, model_errors(modes, levels, scene, orders=rung.uses_orders))
     note = (f"{fidelity} model: error estimates are discretization (three levels) plus model error against a "
             f"3-D solid cross-check")
     return replace(checked, fidelity_note=note, cross_check=tuple(levels),
                    timings=dict(checked.timings, cross_check=time.perf_counter() - start))
 
 
-def uses_orders(scene) -> bool:
-    """Whether the solid's error is estimated from the two lower element orders on its own grid (p-refinement:
-    box hexahedra of ``mesh.order`` >= 4, so that both are at least ``LOWEST_P_LEVEL``) rather than from coarser
-    grids (h-refinement). Not on curved (swept) hexahedra: the orders share one quadratic geometry, so their steps
-    miss the geometry's own error (studies/swept_verification.py disc: order 4's p-estimate stated 1.6e-9 on fr,
-    which differs from a finer grid's by 1.7e-7); coarser grids change the geometry too."""
-    return _box_hexahedra(scene) and scene.mesh.order - 2 >= LOWEST_P_LEVEL
-
-
-def _box_hexahedra(scene) -> bool:  # hexahedra on box parts only (no curved, swept part)
-    return scene.mesh.element == "hex" and not scene.assembly().shaped
-
-
-def checks_order_step(scene) -> bool:
-    """Whether the solid's h-estimate is also checked against the step from order 2 on its own grid: Lagrange
-    hexahedra of order 3, whose h-estimate alone was short on a coarse clamped grid (studies/
-    verification_errors.py --order 3: the 25 mm cantilever's bending 3 stated 0.95 % against 1.78 %)."""
-    return scene.mesh.element == "hex" and scene.mesh.order == 3 and not scene.mesh.serendipity
-
-
-def solid_levels(scene, analysis, size_factor: float, solver: str, frame=None) -> list[Modes]:
-    """The solid's two estimate levels, each asked a little wider: orders p-1 and p-2 on the same grid
-    (``uses_orders``), else elements x1.5 and x2.25 of the default. They estimate the solid's own error and are
-    the reduced models' 3-D cross-check."""
-    if no_estimate_reason(scene, size_factor) == UNCOARSENED:
+def solid_levels(rung: Rung, analysis) -> list[Modes]:
+    """The solid's two estimate levels (``Rung.level``), each asked a little wider. They estimate the solid's own
+    error and are the reduced models' 3-D cross-check."""
+    if rung.no_estimate_reason == UNCOARSENED:
         raise SolverError(f"error estimate: {UNCOARSENED[len('none: '):]}")
     levels, a = [], analysis
-    for level in range(2):
+    for index in range(2):
         a = coarser(a)
-        sc, grid = level_options(scene, level, size_factor)
+        level = rung.level(index)
         try:
-            levels.append(solve_level(sc, a, solver=solver, frame=frame, **grid))
+            levels.append(level.solve(a))
         except SolverError as exc:
-            which = f"order {sc.mesh.order}" if uses_orders(scene) else f"elements x{CHECK_FACTORS[level]:g}"
+            which = f"order {level.scene.mesh.order}" if rung.uses_orders else f"elements x{CHECK_FACTORS[index]:g}"
             raise SolverError(f"error estimate: its level with {which} cannot be solved ({exc}); refine the mesh "
                               f"(mesh.elements_per_wavelength, mesh.max_size) or skip the estimate") from None
     return levels
 
 
-def order_step_level(scene, analysis, size_factor: float, solver: str, frame=None) -> Modes | None:
-    """Order 2 on the solid's own grid, asked a little wider, where ``checks_order_step`` (else None): solved only
+def order_step_level(rung: Rung, analysis) -> Modes | None:
+    """Order 2 on the solid's own grid, asked a little wider, where ``Rung.checks_order_step`` (else None): solved only
     when the solid answers, since the reduced models' cross-check does not use it."""
-    if not checks_order_step(scene):
-        return None
-    lower = replace(scene, mesh=replace(scene.mesh, order=LOWEST_P_LEVEL))
-    return solve_level(lower, coarser(analysis), solver=solver, frame=frame, size_factor=size_factor)
-
-
-def level_options(scene, level: int, size_factor: float) -> tuple[object, dict]:
-    """(scene, mesh options) of estimate level 0 or 1 (``solid_levels``)."""
-    if uses_orders(scene):
-        lower = replace(scene, mesh=replace(scene.mesh, order=scene.mesh.order - 1 - level))
-        return lower, {"size_factor": size_factor}
-    return scene, coarse_level(scene, CHECK_FACTORS[level], size_factor)
-
-
-# the cubic serendipity hexahedron (mesh.family = "serendipity", order 3) states no error: on the coarse grids of
-# studies/verification_errors.py --order 3S its h-estimate was short on 10 of 76 modes (clamped roots, a coarse
-# piezo cube; the Lagrange cubic on the same grids: 1, none with ``checks_order_step``), an estimate from order 2
-# on its grid on 25, and the larger of the two still on at least 6 (its order 2-3 step is small where both miss
-# the clamped root)
-UNVERIFIED = ("none: no verified error estimate for the cubic serendipity hexahedron (short on coarse clamped grids "
-              "in verification); use mesh.family = \"lagrange\" or mesh.order = 4 for a stated error")
-
-
-UNCOARSENED = ("none: an estimate level's tetrahedra would be those of the level before it (sized by the main part's "
-               "thickness / layers, and the levels keep at least 2 then 1 layers); set mesh.min_layers >= 3 for a "
-               "stated error")
-
-
-def no_estimate_reason(scene, size_factor: float = 1.0) -> str | None:
-    """Why the solid states no error estimate (``UNVERIFIED``, ``UNCOARSENED``), None when it does. Tetrahedra are
-    one size everywhere, at most the thickness / min_layers (``modalfe.models.mesh.tet_size``): with one layer the
-    coarser levels mesh exactly as the solid (and with two, the first as the solid): Richardson would see no step
-    and state a zero error."""
-    if scene.mesh.serendipity and scene.mesh.order == 3:
-        return UNVERIFIED
-    if scene.mesh.element == "tet":
-        from modalfe.models.mesh import element_sizes, tet_size
-
-        assembly, sizes = scene.assembly(), element_sizes(scene)
-
-        def size(level: dict) -> float:
-            return tet_size(assembly, {k: h * level["size_factor"] for k, h in sizes.items()}, level["min_layers"])
-
-        levels = [{"size_factor": size_factor, "min_layers": scene.mesh.min_layers},
-                  *(coarse_level(scene, factor, size_factor) for factor in CHECK_FACTORS)]
-        steps = [size(b) / size(a) for a, b in itertools.pairwise(levels)]
-        if min(steps) < 1.1:  # a level no coarser than the one before: Richardson would see no step
-            return UNCOARSENED
-    return None
+    step = rung.order_step()
+    return None if step is None else step.solve(coarser(analysis))
 
 
 def without_estimates(fine: Modes, reason: str) -> Modes:
-    """``fine`` stating no error estimate (infinite), ``reason`` (``no_estimate_reason``) as its method."""
+    """``fine`` stating no error estimate (infinite), ``reason`` (``Rung.no_estimate_reason``) as its method."""
     return replace(fine.with_error_estimates({m.index: math.inf for m in fine}), estimate_method=reason)
 
 
-def solid_estimates(fine: Modes, levels: list[Modes], scene, step_level: Modes | None = None) -> Modes:
-    """``fine`` (the solid) with its error estimates by ``solid_plan`` and the plan itself (``Modes.estimate``: a
-    number derived from a mode is estimated alike); for a solid whose ``no_estimate_reason`` is None (else
-    ``without_estimates``)."""
-    plan = solid_plan(fine, levels, scene, step_level)
+def solid_estimates(fine: Modes, levels: list[Modes], rung: Rung, step_level: Modes | None = None) -> Modes:
+    """``fine`` (the solid on ``rung``) with its error estimates by ``solid_plan`` and the plan itself
+    (``Modes.estimate``: a number derived from a mode is estimated alike); for a rung whose ``no_estimate_reason`` is
+    None (else ``without_estimates``)."""
+    plan = solid_plan(fine, levels, rung, step_level)
     return replace(fine.with_error_estimates(plan.frequency_errors(fine)), estimate_method=plan.method, estimate=plan)
 
 
-def solid_plan(fine: Modes, levels: list[Modes], scene, step_level: Modes | None = None) -> EstimatePlan:
-    """How the solid ``fine``'s errors are estimated from its ``solid_levels`` (and, where ``checks_order_step``, at
-    least the step to ``step_level``, ``order_step_level``): the orders on one grid (``uses_orders``), else
+def solid_plan(fine: Modes, levels: list[Modes], rung: Rung, step_level: Modes | None = None) -> EstimatePlan:
+    """How the solid ``fine``'s errors are estimated from its ``solid_levels`` (and, where ``Rung.checks_order_step``,
+    at least the step to ``step_level``, ``order_step_level``): the orders on one grid (``Rung.uses_orders``), else
     ``h_plan``."""
-    if uses_orders(scene):
+    if rung.uses_orders:
         _, rates = p_extrapolation(fine, *levels)
         orders = "-".join(str(m.model.scene.mesh.order) for m in (*reversed(levels), fine))
         seen = f"; observed {min(rates):.1f}-{max(rates):.1f}" if rates else ""
         return EstimatePlan("orders", tuple(levels), method=f"p-refinement: orders {orders} on one grid (error ~ "
                             f"p^-q, q = {MIN_P_RATE:g} or slower{seen})")
-    plan = h_plan(fine, levels, scene)
-    if checks_order_step(scene):
+    plan = h_plan(fine, levels, rung.scene)
+    if rung.checks_order_step:
         plan = replace(plan, floor=step_level,
                        method=plan.method + ", at least the order 2-3 step on the grid at the rate p^-2")
     return plan
@@ -281,70 +201,69 @@ def h_plan(fine: Modes, levels: list[Modes], scene) -> EstimatePlan:
                         MIN_ORDER, method=method)
 
 
-def solve_estimated(scene, analysis, fidelity: str, *, size_factor: float = 1.0, solver: str = "auto",
-                    error_estimate: bool = True, frame=None, levels: list[Modes] | None = None) -> Modes:
-    """Modes of one fidelity with discretization estimates: the solid's from ``solid_levels`` (lower orders or
-    coarser grids; ``levels``: those grids solved already, used unless they leave a mode without a partner), a
-    reduced model's Richardson from levels 1.5x and 2.25x coarser (``modalfe.solve.estimates.richardson``, which
+def solve_estimated(rung: Rung, analysis, fidelity: str, *, error_estimate: bool = True,
+                    levels: list[Modes] | None = None) -> Modes:
+    """Modes of one fidelity on ``rung`` with discretization estimates: the solid's from ``solid_levels`` (lower
+    orders or coarser grids; ``levels``: those grids solved already, used unless they leave a mode without a partner),
+    a reduced model's Richardson from levels 1.5x and 2.25x coarser (``modalfe.solve.estimates.richardson``, which
     pairs them by shape: solved unlabelled; no model error: ``with_model_errors`` adds it)."""
+    scene = rung.scene
     if fidelity != "solid" and fidelity not in reduced_fidelities(scene):
         raise SceneError(f"fidelity: '{fidelity}' does not apply to a {scene.kind} scene "
                          f"(use {[*reduced_fidelities(scene), 'solid', 'auto']})")
-    if frame is not None and fidelity != "solid":
+    if rung.frame is not None and fidelity != "solid":
         raise SolverError("frame: rotating the device is supported at solid fidelity only")
     if fidelity == "solid":
-        fine = solve_level(scene, analysis, solver=solver, frame=frame, size_factor=size_factor)
+        fine = rung.solve(analysis)
         if not error_estimate:
             return fine
         start = time.perf_counter()
-        reason = no_estimate_reason(scene, size_factor)
-        if reason is not None:
-            return without_estimates(fine, reason)
-        step = order_step_level(scene, analysis, size_factor, solver, frame)
-        result = solid_estimates(fine, levels, scene, step) if levels else None
+        if rung.no_estimate_reason is not None:
+            return without_estimates(fine, rung.no_estimate_reason)
+        step = order_step_level(rung, analysis)
+        result = solid_estimates(fine, levels, rung, step) if levels else None
         if result is None or any(math.isinf(m.error_estimate) for m in result):
             # the grids solved before asked fewer modes around the target than a level does: one lacked a partner
-            result = solid_estimates(fine, solid_levels(scene, analysis, size_factor, solver, frame), scene, step)
+            result = solid_estimates(fine, solid_levels(rung, analysis), rung, step)
         return replace(result, timings=dict(fine.timings, error_estimate=time.perf_counter() - start))
 
-    fine = solve_reduced_level(scene, analysis, fidelity, solver=solver, size_factor=size_factor)
+    fine = solve_reduced_level(scene, analysis, fidelity, solver=rung.solver, size_factor=rung.size_factor)
     if not error_estimate:
         return fine
-    return reduced_estimates(fine, scene, analysis, size_factor=size_factor, solver=solver)
+    return reduced_estimates(fine, scene, analysis, size_factor=rung.size_factor, solver=rung.solver)
 
 
-def solve_auto(scene, analysis, *, tol: float, check=None, size_factor: float = 1.0, solver: str = "auto",
-               fidelities: tuple[str, ...] | None = None) -> Modes:
+def solve_auto(rung: Rung, analysis, *, tol: float, check=None, fidelities: tuple[str, ...] | None = None) -> Modes:
     """The cheapest fidelity of the reduced ``fidelities`` (default ``reduced_fidelities``; () for the solid alone)
     and the solid whose estimated error on the checked modes is within ``tol``; the solid's estimate levels are
     solved once, as the reduced models' cross-check, for the forecast of where the solid starts and, if the solid
     answers, for its own estimate. The solid's ladder (start, steps) is the same whichever reduced models were
     tried, so that ``auto`` and ``solid`` answer a question the solid answers on the same discretization."""
+    scene = rung.scene
     reasons = []
     levels = []  # the solid's estimate levels, solved at most once
 
     def solid_check():
         if not levels:
-            levels.extend(solid_levels(scene, analysis, size_factor, solver))
+            levels.extend(solid_levels(rung, analysis))
         return levels
 
     for fidelity in reduced_fidelities(scene) if fidelities is None else fidelities:
         try:
-            fine = solve_estimated(scene, analysis, fidelity, size_factor=size_factor, solver=solver,
-                                   error_estimate=False)
+            fine = solve_estimated(rung, analysis, fidelity, error_estimate=False)
         except (SceneError, SolverError, ImportError) as exc:
             reasons.append(f"{fidelity} model not applicable: {exc}")
             continue
         start = time.perf_counter()
         # the model error alone first: where it misses tol, the discretization's levels would change nothing
-        errors = model_errors(fine, solid_check(), scene, orders=uses_orders(scene))
+        errors = model_errors(fine, solid_check(), scene, orders=rung.uses_orders)
         cross_check = time.perf_counter() - start
         alone, why = worst_checked(with_model_errors(fine, errors), check, what="model error")
         if alone > tol:
             reasons.append(f"{fidelity} model: {why} > tol {percent(tol)}")
             continue
         try:
-            reduced = reduced_estimates(fine, scene, analysis, size_factor=size_factor, solver=solver)
+            reduced = reduced_estimates(fine, scene, analysis, size_factor=rung.size_factor, solver=rung.solver)
         except (SceneError, SolverError) as exc:
             reasons.append(f"{fidelity} model not applicable: {exc}")
             continue
@@ -356,11 +275,11 @@ def solve_auto(scene, analysis, *, tol: float, check=None, size_factor: float = 
                     f"(model error {model:.2%} from a 3-D solid cross-check, plus discretization)")
             return replace(checked, fidelity_note=note, cross_check=tuple(solid_check()))
         reasons.append(f"{fidelity} model: {why} > tol {percent(tol)}")
-    reason = no_estimate_reason(scene, size_factor)
+    reason = rung.no_estimate_reason
     forecast = 0.0
-    if reason is None and raises_order(scene) and reuses_grids(scene):  # else no forecast (``scene_grid_forecast``)
-        forecast = scene_grid_forecast(scene, solid_check(), check)
-    start = first_step(scene, forecast, tol, size_factor)
+    if reason is None and rung.raises_order and rung.reuses_grids:  # else no forecast (``scene_grid_forecast``)
+        forecast = scene_grid_forecast(rung, solid_check(), check)
+    start = first_step(rung, forecast, tol)
     skipped = ""
     if start:  # the scene's own grid (and maybe the first step) would miss tol
         solid = None
@@ -369,32 +288,30 @@ def solve_auto(scene, analysis, *, tol: float, check=None, size_factor: float = 
         log.info("auto: the scene's grid is forecast to state %s against tol %s: starting at refinement step %d",
                  percent(forecast), percent(tol), start)
     else:
-        fine = solve_level(scene, analysis, size_factor=size_factor, solver=solver)
+        fine = rung.solve(analysis)
         start_time = time.perf_counter()
         if reason is None:  # the levels are reused if the cross-check solved them
-            solid = solid_estimates(fine, solid_check(), scene,
-                                    order_step_level(scene, analysis, size_factor, solver))
+            solid = solid_estimates(fine, solid_check(), rung, order_step_level(rung, analysis))
         else:
             solid = without_estimates(fine, reason)
         solid = replace(solid, timings=dict(fine.timings, error_estimate=time.perf_counter() - start_time))
-    solid, refined = refined_to_tol(scene, analysis, solid, tol=tol, check=check, size_factor=size_factor,
-                                    solver=solver, levels=levels, start=max(start, 1))
+    solid, refined = refined_to_tol(rung, analysis, solid, tol=tol, check=check, levels=levels, start=max(start, 1))
     note = "auto: solid answered" + (f" ({'; '.join(reasons)})" if reasons else " (no reduced model for a "
                                      f"{scene.kind} scene)" if fidelities is None else "")
     return replace(solid, fidelity_note=note + skipped + refined)
 
 
-def scene_grid_forecast(scene, levels: list[Modes], check) -> float:
+def scene_grid_forecast(rung: Rung, levels: list[Modes], check) -> float:
     """The largest error the solid's own grid would state on the checked modes, forecast from its two estimate levels
     where a reduced model's cross-check solved them (else 0: nothing to go by): their step, shrunk to the scene's
     grid at ``CONVERGENCE_ORDER``, at the order the grid's own estimate would use (``singular_field``). Only where
     ``raises_order``. A rough figure (0.2-5x what the grid then states, ``FORECAST_GRID``) that chooses where auto
     starts (``first_step``), never a stated error."""
-    if len(levels) != 2 or not raises_order(scene) or not reuses_grids(scene):
+    if len(levels) != 2 or not rung.raises_order or not rung.reuses_grids:
         return 0.0
     coarse, coarsest = levels
     pairs = shape_partners(coarse, coarsest)
-    order = MIN_ORDER if singular_field(scene) else CONVERGENCE_ORDER
+    order = MIN_ORDER if singular_field(rung.scene) else CONVERGENCE_ORDER
     shrink = 1 / (COARSE_FACTOR**CONVERGENCE_ORDER * (COARSE_FACTOR**order - 1))
     steps = {m.index: abs(pairs[m.index][1] - m.frequency) / m.frequency * shrink if m.index in pairs else 0.0
              for m in coarse if m.frequency > 0}
@@ -402,8 +319,8 @@ def scene_grid_forecast(scene, levels: list[Modes], check) -> float:
     return worst if math.isfinite(worst) else 0.0  # inf: a checked mode the coarse level does not hold
 
 
-def first_step(scene, forecast: float, tol: float, size_factor: float = 1.0) -> int:
-    """Where auto's solid starts: 0, the scene's own grid; 1 or 2, that refinement step (``refinement_step``), where
+def first_step(rung: Rung, forecast: float, tol: float) -> int:
+    """Where auto's solid starts: 0, ``rung`` itself; 1 or 2, that refinement step (``Rung.step``), where
     ``forecast`` (``scene_grid_forecast``) times the least ratio seen (``FORECAST_GRID``, ``FORECAST_FIRST_STEP``)
     still exceeds ``tol`` for the grids before it, and the step fits in memory."""
     from modalfe.models.estimate import check_size
@@ -411,99 +328,67 @@ def first_step(scene, forecast: float, tol: float, size_factor: float = 1.0) -> 
     wanted = 2 if forecast * FORECAST_FIRST_STEP > tol else 1 if forecast * FORECAST_GRID > tol else 0
     wanted = min(wanted, MAX_REFINE_STEPS)
     for step in range(wanted, 0, -1):
-        finer, factor = refinement_step(scene, step, size_factor)
+        finer = rung.step(step)
         try:
-            check_size(finer, size_factor=factor)
+            check_size(finer.scene, size_factor=finer.size_factor)
         except SceneError:
             continue
         return step
     return 0
 
 
-def refined_to_tol(scene, analysis, solid: Modes | None, *, tol: float, check, size_factor: float = 1.0,
-                   solver: str = "auto", levels: list[Modes] | tuple = (), start: int = 1) -> tuple[Modes, str]:
-    """(``solid``, or the solid solved again on finer grids until the estimated error of the checked modes is
-    within ``tol``; a phrase for the note saying what was done); ``solid`` None: the scene's own grid was skipped
-    (``first_step``), start at step ``start``. The steps are ``refinement_step``'s: quartic elements on a
-    coarser grid first where ``raises_order``, else elements ``REFINE_RATIO`` smaller a step and the thickness
-    layers as many times more (the estimate levels' own ratio, ``COARSE_FACTOR``); one step at a time (a step costs
-    ~1.5^3 = 3.4x the one before, so the steps before the last add at most ~40 %; jumping by the steps an h^2 fall
-    predicts overshot), at most ``MAX_REFINE_STEPS``, and none whose model would not fit in memory
+def refined_to_tol(rung: Rung, analysis, solid: Modes | None, *, tol: float, check,
+                   levels: list[Modes] | tuple = (), start: int = 1) -> tuple[Modes, str]:
+    """(``solid``, or the solid solved again on finer rungs until the estimated error of the checked modes is
+    within ``tol``; a phrase for the note saying what was done); ``solid`` None: ``rung`` itself was skipped
+    (``first_step``), start at step ``start``. The steps are ``Rung.step``'s: quartic elements on a coarser grid
+    first where ``Rung.raises_order``, else elements ``REFINE_RATIO`` smaller a step and the thickness layers as many
+    times more (the estimate levels' own ratio, ``COARSE_FACTOR``); one step at a time (a step costs ~1.5^3 = 3.4x
+    the one before, so the steps before the last add at most ~40 %; jumping by the steps an h^2 fall predicts
+    overshot), at most ``MAX_REFINE_STEPS``, and none whose model would not fit in memory
     (``modalfe.models.estimate.check_size``). Not where the solid states no estimate (nothing to steer by). On
     h-steps a step's estimate levels (elements x1.5 and x2.25 of its own, layers alike) are the grids of the steps
     before it (``solid`` and its ``levels`` for the first): they are reused (``solve_estimated``)."""
     from modalfe.models.estimate import check_size
 
     grids = None  # (thickness layers, element size factor) -> the solve on that grid, where levels are grids
-    if reuses_grids(scene):
-        grids = {} if solid is None else {_grid(scene.mesh.min_layers, size_factor): solid}
-        for level, factor in zip(levels, CHECK_FACTORS):
-            grids[_grid(level_layers(scene.mesh.min_layers, factor), size_factor * factor)] = level
+    if rung.reuses_grids:
+        grids = {} if solid is None else {rung.grid: solid}
+        grids.update(zip(rung.level_grids(), levels))
     worst, why = ((math.inf, "own grid (not solved, first_step)") if solid is None
                   else worst_checked(solid, check))
-    steps, stopped = (0 if solid is not None else start - 1), ""
+    steps, stopped, finer = (0 if solid is not None else start - 1), "", rung
     while worst > tol and (math.isfinite(worst) or solid is None) and steps < MAX_REFINE_STEPS:
-        finer, factor = refinement_step(scene, steps + 1, size_factor)
+        finer = rung.step(steps + 1)
         try:
-            size = check_size(finer, size_factor=factor)
+            size = check_size(finer.scene, size_factor=finer.size_factor)
         except SceneError as exc:
             stopped = f" (a finer grid would not fit: {exc})"
             break
         log.info("auto: the solid's %s exceeds tol %s: elements x%.3g, %d layers (%s)", why, percent(tol),
-                 factor, finer.mesh.min_layers, size.describe())
+                 finer.size_factor, finer.scene.mesh.min_layers, size.describe())
         reused = None
-        if grids is not None and reuses_grids(finer):
-            keys = [_grid(level_layers(finer.mesh.min_layers, f), factor * f) for f in CHECK_FACTORS]
+        if grids is not None and finer.reuses_grids:
+            keys = finer.level_grids()
             reused = [grids[k] for k in keys] if all(k in grids for k in keys) else None
-        solid = solve_estimated(finer, analysis, "solid", size_factor=factor, solver=solver, levels=reused)
+        solid = solve_estimated(finer, analysis, "solid", levels=reused)
         if grids is not None:
-            grids[_grid(finer.mesh.min_layers, factor)] = solid
-        steps, last = steps + 1, (finer, factor)
+            grids[finer.grid] = solid
+        steps += 1
         worst, why = worst_checked(solid, check)
     if solid is None:
         raise SolverError(f"auto: no refinement step could be solved{stopped}")
     note = ""
     if steps:
-        grid, grid_factor = last
-        order = f"order {grid.mesh.order} on " if grid.mesh.order != scene.mesh.order else ""
-        layers = grid.mesh.min_layers
-        note = (f"; refined for tol {percent(tol)}: {order}elements x{grid_factor:.3g} of the scene's mesh, "
-                f"{layers} thickness layer{'s' if layers != 1 else ''}, {solid.dofs} DOFs")
+        mesh = finer.scene.mesh
+        order = f"order {mesh.order} on " if mesh.order != rung.scene.mesh.order else ""
+        note = (f"; refined for tol {percent(tol)}: {order}elements x{finer.size_factor:.3g} of the scene's mesh, "
+                f"{mesh.min_layers} thickness layer{'s' if mesh.min_layers != 1 else ''}, {solid.dofs} DOFs")
     if worst > tol:
         if not stopped and math.isfinite(worst) and steps == MAX_REFINE_STEPS:
             stopped = f" at the most refinement allowed (MAX_REFINE_STEPS = {MAX_REFINE_STEPS})"
         note += f"; its {why} exceeds tol {percent(tol)}{stopped}"
     return solid, note
-
-
-def raises_order(scene) -> bool:
-    """Whether auto refines ``scene``'s solid by the order before the grid (``P_ORDER``): quadratic hexahedra on
-    boxes, where the quartic p-estimate applies (``uses_orders``)."""
-    return _box_hexahedra(scene) and scene.mesh.order == LOWEST_P_LEVEL
-
-
-def refinement_step(scene, steps: int, size_factor: float = 1.0) -> tuple[object, float]:
-    """(scene, size factor) of auto's refinement step ``steps`` (1, 2, ...) of the solid: where ``raises_order``,
-    quartic elements on a grid ``P_COARSENING`` x coarser than the scene's, then ``REFINE_RATIO`` finer a step, the
-    layers scaled alike (rounded down: one quartic layer holds a plate's bending through the thickness); else the
-    scene's order on a grid ``REFINE_RATIO``^steps finer (``refined_scene``)."""
-    if not raises_order(scene):
-        return refined_scene(scene, steps), size_factor / REFINE_RATIO**steps
-    scale = REFINE_RATIO ** (steps - 1) / P_COARSENING
-    layers = max(1, math.floor(scene.mesh.min_layers * scale + 1e-9))
-    quartic = replace(scene.mesh, order=P_ORDER, family="lagrange", min_layers=layers)
-    return replace(scene, mesh=quartic), size_factor / scale
-
-
-def reuses_grids(scene) -> bool:
-    """Whether the solid's estimate levels are coarser grids of its own order (h-refinement), which a refinement
-    step finds among the grids solved before it; not the orders on one grid (``uses_orders``) nor with the order
-    step (``checks_order_step``)."""
-    return not uses_orders(scene) and not checks_order_step(scene)
-
-
-def _grid(layers: int, size_factor: float) -> tuple[int, float]:
-    return layers, round(size_factor, 9)
 
 
 def percent(x: float) -> str:
@@ -512,13 +397,6 @@ def percent(x: float) -> str:
     if x >= 1e-4 or x <= 0:
         return f"{100 * x:.2f}%"
     return f"{100 * x:.{1 - math.floor(math.log10(100 * x))}f}%"
-
-
-def refined_scene(scene, steps: int):
-    """``scene`` with ``mesh.min_layers`` raised ``REFINE_RATIO``^steps times (rounded half up): refined in the
-    thickness as the elements are in plane (``refined_to_tol``)."""
-    layers = max(scene.mesh.min_layers, math.floor(scene.mesh.min_layers * REFINE_RATIO**steps + 0.5))
-    return replace(scene, mesh=replace(scene.mesh, min_layers=layers))
 
 
 def _checked_modes(modes: Modes, check) -> list:
@@ -556,8 +434,8 @@ def coupling_check_level(modes: Modes, mode, *, size_factor: float = 1.0, solver
     short = partner(mode, level)
     if short is None:
         raise SolverError(f"no 3-D partner of {mode.label} at {mode.frequency:.6g} Hz in the cross-check")
-    scene, grid = level_options(modes.model.scene, 0, size_factor)
-    open_ = solve_level(scene, Analysis(near=short.frequency, count=6, circuit="open"), solver=solver, **grid)
+    level = Rung(modes.model.scene, size_factor, solver=solver).level(0)
+    open_ = level.solve(Analysis(near=short.frequency, count=6, circuit="open"))
     fa = partner(short, open_)
     if fa is None:  # the shape pairing failed: the label, as before
         fa = select(open_, short.label, short.frequency)

@@ -9,7 +9,9 @@ from modalfe.errors import SceneError
 from modalfe.results.modes import select
 from modalfe.scene import Analysis
 from modalfe.solve import fidelity
+from modalfe.solve import rung as rung_module
 from modalfe.solve.api import solve_modes
+from modalfe.solve.rung import Rung
 
 # the ciliary beam's bending-z 6 (short circuit): studies/benchmark_peer.py's reference, modalfe's finest order-4
 # level (117,606 DOFs, graded to the clamp), 21,541.98 Hz; NGSolve's order 4 agrees to 0.0003 % and the last
@@ -43,17 +45,17 @@ def test_the_refinement_steps_raise_the_order_on_a_coarser_grid_then_refine_it()
     # quadratic box hexahedra: quartic on a grid 3x coarser (layers 3 -> 1), then 1.5x finer a step (layers rounded
     # down); a scene where the quartic p-estimate does not apply (tetrahedra) refines its grid at its own order
     scene = load_scene("cube_plate")
-    assert fidelity.raises_order(scene)
-    steps = [fidelity.refinement_step(scene, k, 1.0) for k in (1, 2, 3)]
-    assert [(s.mesh.order, s.mesh.family, s.mesh.min_layers) for s, _ in steps] == [(4, "lagrange", 1),
-                                                                                  (4, "lagrange", 1),
-                                                                                  (4, "lagrange", 2)]
-    assert [f for _, f in steps] == pytest.approx([3.0, 2.0, 4 / 3])
-    tet = load_scene("cube_plate", **{"mesh.element": "tet"})
-    assert not fidelity.raises_order(tet)
-    finer, factor = fidelity.refinement_step(tet, 2, 1.0)
-    assert (finer.mesh.order, finer.mesh.min_layers, factor) == (2, 7, pytest.approx(1 / 1.5**2))
-    assert not fidelity.raises_order(load_scene("cube_plate", **{"mesh.order": 3}))
+    assert Rung(scene).raises_order
+    steps = [Rung(scene).step(k) for k in (1, 2, 3)]
+    assert [(s.scene.mesh.order, s.scene.mesh.family, s.scene.mesh.min_layers) for s in steps] == [
+        (4, "lagrange", 1), (4, "lagrange", 1), (4, "lagrange", 2)]
+    assert [s.size_factor for s in steps] == pytest.approx([3.0, 2.0, 4 / 3])
+    tet = Rung(load_scene("cube_plate", **{"mesh.element": "tet"}))
+    assert not tet.raises_order
+    finer = tet.step(2)
+    assert (finer.scene.mesh.order, finer.scene.mesh.min_layers, finer.size_factor) == (2, 7,
+                                                                                         pytest.approx(1 / 1.5**2))
+    assert not Rung(load_scene("cube_plate", **{"mesh.order": 3})).raises_order
 
 
 def test_auto_starts_where_the_forecast_says_the_grids_before_would_miss_tol(monkeypatch):
@@ -63,13 +65,13 @@ def test_auto_starts_where_the_forecast_says_the_grids_before_would_miss_tol(mon
     # grid itself (there the beam model answers, 2.71 %: asked of ``first_step`` alone)
     scene = load_scene("ciliary_beam")
     solved = []
-    solve_level = fidelity.solve_level
+    solve_level = rung_module.solve_level
 
     def counted(sc, analysis, **options):
         solved.append((options.get("fidelity", "solid"), sc.mesh.order, options.get("size_factor", 1.0)))
         return solve_level(sc, analysis, **options)
 
-    monkeypatch.setattr(fidelity, "solve_level", counted)
+    monkeypatch.setattr(rung_module, "solve_level", counted)
     tight = solve_modes(scene, near=24.2e3, count=4, fidelity="auto", tol=0.005, check=CILIARY_CHECK)
     assert ("solid", 2, 1.0) not in solved and ("solid", 4, 3.0) not in solved and ("solid", 4, 2.0) in solved
     assert "started at refinement step 2" in tight.fidelity_note
@@ -79,7 +81,7 @@ def test_auto_starts_where_the_forecast_says_the_grids_before_would_miss_tol(mon
     assert "started at refinement step 1" in loose.fidelity_note
     forecast = float(tight.fidelity_note.split("forecast ")[1].split("%")[0]) / 100
     assert 0.02 / fidelity.FORECAST_FIRST_STEP > forecast > 0.02 / fidelity.FORECAST_GRID
-    assert fidelity.first_step(scene, forecast, 0.03) == 0
+    assert fidelity.first_step(Rung(scene), forecast, 0.03) == 0
     # the start is capped by what fits in memory (step 2: elements x2 of the scene's) and by the steps allowed
     import modalfe.models.estimate as estimate
 
@@ -91,10 +93,10 @@ def test_auto_starts_where_the_forecast_says_the_grids_before_would_miss_tol(mon
         return check_size(scene, fidelity, size_factor=size_factor, min_layers=min_layers)
 
     monkeypatch.setattr(estimate, "check_size", step_2_too_large)
-    assert fidelity.first_step(scene, forecast, 0.005) == 1
+    assert fidelity.first_step(Rung(scene), forecast, 0.005) == 1
     monkeypatch.setattr(estimate, "check_size", check_size)
     monkeypatch.setattr(fidelity, "MAX_REFINE_STEPS", 1)
-    assert fidelity.first_step(scene, forecast, 0.005) == 1
+    assert fidelity.first_step(Rung(scene), forecast, 0.005) == 1
 
 
 def test_auto_does_not_refine_past_the_memory_and_says_why(monkeypatch):
@@ -129,25 +131,24 @@ def test_a_refinement_step_solves_only_its_own_grid_and_estimates_as_fresh_level
     # on h-steps (a scene whose order auto does not raise: here made so), a step's levels (elements x1.5 and x2.25
     # of its own, layers alike) are the grids solved before it: the scene's mesh and its first estimate level;
     # reused, they give the estimate that solving them again gives
-    monkeypatch.setattr(fidelity, "raises_order", lambda scene: False)
+    monkeypatch.setattr(Rung, "raises_order", property(lambda rung: False))
     scene = load_scene("ciliary_beam")
     solved = []
-    solve_level = fidelity.solve_level
+    solve_level = rung_module.solve_level
 
     def counted(sc, analysis, **options):
         solved.append((options.get("fidelity", "solid"), sc.mesh.min_layers, options.get("size_factor")))
         return solve_level(sc, analysis, **options)
 
-    monkeypatch.setattr(fidelity, "solve_level", counted)
+    monkeypatch.setattr(rung_module, "solve_level", counted)
     # tol 2 %: two steps (the scene's mesh states 2.7 % at order 1, the floor of its clamped root's singular field; its
     # x1.5 level keeps the 10 mm segment under the sheets at the scene's element count, so the first step's levels,
     # the scene's mesh and that level, observe no order: two-level estimates, the larger, above 2 %)
     modes = solve_modes(scene, near=24.2e3, count=4, fidelity="auto", tol=0.02, check=CILIARY_CHECK)
     solids = [s for s in solved if s[0] == "solid"]
     assert solids[-1] == ("solid", 7, pytest.approx(1 / 1.5**2)) and len(solids) == 5  # 3 of the scene's mesh + 2
-    monkeypatch.setattr(fidelity, "solve_level", solve_level)
-    fresh = fidelity.solve_estimated(fidelity.refined_scene(scene, 2), Analysis(near=24.2e3, count=4), "solid",
-                                     size_factor=1 / 1.5**2)
+    monkeypatch.setattr(rung_module, "solve_level", solve_level)
+    fresh = fidelity.solve_estimated(Rung(scene).refined(2), Analysis(near=24.2e3, count=4), "solid")
     mode, again = select(modes, "bending-z 6", 24.2e3), select(fresh, "bending-z 6", 24.2e3)
     assert mode.frequency == pytest.approx(again.frequency, rel=1e-12)
     assert mode.error_estimate == pytest.approx(again.error_estimate, rel=1e-9)

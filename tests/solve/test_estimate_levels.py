@@ -4,6 +4,7 @@ import pytest
 
 from modalfe.errors import SolverError
 from modalfe.scene import scene_from_dict
+from modalfe.solve import rung
 from modalfe.solve.api import OWN_MESH, solve_modes
 
 
@@ -34,7 +35,7 @@ def test_the_order_step_level_is_solved_only_for_the_solids_own_estimate(monkeyp
     real = fidelity.order_step_level
 
     def counted(*args, **kwargs):
-        calls.append(args[0].mesh.order)
+        calls.append(args[0].scene.mesh.order)
         return real(*args, **kwargs)
 
     monkeypatch.setattr(fidelity, "order_step_level", counted)
@@ -49,7 +50,6 @@ def test_tetrahedra_one_layer_thick_state_no_estimate_without_solving_levels(mon
     # one tetrahedron across the thickness: the estimate levels would mesh exactly as the solid (the thickness caps
     # the size), so they are not solved and the modes say why; with two layers the levels coarsen and estimate
     from modalfe.scene import scene_from_dict
-    from modalfe.solve import fidelity
 
     data = {"units": "mm", "name": "disc", "analysis": {"near": 20e3, "count": 2},
             "mesh": {"element": "tet", "max_size": 6, "min_layers": 1},
@@ -58,16 +58,15 @@ def test_tetrahedra_one_layer_thick_state_no_estimate_without_solving_levels(mon
                        "radius": 6, "height": 0.5}]}
     one = scene_from_dict(data)
     solved = []
-    real = fidelity.solve_level
-    monkeypatch.setattr(fidelity, "solve_level", lambda *a, **k: solved.append(k) or real(*a, **k))
+    real = rung.solve_level
+    monkeypatch.setattr(rung, "solve_level", lambda *a, **k: solved.append(k) or real(*a, **k))
     modes = solve_modes(one, fidelity="solid", tol=OWN_MESH)
     assert len(solved) == 1  # the solid only
-    assert modes.estimate_method == fidelity.UNCOARSENED
+    assert modes.estimate_method == rung.UNCOARSENED
     assert all(m.error_estimate == float("inf") for m in modes)
     # two layers: the first level keeps two (``level_layers``), so it meshes as the solid and Richardson would state
     # a zero error (it did: 0.000 % on a thin disc); three layers coarsen at every level
-    for layers, reason in ((2, fidelity.UNCOARSENED), (3, None)):
-        assert fidelity.no_estimate_reason(scene_from_dict({**data, "mesh": {"element": "tet", "max_size": 6,
-                                                                             "min_layers": layers}})) \
-            == reason
+    for layers, reason in ((2, rung.UNCOARSENED), (3, None)):
+        scene = scene_from_dict({**data, "mesh": {"element": "tet", "max_size": 6, "min_layers": layers}})
+        assert rung.Rung(scene).no_estimate_reason == reason
 

@@ -8,6 +8,7 @@ import pytest
 
 from modalfe.solve.api import solve_modes
 from modalfe.solve.fidelity import solve_estimated
+from modalfe.solve.rung import Rung
 from tests.oracles.cases import cantilever_plate_scene, stack_scene, strip_scene
 
 # T2 of the disc stack: Lagrange order 4 on the scene's 0.75 mm swept grid (218,070 DOFs); order 3 there 191,610.204 Hz
@@ -32,7 +33,7 @@ def test_the_stacked_disc_torsion_mode_is_covered_on_its_grid_and_where_the_soli
     # the ceramic is 2 layers on the scene's grid and on the x1.5 level (ceil(1.2 / 0.75) = ceil(1.2 / 1.125)):
     # that level is not a step; after one refinement the reused x2.25 level keeps the x1.5 one's 2 layers
     scene = stack_scene()
-    grid = solve_estimated(scene, scene.analysis, "solid")
+    grid = solve_estimated(Rung(scene), scene.analysis, "solid")
     assert "x1.5 (its part 'ceramic' along z" in grid.estimate_method
     t2 = grid.labelled("T2", near=STACK_T2)
     assert _covered(t2, STACK_T2, STACK_T2_UNCERTAINTY)
@@ -43,7 +44,7 @@ def test_the_stacked_disc_torsion_mode_is_covered_on_its_grid_and_where_the_soli
 
 def test_a_strip_supported_plate_states_at_least_its_error():
     scene = strip_scene()
-    grid = solve_estimated(scene, scene.analysis, "solid")
+    grid = solve_estimated(Rung(scene), scene.analysis, "solid")
     assert "x1.5 (its part 'plate' along y" in grid.estimate_method  # the 2 mm strip: 2 elements on both
     for label, (reference, uncertainty) in STRIP.items():
         assert _covered(grid.labelled(label, near=reference), reference, uncertainty), label
@@ -51,7 +52,7 @@ def test_a_strip_supported_plate_states_at_least_its_error():
 
 def test_a_thin_cantilever_plate_states_at_least_its_error_on_its_grid():
     scene = cantilever_plate_scene()
-    grid = solve_estimated(scene, scene.analysis, "solid")
+    grid = solve_estimated(Rung(scene), scene.analysis, "solid")
     for label, (reference, uncertainty) in CANTILEVER.items():
         assert _covered(grid.labelled(label, near=reference), reference, uncertainty), label
 

@@ -54,14 +54,14 @@ def test_the_cube_plates_refined_estimates_cover_the_limit_of_nested_refinement(
     # 0.282 %) and the p-estimate of the quartic grid it now refines to first (``refinement_step``)
     from modalfe.report.report import window_modes, working_windows
     from modalfe.scene import Analysis
-    from modalfe.solve.fidelity import refined_scene, solve_estimated
+    from modalfe.solve.fidelity import solve_estimated
+    from modalfe.solve.rung import Rung
     from tests.helpers import load_study
 
     limit, uncertainty = load_study("report_tolerance").NESTED["cube_plate", "(0,6)"]
     window = working_windows(load_scene("cube_plate"))[0]
 
-    quadratic = solve_estimated(refined_scene(window.scene, 2), Analysis(near=40.7e3, count=10), "solid",
-                                size_factor=1 / 1.5**2)
+    quadratic = solve_estimated(Rung(window.scene).refined(2), Analysis(near=40.7e3, count=10), "solid")
     mode = select(quadratic, "(0,6)", 40.7e3)
     assert quadratic.dofs == 34547
     # its x1.5 level keeps foot_1's 3 mm at the grid's element count: a two-level estimate from x2.25 at order 1

@@ -74,33 +74,6 @@ SHAPE_SLOWDOWN = 2.0
 LOWEST_P_LEVEL = 2  # order-1 hexahedra lock in bending (their error is not the start of the p-sequence)
 
 
-def coarse_level(scene, factor: float, size_factor: float = 1.0) -> dict:
-    """Mesh of a coarser level: elements ``factor`` times larger, thickness layers scaled alike
-    (``level_layers``)."""
-    return {"size_factor": size_factor * factor, "min_layers": level_layers(scene.mesh.min_layers, factor)}
-
-
-def level_layers(layers: int, factor: float) -> int:
-    """Thickness layers of the level ``factor`` x coarser than one with ``layers``: round(layers / factor),
-    at least 1. Where that would give the first coarse level (x1.5) as few layers as the second (x2.25) although
-    the fine level has more (2 layers: 1 and 1), the first keeps one more (2, 1): the pair of coarse levels the
-    reduced models' cross-check extrapolates from then refines the thickness too, as it does from 3 (2, 1)."""
-    n = max(1, round(layers / factor))
-    if factor < COARSE_FACTOR**2 - 1e-9 and n < layers and n == max(1, round(layers / (factor * COARSE_FACTOR))):
-        n += 1
-    return n
-
-
-def coarser(a):
-    """The analysis of a coarser level: a few more modes (or a wider band) so that every mode of the
-    fine level finds its partner."""
-    from modalfe.scene import Analysis
-
-    if a.band is None:
-        return Analysis(near=a.near, count=a.count + 4, circuit=a.circuit)
-    return Analysis(band=(a.band[0] * 0.9, a.band[1] * 1.1), circuit=a.circuit)
-
-
 def sample_points(modes: Modes) -> np.ndarray:
     """Points (m, 3) [m] where shapes are compared across levels and fidelities, at most ``SAMPLES``: for a
     3-D solid the centroids of its elements (strictly inside the device, so inside every other mesh of it

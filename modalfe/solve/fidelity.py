@@ -47,7 +47,6 @@ from modalfe.solve.estimates import (
     MIN_P_RATE,
     MIN_RATIO,
     EstimatePlan,
-    coarser,
     level_ratio,
     p_extrapolation,
     partner,
@@ -56,7 +55,7 @@ from modalfe.solve.estimates import (
     uncoarsened,
 )
 from modalfe.solve.reduced import model_errors, reduced_estimates, solve_reduced_level, with_model_errors
-from modalfe.solve.rung import CHECK_FACTORS, UNCOARSENED, Rung
+from modalfe.solve.rung import CHECK_FACTORS, UNCOARSENED, Rung, coarser
 
 log = logging.getLogger(__name__)
 

@@ -17,13 +17,13 @@ from modalfe.solve.estimates import (
     CONVERGENCE_ORDER,
     MIN_P_RATE,
     OBSERVED_ORDERS,
-    coarser,
     refinement_ratio,
     richardson,
     sample_points,
     shape_partners,
 )
 from modalfe.solve.levels import solve_level
+from modalfe.solve.rung import coarser
 
 SOLVES_SYMMETRIC_PART = {"beam": False, "plate": True}  # else the whole device is solved
 

@@ -20,7 +20,7 @@ import math
 from dataclasses import dataclass, replace
 
 from modalfe.results.modes import Modes
-from modalfe.solve.estimates import COARSE_FACTOR, LOWEST_P_LEVEL, coarse_level, level_layers
+from modalfe.solve.estimates import COARSE_FACTOR, LOWEST_P_LEVEL
 from modalfe.solve.levels import solve_level
 
 CHECK_FACTORS = (COARSE_FACTOR, COARSE_FACTOR**2)  # the estimate's (and the reduced models' cross-check's) two grids
@@ -123,7 +123,7 @@ class Rung:
 
     def level(self, index: int) -> Rung:
         """Estimate level 0 or 1: orders p-1 and p-2 on this grid (``uses_orders``), else elements x1.5 and x2.25
-        with the thickness layers scaled alike (``modalfe.solve.estimates.coarse_level``)."""
+        with the thickness layers scaled alike (``coarse_level``)."""
         if self.uses_orders:
             lower = replace(self.scene.mesh, order=self.scene.mesh.order - 1 - index)
             return replace(self, scene=replace(self.scene, mesh=lower))
@@ -166,3 +166,30 @@ class Rung:
     def level_grids(self) -> list[tuple[int, float]]:
         """The grids of this rung's estimate levels (h-refinement), as ``grid`` names them."""
         return [(level_layers(self.scene.mesh.min_layers, f), round(self.size_factor * f, 9)) for f in CHECK_FACTORS]
+
+
+def coarse_level(scene, factor: float, size_factor: float = 1.0) -> dict:
+    """Mesh of a coarser level: elements ``factor`` times larger, thickness layers scaled alike
+    (``level_layers``)."""
+    return {"size_factor": size_factor * factor, "min_layers": level_layers(scene.mesh.min_layers, factor)}
+
+
+def level_layers(layers: int, factor: float) -> int:
+    """Thickness layers of the level ``factor`` x coarser than one with ``layers``: round(layers / factor),
+    at least 1. Where that would give the first coarse level (x1.5) as few layers as the second (x2.25) although
+    the fine level has more (2 layers: 1 and 1), the first keeps one more (2, 1): the pair of coarse levels the
+    reduced models' cross-check extrapolates from then refines the thickness too, as it does from 3 (2, 1)."""
+    n = max(1, round(layers / factor))
+    if factor < COARSE_FACTOR**2 - 1e-9 and n < layers and n == max(1, round(layers / (factor * COARSE_FACTOR))):
+        n += 1
+    return n
+
+
+def coarser(a):
+    """The analysis of a coarser level: a few more modes (or a wider band) so that every mode of the
+    fine level finds its partner."""
+    from modalfe.scene import Analysis
+
+    if a.band is None:
+        return Analysis(near=a.near, count=a.count + 4, circuit=a.circuit)
+    return Analysis(band=(a.band[0] * 0.9, a.band[1] * 1.1), circuit=a.circuit)

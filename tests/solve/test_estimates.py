@@ -4,7 +4,7 @@ import pytest
 
 from modalfe.errors import SolverError
 from modalfe.solve.api import solve_modes
-from modalfe.solve.estimates import level_layers
+from modalfe.solve.rung import level_layers
 from tests.oracles.cases import free_plate_scene
 
 

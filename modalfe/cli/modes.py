@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 import json
 import math
 
@@ -22,6 +23,8 @@ def register(sub) -> None:
     p.add_argument("--scene", action="append", help="only this built-in scene (repeatable)")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene parameter")
     p.add_argument("--json", action="store_true", help="machine-readable rows")
+    p.add_argument("-v", "--verbose", action="store_true", default=argparse.SUPPRESS,
+                   help="also how each row was resolved, its notes and the assumptions (and log progress)")
     p.add_argument("--jobs", type=positive_int,
                    help="devices solved at once, one process each (default: one per core)")
     solve_options(p)
@@ -47,7 +50,7 @@ def _report(args) -> int:
     if args.json:
         print(json.dumps([r.to_json() for r in rows], indent=2))
     else:
-        print(format_rows(rows))
+        print(format_rows(rows, detail=args.verbose))
     return 1 if any(r.mode == "FAILED" for r in rows) else 0
 
 

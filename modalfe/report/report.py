@@ -332,29 +332,37 @@ def window_rows(name_window: tuple[str, int], *, overrides: dict, error_estimate
     return list(zip(indices, rows))
 
 
-def format_rows(rows: list[ReportRow]) -> str:
-    """A plain-text table: one line per working mode, then its targets and notes."""
-    lines = [f"{'scene':<15} {'mode':<12} {'f [Hz]':>10} {'err est':>8} {'DOFs':>7} {'fidelity':>8} {'s':>6}"]
+def format_rows(rows: list[ReportRow], *, detail: bool = False) -> str:
+    """A plain-text table, one screen: one line per working mode (frequency, stated error, DOFs, fidelity, seconds, fa
+    and k_eff), then its targets and deviations; with ``detail`` also the wavelength, how auto answered and how the
+    error was estimated, the notes and each device's assumptions."""
+    lines = [f"{'scene':<15} {'mode':<12} {'f [Hz]':>10} {'err est':>8} {'DOFs':>7} {'fidelity':>8} {'s':>6}  "
+             f"fa, k_eff"]
     for r in rows:
         err = "n/a" if r.error_estimate is None else "unresolved" if math.isinf(r.error_estimate) else \
             f"{100 * r.error_estimate:.2f}%"
+        coupling = f"  {r.antiresonance_hz:.1f} Hz, {r.k_eff:.4f}" if r.k_eff is not None else ""
         lines.append(f"{r.scene:<15} {r.mode:<12} {r.frequency_hz:>10.1f} {err:>8} {r.dofs:>7} "
-                     f"{r.fidelity:>8} {r.seconds:>6.1f}")
+                     f"{r.fidelity:>8} {r.seconds:>6.1f}{coupling}")
+        for t in r.targets:
+            dev = f"{100 * t['deviation']:+.1f}%" if t["deviation"] is not None else "n/a"
+            value = f"{t['value']:.6g} {t['unit']}"
+            lines.append(f"{'':<15} vs {t['name']:<20} {value:>14}  {dev:>7}  ({t['kind']}: {t['source']})")
+        if not detail:
+            if r.mode == "FAILED":
+                lines += [f"{'':<15} note: {note}" for note in r.notes]
+            continue
         if r.wavelength_m is not None:
             lines.append(f"{'':<15} wavelength along x {1e3 * r.wavelength_m:.2f} mm")
         if r.fidelity_note:
             lines.append(f"{'':<15} {r.fidelity_note}")
         if r.estimate_method:
             lines.append(f"{'':<15} error estimate: {r.estimate_method}")
-        if r.k_eff is not None:
-            lines.append(f"{'':<15} antiresonance {r.antiresonance_hz:.1f} Hz, k_eff {r.k_eff:.4f}")
-        for t in r.targets:
-            dev = f"{100 * t['deviation']:+.1f}%" if t["deviation"] is not None else "n/a"
-            value = f"{t['value']:.6g} {t['unit']}"
-            lines.append(f"{'':<15} vs {t['name']:<20} {value:>14}  {dev:>7}  ({t['kind']}: {t['source']})")
         for note in r.notes:
             lines.append(f"{'':<15} note: {note}")
         if r is rows[-1] or rows[rows.index(r) + 1].scene != r.scene:
             for a in r.assumptions:
                 lines.append(f"{'':<15} assumption: {a}")
+    if not detail:
+        lines.append("how each row was resolved, notes and assumptions: modalfe report -v (and --json)")
     return "\n".join(lines)

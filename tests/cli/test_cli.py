@@ -27,6 +27,18 @@ def test_report_json_rows_carry_the_promised_keys(capsys):
     assert row["k_eff"] is not None and 0 < row["k_eff"] < 0.5
 
 
+def test_the_report_text_is_one_screen_and_its_details_come_with_verbose(capsys):
+    """Issue 37: rows, targets and deviations by default; how each row was resolved, notes and assumptions with -v."""
+    assert main(["report", "--scene", "ciliary_beam"]) == 0
+    short = capsys.readouterr().out.splitlines()
+    assert len(short) == 1 + 1 + 2 + 1  # header, the row (with fa and k_eff), its two targets, where the rest is
+    assert "21617" in short[1] and "report -v" in short[-1]
+    assert not any("error estimate:" in line or "auto:" in line for line in short)
+    assert main(["report", "--scene", "ciliary_beam", "-v"]) == 0
+    detail = capsys.readouterr().out
+    assert "error estimate: p-refinement" in detail and "auto: solid answered" in detail
+
+
 def test_modes_of_a_scene_file(tmp_path, capsys):
     path = tmp_path / "bimorph.toml"
     path.write_text(BEAM_FILE)

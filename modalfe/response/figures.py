@@ -221,6 +221,9 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
                                      damping=damping, reference_omega=omega, load=None if voltage else load)
         frf_full = response.displacement[rom.reference][:, 2]
     notes = [f"damping {rom.damping_description} ({source})"] + ([notes_fa] if notes_fa else [])
+    if voltage:
+        notes.append("C0 of the BVD: the static capacitance less this mode's share (the blocked capacitance, u = 0, "
+                     "plus every other mode's quasi-static charge per volt); `admittance` prints the blocked one")
     if not voltage and load.kind == "base-acceleration":
         notes.append("displacement, velocity and acceleration are relative to the base; absolute acceleration "
                      "= relative + base")

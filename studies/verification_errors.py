@@ -23,7 +23,7 @@ meshes, their 3-D cross-check then at orders 3 and 2. References as above; the f
 the rate q observed through the three orders (unclipped; ``-``: none observed, the steps change sign or a level
 has no partner). ``--order 3`` runs the same grids at order 3 (h-refinement), ``--order 3S`` with the 32-node
 cubic serendipity hexahedra (``mesh.family = "serendipity"``), whose solids state no error estimate (their rows
-show it infinite: the h-estimate was short on 10 of 76 rows here, see modalfe/solve/fidelity.py ``UNVERIFIED``);
+show it infinite: the h-estimate was short on 10 of 76 rows here, see modalfe/solve/rung.py ``UNVERIFIED``);
 the reduced models' rows keep their cross-check against them. ``--case TEXT`` runs the cases
 whose name contains TEXT.
 """

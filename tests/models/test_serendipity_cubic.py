@@ -164,18 +164,18 @@ def test_size_estimate_counts_the_nodes_of_each_family():
 
 
 def test_states_no_error_estimate():
-    """Its h-estimate was short on coarse clamped grids (modalfe/solve/fidelity.py ``UNVERIFIED``): a solve gives
+    """Its h-estimate was short on coarse clamped grids (modalfe/solve/rung.py ``UNVERIFIED``): a solve gives
     the frequencies with no stated error (infinite, said), and solves no estimate level for it."""
     import math
 
-    from modalfe.solve import fidelity
+    from modalfe.solve import rung
     from modalfe.solve.api import solve_modes
     from tests.oracles.cases import k31_bar_scene
 
     scene = k31_bar_scene(3e-3)
     serendipity = scene.with_overrides(**{"mesh.order": 3, "mesh.family": "serendipity"})
     modes = solve_modes(serendipity, fidelity="solid", tol=OWN_MESH)
-    assert modes.estimate_method == fidelity.UNVERIFIED
+    assert modes.estimate_method == rung.UNVERIFIED
     assert all(math.isinf(m.error_estimate) for m in modes)
     lagrange = solve_modes(scene.with_overrides(**{"mesh.order": 3}), fidelity="solid", tol=OWN_MESH)
     assert lagrange.estimate_method.startswith("h-refinement")

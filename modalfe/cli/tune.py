@@ -25,6 +25,9 @@ from modalfe.errors import SceneError
 
 
 def register(sub) -> None:
+    from modalfe.design.tuning import RESOLVED_SHARE
+    from modalfe.solve.api import DEFAULT_TOL
+
     p = sub.add_parser("tune", help="change parameters until modes reach target frequencies (3-D solid)")
     p.add_argument("scene", help="built-in scene name or path to a .toml scene file")
     p.add_argument("--target", required=True, action="append", metavar="LABEL=HZ",
@@ -33,9 +36,9 @@ def register(sub) -> None:
                    help="parameters changed (as for modalfe sensitivity): builder parameters, materials.NAME.KEY, "
                         "springs.GROUP, masses.GROUP, parts.NAME.origin|size.x|y|z")
     p.add_argument("--bounds", action="append", metavar="NAME=LOW:HIGH", help="limits of a parameter (repeatable)")
-    p.add_argument("--tol", type=float, default=1e-3,
-                   help="relative distance to the targets, the resolved model's stated error included (default 1e-3; "
-                        "the model is resolved to half of it)")
+    p.add_argument("--tol", type=float, default=DEFAULT_TOL,
+                   help=f"relative distance to the targets, the resolved model's stated error included (default "
+                        f"{DEFAULT_TOL:g}, as every command; the model is resolved to {RESOLVED_SHARE:g} of it)")
     p.add_argument("--maximize", choices=("k_eff",), help="maximize the first target mode's coupling k_eff")
     p.add_argument("--separation", metavar="FRACTION|PERCENT%",
                    help="least relative distance of the first target mode to its neighbours, e.g. 3%%")

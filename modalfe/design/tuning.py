@@ -291,12 +291,19 @@ def _descend(scene, *, targets, names, tol, bounds, maximize, separation, replac
         rows = np.vstack([point.J] + [a[None, :] for _, _, a in point.neighbours])
         # the room a target has is tol less its stated error (on the resolved model)
         room = tol - max((e for e in point.iterate.errors if not math.isnan(e)), default=0.0)
-        if not moved and not ascend and np.max(np.abs(rows @ np.log(proposed / x))) < 0.1 * room:
+        moves = float(np.max(np.abs(rows @ np.log(proposed / x))))
+        if not moved and not ascend and moves < 0.1 * room:
             if np.any((x <= low) | (x >= high)):
                 return finish(False, "the parameters sit on their bounds")
+            # the figures that say why: a frequency that hardly feels its parameters (the ciliary beam's bending-z 6
+            # and the sheets' position x0, stationary at the default) cannot be moved far by any step
+            slopes = "; ".join(f"{t.label}: " + ", ".join(f"{n} {d:+.3g}" for n, d in zip(names, row))
+                               for t, row in zip(targets, point.J))
             return finish(False, f"the targets{' and the separation' if separation else ''} cannot all be met "
                                  f"with these parameters ({len(targets)} targets, {len(names)} parameters: the "
-                                 f"least-squares step no longer moves them)")
+                                 f"least-squares step would move them by {100 * moves:.2g} % with "
+                                 f"{100 * float(np.max(np.abs(np.expm1(point.r)))):.3g} % to go; d ln f / d ln p "
+                                 f"{slopes})")
         base = point.scene
         if moved:
             base = base.with_overrides(feet=point.placed)
@@ -451,7 +458,9 @@ def _evaluate(scene, targets, names, near, need_k, separation, replace_feet, not
         gap = min((abs(math.expm1(d)) for _, d, _ in neighbours), default=math.nan)
     placed = None
     if replace_feet:
-        placed = _feet_on_antinodes(scene, targets[0].label, frequencies[0])
+        # sought near the target, not this design's frequency: a design whose plate the feet were placed on last asks
+        # the same question and reads the answer back (the resolved stage's first iterate)
+        placed = _feet_on_antinodes(scene, targets[0].label, targets[0].frequency)
         extra += 1
     values = sens0.values if sens0 is not None else np.array([parameter_value(scene, n) for n in names])
     iterate = Iterate(dict(zip(names, values.tolist())), frequencies,

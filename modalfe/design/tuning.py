@@ -169,8 +169,11 @@ def tune(scene, targets: Sequence[FrequencyTarget], parameters: Sequence[str], *
     ``separation`` from its neighbours and its feet on its antinodes (module docstring). ``bounds``: name ->
     (low, high) [its unit]. ``progress(k, iterate)`` after each evaluation (kept or rejected).
 
-    Two stages: iterates on the scene's own mesh (cheap, no error estimate) until the targets are met there (feet that
-    moved at that iterate are carried over: the second stage converges only once they stay), then, from that design,
+    Two stages: iterates on the scene's own mesh (cheap, no error estimate) until the targets are met there or,
+    without ``maximize`` and ``separation``, a step is predicted (linearly, not cut by the trust region or the bounds)
+    to meet them: the design that step reaches is not solved on the own mesh, whose answer differs from the resolved
+    model's by more than that prediction's error anyway (Cu-Be plate (0,6): 0.5 % against 0.15 %); feet moved at the
+    last iterate are carried over (the second stage converges only once they stay). Then, from that design, it
     iterates on the resolved model (the answer ``modes`` gives for each target mode at ``resolution``:
     ``solve_modes``' tol, fidelity, error_estimate; tol default ``RESOLVED_SHARE`` x ``tol``), steered by the first
     stage's Jacobian (module docstring), until every target is met within ``tol`` *including* its mode's stated
@@ -216,12 +219,13 @@ def _descend(scene, *, targets, names, tol, bounds, maximize, separation, replac
     kept: _Point | None = None  # the point the next step starts from
     best: _Point | None = None  # maximizing: the point on the targets with the highest k_eff so far
 
-    def finish(converged: bool, reason: str) -> TuningResult:
+    def finish(converged: bool, reason: str, ahead=None) -> TuningResult:
         # maximizing and stopped early: the best design on the targets, not the last one off them
         final = best if best is not None and not converged else kept
         if final is not kept:
             reason += "; the best design on the targets kept"
-        return TuningResult(targets, tol, tuple(iterates), converged, reason, final.scene, final.iterate, maximize)
+        return TuningResult(targets, tol, tuple(iterates), converged, reason, ahead or final.scene, final.iterate,
+                            maximize)
 
     def record(it: Iterate) -> None:
         iterates.append(it)
@@ -272,9 +276,6 @@ def _descend(scene, *, targets, names, tol, bounds, maximize, separation, replac
         ascend = bool(maximize) and met  # the ascent only from a point on the targets (restoration first)
         step, ascent = _step(point, separation, radius if ascend else 0.0, x, low, high)
         moved = point.placed is not None
-        if met and moved and resolved is None and not maximize:  # the resolved stage checks the feet again
-            kept = replace(point, scene=point.scene.with_overrides(feet=point.placed))
-            return finish(True, "within tol, the feet moved to the antinodes")
         if met and not moved:
             if not maximize:
                 return finish(True, "within tol")
@@ -315,6 +316,11 @@ def _descend(scene, *, targets, names, tol, bounds, maximize, separation, replac
             notes.append(f"step shortened to {fraction:g} of itself: {why}")
         taken = fraction * np.log(proposed / x)
         near = [f * math.exp(float(row @ taken)) for f, row in zip(point.iterate.frequencies, point.J)]
+        if resolved is None and not maximize and separation is None and \
+                np.all(np.abs(np.expm1(point.r + point.J @ taken)) <= tol):
+            # the step is predicted to meet the targets: the resolved stage evaluates the design it reaches (feet
+            # moved included), whose own-mesh solve would only be discarded
+            return finish(True, "a step predicted within tol", ahead=scene)
     if best is not None:
         return finish(False, f"k_eff not at its optimum after {max_iterations} evaluations")
     return finish(False, f"not within tol after {max_iterations} evaluations")

@@ -75,10 +75,10 @@ ASCENT_RADIUS = 0.05
 FOOT_TOL = 0.25e-3
 # the second stage's model is resolved to this share of the targets' tol, so that at least the rest of it is left to
 # the residual: resolved to tol itself, a stated error just under tol left the design no room (a bimorph's stated
-# 0.499 % at tol 0.5 % asked a residual below 1e-5). A quarter of tol is room enough: the second stage's steps land
-# within 0.02 % of the target from 0.5-0.8 % off (the Cu-Be plate's (0,6), the ciliary beam's bending-z 6:
-# docs/tuning.md), while half of tol asked the Cu-Be plate's 0.25 % at tol 0.5 %, three refinement steps (92k DOFs,
-# 60 s a solve) where its first (31k DOFs, 0.34 %) leaves 0.16 % to the residual
+# 0.499 % at tol 0.5 % asked a residual below 1e-5). A quarter of tol is room enough: one step of the second stage
+# lands within 0.05 % of the target from 0.6-0.7 % off (the Cu-Be plate's (0,6), its feet moving meanwhile, and the
+# ciliary beam's bending-z 6: docs/tuning.md), while half of tol asked the Cu-Be plate's 0.25 % at tol 0.5 %, three
+# refinement steps (92k DOFs, ~60 s a solve) where its first (31k DOFs, 0.33-0.35 %) leaves 0.15 % to the residual
 RESOLVED_SHARE = 0.75
 
 
@@ -209,7 +209,8 @@ def _descend(scene, *, targets, names, tol, bounds, maximize, separation, replac
     """One stage of ``tune``: its iterates from ``scene``, each solved on the scene's own mesh (``resolved`` None) or
     on the model resolved at ``resolved`` (``solve_modes`` keywords). ``jacobian`` (targets x parameters,
     d ln f / d ln p): the resolved stage's first, Broyden-updated after each iterate instead of the resolved model's
-    sensitivities (not with ``separation``: module docstring)."""
+    sensitivities (not with ``separation``: module docstring). A first stage that ends on a step predicted to meet the
+    targets returns the design that step reaches as its ``scene`` (unsolved), with the iterate it was taken from."""
     low = np.array([bounds.get(n, (-math.inf, math.inf))[0] for n in names])
     high = np.array([bounds.get(n, (-math.inf, math.inf))[1] for n in names])
     iterates: list[Iterate] = []
@@ -224,8 +225,8 @@ def _descend(scene, *, targets, names, tol, bounds, maximize, separation, replac
         final = best if best is not None and not converged else kept
         if final is not kept:
             reason += "; the best design on the targets kept"
-        return TuningResult(targets, tol, tuple(iterates), converged, reason, ahead or final.scene, final.iterate,
-                            maximize)
+        return TuningResult(targets, tol, tuple(iterates), converged, reason,
+                            final.scene if ahead is None else ahead, final.iterate, maximize)
 
     def record(it: Iterate) -> None:
         iterates.append(it)

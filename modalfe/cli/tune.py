@@ -25,6 +25,9 @@ from modalfe.errors import SceneError
 
 
 def register(sub) -> None:
+    from modalfe.design.tuning import RESOLVED_SHARE
+    from modalfe.solve.api import DEFAULT_TOL
+
     p = sub.add_parser("tune", help="change parameters until modes reach target frequencies (3-D solid)")
     p.add_argument("scene", help="built-in scene name or path to a .toml scene file")
     p.add_argument("--target", required=True, action="append", metavar="LABEL=HZ",
@@ -33,9 +36,9 @@ def register(sub) -> None:
                    help="parameters changed (as for modalfe sensitivity): builder parameters, materials.NAME.KEY, "
                         "springs.GROUP, masses.GROUP, parts.NAME.origin|size.x|y|z")
     p.add_argument("--bounds", action="append", metavar="NAME=LOW:HIGH", help="limits of a parameter (repeatable)")
-    p.add_argument("--tol", type=float, default=1e-3,
-                   help="relative distance to the targets, the resolved model's stated error included (default 1e-3; "
-                        "the model is resolved to half of it)")
+    p.add_argument("--tol", type=float, default=DEFAULT_TOL,
+                   help=f"relative distance to the targets, the resolved model's stated error included (default "
+                        f"{DEFAULT_TOL:g}, as every command; the model is resolved to {RESOLVED_SHARE:g} of it)")
     p.add_argument("--maximize", choices=("k_eff",), help="maximize the first target mode's coupling k_eff")
     p.add_argument("--separation", metavar="FRACTION|PERCENT%",
                    help="least relative distance of the first target mode to its neighbours, e.g. 3%%")
@@ -139,8 +142,8 @@ def _tune(args) -> int:
         print(json.dumps(out, indent=2))
     else:
         verdict = "reached" if result.converged else "NOT reached"
-        reached = ", ".join(f"{t.label} at {f:.2f} Hz ({100 * (f / t.frequency - 1):+.4f} %)"
-                            for t, f in zip(goals, final.frequencies))
+        reached = ", ".join(f"{t.label} at {f:.2f} Hz ({100 * (f / t.frequency - 1):+.4f} %{_stated(final, i)})"
+                            for i, (t, f) in enumerate(zip(goals, final.frequencies)))
         print(f"{verdict}: {reached} after {result.solves} solves, {result.seconds:.1f} s ({result.reason})")
         if args.maximize:
             first = result.first_on_target
@@ -169,7 +172,8 @@ def _reproduce(final) -> list[str]:
 
 def _line(k: int, it, targets) -> str:
     """One iterate of the progress log."""
-    freqs = "  ".join(f"{f:11.2f} Hz {100 * (f / hz - 1):+8.4f} %" for f, (_, hz) in zip(it.frequencies, targets))
+    freqs = "  ".join(f"{f:11.2f} Hz {100 * (f / hz - 1):+8.4f} %{_stated(it, i)}"
+                      for i, (f, (_, hz)) in enumerate(zip(it.frequencies, targets)))
     values = ", ".join(f"{n} = {v:.6g}" for n, v in it.values.items())
     slopes = "; ".join(", ".join(f"{s:+.3f}" for s in row.values()) for row in it.relative_sensitivity)
     text = f"{k:>3}  {freqs}  {values}  (d ln f / d ln p {slopes}; {it.solves} solves, {it.seconds:.1f} s)"
@@ -182,6 +186,11 @@ def _line(k: int, it, targets) -> str:
 
         text += f"  feet {feet_text(it.feet)}"
     return "\n".join([text] + [f"     {note}" for note in it.notes])
+
+
+def _stated(it, i: int) -> str:
+    """The stated error of target ``i``'s mode in an iterate solved on the resolved model, else nothing."""
+    return f", stated error {100 * it.errors[i]:.3g} %" if it.resolved and i < len(it.errors) else ""
 
 
 def _print_starts(table, names, chosen: int) -> None:
@@ -201,7 +210,8 @@ def _iterate_json(it) -> dict:
     return {"values": it.values, "frequencies_hz": list(it.frequencies), "frequency_hz": it.frequencies[0],
             "dlnf_dlnp": list(it.relative_sensitivity), "k_eff": _number(it.k_eff),
             "separation": _number(it.separation), "feet": [list(f) for f in it.feet], "solves": it.solves,
-            "seconds": it.seconds, "accepted": it.accepted, "notes": list(it.notes)}
+            "seconds": it.seconds, "accepted": it.accepted, "notes": list(it.notes), "resolved": it.resolved,
+            "stated_errors": [_number(e) for e in it.errors]}
 
 
 def _number(x: float) -> float | None:

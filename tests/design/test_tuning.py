@@ -13,6 +13,7 @@ import pytest
 
 from modalfe.design.multistart import INLINE, latin_hypercube, run_starts
 from modalfe.design.tuning import (
+    RESOLVED_SHARE,
     FrequencyTarget,
     TuneTask,
     _feasible,
@@ -67,10 +68,12 @@ def _one(label, hz):
 def test_length_to_a_target_follows_the_beam_scaling():
     """(0,2) from 1442 Hz to 1200 Hz by the length: f ~ 1 / L^2 (Kirchhoff) puts L at 60 sqrt(1442.2 / 1200) =
     65.78 mm; the 3-D strip's d ln f / d ln L is -2.0004 (tests/response/test_sensitivity.py), so within 0.05 %.
-    Measured: 2 solves, 1199.94 Hz at 65.776 mm."""
+    Measured: 2 solves, 1199.94 Hz at 65.776 mm. At tol 0.1 % (the strip's model states less there)."""
     steps = []
-    result = tune(_strip(), _one("(0,2)", 1200.0), [LENGTH], progress=lambda k, it: steps.append((k, it.frequencies)))
-    assert result.converged and result.reason.startswith("within tol on the model resolved to 0.05 %")
+    result = tune(_strip(), _one("(0,2)", 1200.0), [LENGTH], tol=1e-3,
+                  progress=lambda k, it: steps.append((k, it.frequencies)))
+    assert result.converged and result.reason.startswith(
+        f"within tol on the model resolved to {100 * RESOLVED_SHARE * 1e-3:.3g} %")
     # verified on the resolved model: the residual and the stated error together within tol
     assert result.final.resolved and result.residual + result.final.errors[0] <= 1e-3
     cheap = [it for it in result.iterates if not it.resolved]
@@ -96,7 +99,7 @@ def test_two_targets_two_parameters():
     """(0,2) bending (d ln f / d ln L ~ -2, d ln f / d ln t ~ +1) and (1,1) twisting (Saint-Venant: f ~ t / (w L),
     so ~ -1 and ~ +1) are independent in (L, t): +5 % and -3 % are both met."""
     targets = [FrequencyTarget("(0,2)", 1.05 * F0), FrequencyTarget("(1,1)", 0.97 * 5100.7)]
-    # the twisting mode's model states 0.25 % at the most refinement allowed: tol 0.5 % (resolved to 0.25 %)
+    # the twisting mode's model states 0.25 % at the most refinement allowed: tol 0.5 % (resolved to 0.375 %)
     result = tune(_strip(), targets, [LENGTH, THICKNESS], tol=5e-3)
     assert result.converged and max(abs(f / t.frequency - 1) + e for f, t, e in
                                     zip(result.final.frequencies, targets, result.final.errors)) <= 5e-3
@@ -105,10 +108,10 @@ def test_two_targets_two_parameters():
 
 @pytest.mark.slow
 def test_a_target_its_model_cannot_verify_is_said():
-    """At the default 0.1 % the twisting mode's model (resolved to 0.05 %) stops at 0.25 % after the most refinement
-    allowed: no design can be shown within tol, and the run says so instead of claiming it."""
+    """At 0.1 % the twisting mode's model (resolved to 0.075 %) stops at 0.25 % after the most refinement allowed: no
+    design can be shown within tol, and the run says so instead of claiming it."""
     targets = [FrequencyTarget("(0,2)", 1.05 * F0), FrequencyTarget("(1,1)", 0.97 * 5100.7)]
-    strict = tune(_strip(), targets, [LENGTH, THICKNESS])
+    strict = tune(_strip(), targets, [LENGTH, THICKNESS], tol=1e-3)
     assert not strict.converged and "stated error is not below tol ((1,1)" in strict.reason
 
 
@@ -116,13 +119,13 @@ def test_more_targets_than_parameters():
     """f ~ sqrt(E) exactly at fixed nu (K linear in E): one modulus meets two targets scaled alike (least squares
     is exact), but not two targets scaled differently: the run says the targets cannot all be met."""
     E = "materials.steel.E"
-    resolved = [solve_modes(_strip(), near=f, count=6, mode=label, fidelity="solid", tol=5e-4).labelled(label)
-                for label, f in (("(0,2)", F0), ("(0,3)", 3983.6))]  # what the second stage is verified on
+    resolved = [solve_modes(_strip(), near=f, count=6, mode=label, fidelity="solid", tol=RESOLVED_SHARE * 1e-3)
+                .labelled(label) for label, f in (("(0,2)", F0), ("(0,3)", 3983.6))]  # what the second stage is on
     alike = [FrequencyTarget(m.label, 1.1 * m.frequency) for m in resolved]
-    result = tune(_strip(), alike, [E])
+    result = tune(_strip(), alike, [E], tol=1e-3)
     assert result.converged and result.final.values[E] == pytest.approx(200e9 * 1.21, rel=2e-3)
     apart = [FrequencyTarget("(0,2)", 1.1 * F0), FrequencyTarget("(0,3)", 0.9 * 3983.6)]
-    result = tune(_strip(), apart, [E])
+    result = tune(_strip(), apart, [E], tol=1e-3)
     assert not result.converged and "cannot all be met" in result.reason
     # the least-squares compromise: ln sqrt(E / E0) = (ln 1.1 + ln 0.9) / 2, E = 0.99 E0; the run stops when a
     # step would move the frequencies by less than tol / 10 = 1e-4, so E is within 2e-4 of it
@@ -216,7 +219,8 @@ def test_latin_hypercube_and_multistart():
     assert starts == latin_hypercube({"a": (1.0, 32.0), "b": (10.0, 20.0)}, 5, seed=3)
     assert sorted(int(math.log2(s["a"])) for s in starts) == list(range(5))  # 2^0..2^5: one stratum each
     assert sorted(int(5 * math.log(s["b"] / 10) / math.log(2)) for s in starts) == list(range(5))
-    task = TuneTask(_strip(), tuple(_one("(0,2)", 1300.0)), (LENGTH,), {"bounds": {LENGTH: (0.055, 0.070)}})
+    task = TuneTask(_strip(), tuple(_one("(0,2)", 1300.0)), (LENGTH,), {"bounds": {LENGTH: (0.055, 0.070)},
+                                                                        "tol": 1e-3})
     results = run_starts(task, [{LENGTH: 0.058}, {LENGTH: 0.080}, {LENGTH: 0.068}], scheduler=INLINE)
     assert isinstance(results[1], SceneError)
     for r in (results[0], results[2]):
@@ -257,14 +261,15 @@ def test_a_parameter_that_breaks_the_mirror_symmetry_is_named_before_any_solve()
 
 @pytest.mark.slow
 def test_cube_plate_to_the_measured_frequency_with_its_feet_on_the_antinodes():
-    """Cu-Be plate (seed 001: measured 40.7 kHz) by length and ceramic thickness, feet re-placed: within 0.1 %,
-    and the final feet on the in-phase antinodes of the plate's (0,6) mode, mirror images about x = L / 2 to
-    0.5 mm (the feet are placed on the previous iterate's plate and left alone below a 0.25 mm move). Measured: 3
-    iterates, 6 solves, 40,724.5 Hz (+0.060 %), L = 62.99 mm, feet at x = 20.10 / 42.97 mm (mirror images on
-    iterate 2's 63.06 mm plate to 0.01 mm)."""
+    """Cu-Be plate (seed 001: measured 40.7 kHz) by length and ceramic thickness, feet re-placed, at the default tol
+    (0.5 %, the stated error included), and the final feet on the in-phase antinodes of the plate's (0,6) mode,
+    mirror images about x = L / 2 to 0.5 mm (the feet are placed on an earlier iterate's plate and left alone below
+    a 0.25 mm move). Measured: 1 iterate on the own mesh, 2 on the resolved model (31k DOFs, quartic), 6 solves,
+    40,679.7 Hz (-0.050 %, stated 0.352 %), L = 62.80 mm, feet at x = 20.10 / 42.97 mm (mirror images on iterate
+    2's 63.06 mm plate to 0.01 mm)."""
     scene = load_scene("cube_plate")
     result = tune(scene, _one("(0,6)", 40.7e3), ["length", "ceramic_thickness"], replace_feet=True)
-    assert result.converged and result.residual <= 1e-3
+    assert result.converged and result.final.resolved and result.residual + result.final.errors[0] <= 5e-3
     length = result.final.values["length"]
     (x1, _), (x2, _), _, _ = result.final.feet
     assert abs(x1 + x2 - length) <= 0.5e-3

@@ -377,7 +377,7 @@ def assemble(scene, device_mesh, *, frame: np.ndarray | None = None) -> Model:
     K_blocks, M_blocks = [], []
     boxes, piezo_parts = [], []
     for part in assembly.parts:
-        mat, tensors = _material_of(scene, part, frame)
+        mat, tensors = material_of(scene, part, frame)
         found, rest = box_assembly.find_boxes(mesh, scalar, scalar_dofs, device_mesh.parts[part.name])
         boxes.append((found, mat))
         if part.poling:
@@ -411,7 +411,7 @@ def assemble(scene, device_mesh, *, frame: np.ndarray | None = None) -> Model:
                  {"assembly": time.perf_counter() - start}, frame, attached)
 
 
-def _material_of(scene, part, frame):
+def material_of(scene, part, frame) -> tuple[object, object]:
     """(material, tensors) of one part: the material poled along the part's poling direction (boxes: +z or -z;
     other parts: any axis, ``modalfe.scene.materials.poling_frames``) and turned by ``frame``; ``tensors(basis)``
     gives (c^E, e, eps^S) on a batch basis, constant, or for radial poling one set per quadrature point: the poling
@@ -486,7 +486,7 @@ def _scatter(rows, cols, Ke, n_rows, n_cols) -> sp.csr_matrix:
 
 def _piezo_blocks(mesh, scalar, intorder, scalar_dofs, piezo_parts, n_u, chunk_size):
     """K_uphi and K_phiphi over the piezo parts ((material, tensors, boxes, other elements) each, see
-    ``_material_of``; a radially poled part has no box elements), on the potential unknowns they use."""
+    ``material_of``; a radially poled part has no box elements), on the potential unknowns they use."""
     from skfem import Basis, ElementVector
 
     if not piezo_parts:

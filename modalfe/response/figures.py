@@ -129,11 +129,11 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
     ``stress``: True (every part) or part names for the peak stress and field at resonance. The mode is the one
     ``modes`` gives for the scene's question about it (``modalfe.solve.api.working_question``), solved at
     ``resolution`` (``solve_modes``' tol, fidelity, error_estimate) on the 3-D solid."""
-    from modalfe.response.forced import Damping, harmonic_response, reduce
+    from modalfe.response.forced import Damping, harmonic_response, open_circuit_fa, reduce
     from modalfe.response.loads import Load, check_forcing, check_outputs
     from modalfe.results.labels import check_selector
     from modalfe.results.modes import select
-    from modalfe.solve.api import open_circuit_partner, solid_modes, sought_near, working_question
+    from modalfe.solve.api import solid_modes, sought_near, working_question
 
     if load is None:
         load, load_source = scene.drive.load, scene.drive.load_source
@@ -173,12 +173,9 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
     mode = select(modes, selector, near)
     rom = reduce(mode, outputs=outputs, damping=damping, load=None if voltage else load)
     fa, notes_fa = None, ""
-    if voltage:  # at the short circuit's shift (its factorization reused), else where the one-mode circuit puts it:
-        try:  # a strongly coupled mode's fa lies past other modes (a disc's R1)
-            try:
-                fa = open_circuit_partner(modes, mode, near=question.get("near", mode.frequency)).frequency
-            except SolverError:
-                fa = open_circuit_partner(modes, mode, near=rom.antiresonance).frequency
+    if voltage:
+        try:
+            fa = open_circuit_fa(modes, mode, near=question.get("near", mode.frequency))
         except SolverError as exc:
             notes_fa = f"open-circuit fa not found ({exc}); the BVD's one-mode fa stands alone"
     amp = {o: float(abs(rom.frf(rom.frequency, o))) for o in rom.shapes}

@@ -102,7 +102,9 @@ def mode_table(scene, *, near: float | None = None, count: int | None = None,
     """The mode table of ``scene`` (3-D solid): ``count`` modes nearest ``near`` [Hz] or every mode in ``band``
     (default: the scene's analysis), the answer ``modes`` gives for that question at ``resolution``
     (``solve_modes``' tol, fidelity, error_estimate). fa from one open-circuit solve on the same model, each short
-    mode's partner by shape (``modalfe.results.coupling.antiresonance``)."""
+    mode's partner by shape (``modalfe.results.coupling.antiresonance``); a partner past that band is sought where
+    ``forced`` seeks it (``modalfe.response.forced.open_circuit_fa``)."""
+    from modalfe.response.forced import open_circuit_fa
     from modalfe.solve.api import open_circuit_modes, solid_modes
 
     short = solid_modes(scene, needs="the mode table", near=near, count=count, band=band, **resolution)
@@ -143,8 +145,11 @@ def mode_table(scene, *, near: float | None = None, count: int | None = None,
         if driven:
             try:
                 fa = antiresonance(m, opens).frequency
-            except SolverError:
-                fa = None
+            except SolverError:  # its partner lies past the band (a strongly coupled mode): sought as forced seeks it
+                try:
+                    fa = open_circuit_fa(short, m)
+                except SolverError:
+                    fa = None
             ke = k_eff(m.frequency, fa) if fa is not None and m.frequency > 0 else None
             theta = float(m.shape @ load)
             umax = float(np.max(np.abs(model.nodal_displacement(m.shape))))

@@ -231,14 +231,17 @@ def open_circuit_modes(short: Modes | Mode, *, near: float | None = None, count:
     """The open-circuit modes, ``count`` nearest ``near`` [Hz] or all in ``band``, of the very model that solved
     ``short`` (short-circuit modes, or one mode of the 3-D solid: its mesh, even where ``fidelity="auto"`` refined
     it past the scene's; at ``short``'s shift the factorization is reused,
-    ``modalfe.solve.levels.open_circuit_solve``)."""
+    ``modalfe.solve.levels.open_circuit_solve``); an open mode paired by shape with one of ``short`` (Modes) takes its
+    label (``modalfe.results.coupling.partner_labels``)."""
+    from modalfe.results.coupling import partner_labels
     from modalfe.solve.levels import modes_of
 
     analysis = Analysis(band=band, circuit="open") if band is not None else \
         Analysis(near=near, count=count, circuit="open")
     with single_threaded_blas():
-        return modes_of(short.model, analysis, fidelity=short.fidelity if isinstance(short, Modes) else "solid",
-                        solver=solver)
+        opens = modes_of(short.model, analysis, fidelity=short.fidelity if isinstance(short, Modes) else "solid",
+                         solver=solver)
+    return partner_labels(short, opens) if isinstance(short, Modes) else opens
 
 
 def open_circuit_partner(short: Modes, mode, *, near: float, solver: str = "auto"):

@@ -20,12 +20,14 @@ tangential force (``Rt = 0``); without flight (W at or below the onset) it has b
 ``t_c = -inf`` and ``Rt = mu0 max(Rn, 0)``.  So at V = 0 the friction is ``mu0 (Fn + m g)`` up to the
 onset amplitude and 0 above it.
 
-Onset of flight: up to ``FootParameters.onset_amplitude`` the steady state is the contact-only linear
-response (a closed form, no event to find); at the onset it grazes the ground.  Amplitudes up to the
-onset are answered by that closed form exactly, as are those less than ``GRAZING`` (1e-8, relative)
-above it, where the flight lasts < 1e-5 of a period and double precision cannot resolve it (flight
-ratio < 1e-3 %, friction within 1e-7 relative); above that the shooting starts from the contact-only
-state.
+Onset of flight: up to ``FootParameters.onset_amplitude`` the contact-only linear response (a closed
+form, no event to find) is a steady state; at the onset it grazes the ground.  Amplitudes up to the
+onset are answered by that closed form exactly unless the motion from rest flies off it onto a
+coexisting chattering orbit (``_flight_from_rest``), which is then shot and reported; so are those less
+than ``GRAZING`` (1e-8, relative) above it, where the flight lasts < 1e-5 of a period and double
+precision cannot resolve it (flight ratio < 1e-3 %; the friction is the limit from below the onset, which
+the one just above it matches to 1e-7 at light loads only: at 10 N it is 40 % lower, docs/contact.md);
+above that the shooting starts from the contact-only state.
 
 Method: one period of the event-driven exact solution is the period map; the periodic steady state is
 its fixed point, found by Newton's method (shooting) with the exact monodromy matrix

@@ -66,15 +66,27 @@ class PiezoUnknowns:
         """The map from free unknowns to the full DOF vector for a ``short`` or ``open`` circuit.
 
         Short: every electrode at 0 V. Open: each driven electrode floats as one shared unknown.
-        Potentials are scaled so that the coupled matrix stays well conditioned.
+        Potentials are scaled so that the coupled matrix stays well conditioned. A piezo region that no fixed
+        electrode touches (poled, without electrodes) has its potential fixed at one node: only its gradient
+        enters, and left free the potential's constant made the matrix singular.
         """
+        from scipy.sparse.csgraph import connected_components
+
         if circuit not in ("short", "open"):
             raise SceneError(f"circuit: must be 'short' or 'open', got '{circuit}'")
         roles = self.scene.electrodes
         free_u = np.setdiff1d(np.arange(self.n_u), self.clamped)
         on_electrode = np.zeros(self.n_phi, dtype=bool)
+        fixed = np.zeros(self.n_phi, dtype=bool)
         for group in self.electrodes:
             on_electrode[self.electrodes[group]] = True
+            if not (circuit == "open" and roles.get(group) == "drive"):
+                fixed[self.electrodes[group]] = True
+        count, region = connected_components(self.K[self.n_u:, self.n_u:], directed=False)
+        anchored = np.zeros(count, dtype=bool)
+        anchored[region[fixed]] = True
+        gauged = [np.flatnonzero((region == r) & ~on_electrode)[:1] for r in np.flatnonzero(~anchored)]
+        on_electrode[np.concatenate([*gauged, np.zeros(0, dtype=int)]).astype(int)] = True
         interior = np.flatnonzero(~on_electrode)
         scale = self.potential_scale()
         cols = [sp.csr_matrix((np.ones(len(free_u)), (free_u, np.arange(len(free_u)))),

@@ -11,6 +11,7 @@ from dataclasses import replace
 import numpy as np
 
 from modalfe.errors import SceneError, SolverError
+from modalfe.models.estimate import machine_memory
 from modalfe.results.labels import base_label
 from modalfe.results.modes import Mode, Modes
 from modalfe.scene.scene import Analysis, Scene
@@ -103,6 +104,7 @@ def solve_modes(
         scene = replace(scene, mesh=replace(scene.mesh, max_frequency=a.band[1]))
     if check is None:
         check = asked_modes(scene, a, mode)
+    machine_memory()  # a bad $MODALFE_MAX_MEMORY is refused whether or not the answer is kept
     key = None
     if frame is None:
         key = resolved.answer_key(scene, a, fidelity=fidelity, tol=float(tol), check=check,

@@ -20,12 +20,14 @@ tangential force (``Rt = 0``); without flight (W at or below the onset) it has b
 ``t_c = -inf`` and ``Rt = mu0 max(Rn, 0)``.  So at V = 0 the friction is ``mu0 (Fn + m g)`` up to the
 onset amplitude and 0 above it.
 
-Onset of flight: up to ``FootParameters.onset_amplitude`` the steady state is the contact-only linear
-response (a closed form, no event to find); at the onset it grazes the ground.  Amplitudes up to the
-onset are answered by that closed form exactly, as are those less than ``GRAZING`` (1e-8, relative)
-above it, where the flight lasts < 1e-5 of a period and double precision cannot resolve it (flight
-ratio < 1e-3 %, friction within 1e-7 relative); above that the shooting starts from the contact-only
-state.
+Onset of flight: up to ``FootParameters.onset_amplitude`` the contact-only linear response (a closed
+form, no event to find) is a steady state; at the onset it grazes the ground.  Amplitudes up to the
+onset are answered by that closed form exactly unless the motion from rest flies off it onto a
+coexisting chattering orbit (``_flight_from_rest``), which is then shot and reported; so are those less
+than ``GRAZING`` (1e-8, relative) above it, where the flight lasts < 1e-5 of a period and double
+precision cannot resolve it (flight ratio < 1e-3 %; the friction is the limit from below the onset, which
+the one just above it matches to 1e-7 at light loads only: at 10 N it is 40 % lower, docs/contact.md);
+above that the shooting starts from the contact-only state.
 
 Method: one period of the event-driven exact solution is the period map; the periodic steady state is
 its fixed point, found by Newton's method (shooting) with the exact monodromy matrix
@@ -228,9 +230,12 @@ def steady_state(amplitude: float, *, preload: float = FN, speed: float = SPEED,
     T = p.period
     onset = p.onset_amplitude(Fn)
     contact_only = np.array(p.contact_only_state(W, Fn))
-    if onset * (1 + GRAZING) > W:  # the contact-only response (exact up to the onset): no event to find
-        piece = _Piece(_Arc(dyn, True, 0.0, *contact_only), 0.0, T)
-        return _orbit(dyn, p, W, Fn, V, [piece], [-math.inf], periods=1, residual=0.0, uncertainty=0.0)
+    below_onset = onset * (1 + GRAZING) > W
+    if below_onset:  # the contact-only orbit exists; it is the answer unless the motion from rest flies off it
+        flying = _flight_from_rest(dyn, p, W, onset, contact_only, march_periods)
+        if flying is None:  # exact: no event to find
+            piece = _Piece(_Arc(dyn, True, 0.0, *contact_only), 0.0, T)
+            return _orbit(dyn, p, W, Fn, V, [piece], [-math.inf], periods=1, residual=0.0, uncertainty=0.0)
 
     su = max(W, dyn.P / dyn.kn)
     scale = np.array([su, su * dyn.omega])
@@ -241,8 +246,12 @@ def steady_state(amplitude: float, *, preload: float = FN, speed: float = SPEED,
         last.update(k=k, x=tuple(x), pieces=pieces)
         return np.array([u, v]), Phi
 
-    # just above the onset the orbit grazes: the contact-only state is its limit and the best guess
-    guess = contact_only if 1.01 * onset > W else np.array([quasi_static_offset(W, dyn.P, dyn.kn), 0.0])
+    # just above the onset the orbit grazes: the contact-only state is its limit and the best guess; below it, the
+    # chattering orbit that the motion from rest reached
+    if below_onset:
+        guess = flying
+    else:
+        guess = contact_only if 1.01 * onset > W else np.array([quasi_static_offset(W, dyn.P, dyn.kn), 0.0])
     with np.errstate(over="ignore", invalid="ignore"):  # the unused sensitivity of a long march
         search = find_orbit(period_map, guess, scale, max_period=max_subharmonic, march_periods=march_periods)
     periods, x = search.period, search.state
@@ -271,6 +280,32 @@ def steady_state(amplitude: float, *, preload: float = FN, speed: float = SPEED,
                     "(standard error of %d batch means)", window, balance, uncertainty, BATCHES)
     return _orbit(dyn, p, W, Fn, V, pieces, tcs, periods=periods, residual=search.shooting.residual,
                   uncertainty=uncertainty)
+
+
+def _flight_from_rest(dyn: _Dynamics, p: FootParameters, W: float, onset: float, contact_only: np.ndarray,
+                      periods: int) -> np.ndarray | None:
+    """Below the onset: None when the motion from rest (the plate at rest under its load when the vibration starts,
+    as in the seed's simulations) settles on the contact-only orbit, else its state (u, v) at a period's start once
+    it flies still after ``periods`` periods (a chattering orbit coexisting with the contact-only one: at 1.5 kHz,
+    dn 20 N s/m, Fn 10 N, W 1 um, 23.5 % flight where the contact-only orbit has none). In contact the deviation
+    from the contact-only orbit is a free damped oscillation whose energy never grows, so once its amplitude
+    sqrt(du^2 + M dv^2 / kn) is below the orbit's margin to lift-off, P/kn (1 - W / onset), the foot never lifts; a
+    motion that touches without progress grazes the contact-only orbit (at the onset, where the margin is nil)."""
+    M = p.mass / p.n
+    margin = dyn.P / dyn.kn * (1 - W / onset)
+    u, v = -dyn.P / dyn.kn, 0.0
+    T = p.period
+    flew = False
+    for k in range(periods):
+        du, dv = u - contact_only[0], v - contact_only[1]
+        if math.sqrt(du * du + M * dv * dv / dyn.kn) < margin and not flew:
+            return None
+        try:
+            pieces, u, v, _ = _advance(dyn, k * T, (k + 1) * T, u, v)
+        except ContactError:  # touching without progress: grazing the contact-only orbit at its onset, its limit
+            return None
+        flew = any(not q.contact for q in pieces)
+    return np.array([u, v]) if flew else None
 
 
 def _orbit(dyn: _Dynamics, p: FootParameters, W: float, Fn: float, V: float, pieces: list, tcs: list, *,

@@ -27,12 +27,14 @@ TOL = 1e-9
 @contextlib.contextmanager
 def gmsh_session(name: str = "modalfe"):
     """A fresh gmsh session (any left open is closed first) with a model ``name``, quiet and not installing its own
-    Ctrl-C handler (modalfe's stays in charge), finalised on leaving."""
+    Ctrl-C handler (modalfe's stays in charge), finalised on leaving. The user's gmsh option files (~/.gmshrc,
+    ~/.gmsh-options) are not read: a mesh depends on its cache key's parameters only, so that every process
+    sharing a cache builds the same one."""
     import gmsh
 
     if gmsh.isInitialized():
         gmsh.finalize()
-    gmsh.initialize(interruptible=False)
+    gmsh.initialize(readConfigFiles=False, interruptible=False)
     try:
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.model.add(name)

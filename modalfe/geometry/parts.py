@@ -188,6 +188,16 @@ class Assembly:
         axes = {p.k for p in self.parts if not isinstance(p, Box)}
         return axes.pop() if len(axes) == 1 else None
 
+    @property
+    def thickness_axis(self) -> int:
+        """Index of the axis through the device's thickness: the one its main part stands on (a disc, ring or
+        extrusion), else the one its cylinders, rings and extrusions share, else z (box devices are laid out with
+        their thickness along z: the plate and beam labels read w = u_z)."""
+        main = self.main_part
+        if not isinstance(main, Box) and getattr(main, "axis", None) in ("x", "y", "z"):
+            return main.k
+        return 2 if self.sweep_axis is None else self.sweep_axis
+
     def part(self, name: str) -> Box:
         for p in self.parts:
             if p.name == name:

@@ -386,7 +386,8 @@ def _radius(shape, points) -> np.ndarray:
 
 
 def _polygon(name: str, field: str, loop) -> tuple[tuple[float, float], ...]:
-    """A simple polygon of at least 3 finite (u, v) vertices, no repeated closing vertex, positive area."""
+    """A simple polygon of at least 3 finite (u, v) vertices, no repeated closing vertex, positive area, listed
+    counter-clockwise from its lowest (u, v) vertex."""
     try:
         pts = np.array([[float(a), float(b)] for a, b in loop])
     except (TypeError, ValueError):
@@ -408,6 +409,11 @@ def _polygon(name: str, field: str, loop) -> tuple[tuple[float, float], ...]:
                 raise SceneError(f"part '{name}': {field} intersects itself (edges {i} and {j})")
     if abs(_area(pts)) <= 1e-12 * scale**2:
         raise SceneError(f"part '{name}': {field} encloses no area")
+    # one listing per polygon (counter-clockwise from its lowest-u, then lowest-v vertex): the same outline listed the
+    # other way round or from another vertex is the same part, with the same mesh and cache key
+    if np.dot(pts[:, 0], np.roll(pts[:, 1], -1)) < np.dot(pts[:, 1], np.roll(pts[:, 0], -1)):
+        pts = pts[::-1]
+    pts = np.roll(pts, -int(np.lexsort((pts[:, 1], pts[:, 0]))[0]), axis=0)
     return tuple((float(a), float(b)) for a, b in pts)
 
 

@@ -173,15 +173,18 @@ def element_sizes(scene) -> dict[str, float]:
 
 
 def bending_wavelength(scene, assembly, frequency: float) -> float:
-    """Flexural wavelength 2 pi (D / (m omega^2))^(1/4) [m] of the layer stack through the centre of
-    the largest-footprint part (classical laminate D about the stack's neutral axis)."""
-    host = max(assembly.parts, key=lambda p: p.size[0] * p.size[1])
-    cx, cy = (host.lo[0] + host.hi[0]) / 2, (host.lo[1] + host.hi[1]) / 2
-    stack = [p for p in assembly.parts if p.lo[0] <= cx <= p.hi[0] and p.lo[1] <= cy <= p.hi[1]]
+    """Flexural wavelength 2 pi (D / (m omega^2))^(1/4) [m] of the layer stack along the device's
+    ``thickness_axis`` through the centre of the part with the largest footprint normal to it (classical laminate
+    D about the stack's neutral axis)."""
+    k = assembly.thickness_axis
+    u, v = (k + 1) % 3, (k + 2) % 3
+    host = max(assembly.parts, key=lambda p: p.size[u] * p.size[v])
+    cu, cv = (host.lo[u] + host.hi[u]) / 2, (host.lo[v] + host.hi[v]) / 2
+    stack = [p for p in assembly.parts if p.lo[u] <= cu <= p.hi[u] and p.lo[v] <= cv <= p.hi[v]]
     layers = []
     for p in stack:
         C = scene.material(p.material).C
-        layers.append((p.lo[2], p.hi[2], C[0, 0] - C[0, 2] ** 2 / C[2, 2], scene.material(p.material).rho))
+        layers.append((p.lo[k], p.hi[k], C[0, 0] - C[0, 2] ** 2 / C[2, 2], scene.material(p.material).rho))
     stiffness = sum(E * (z1 - z0) for z0, z1, E, _ in layers)
     neutral = sum(E * (z1 - z0) * (z0 + z1) / 2 for z0, z1, E, _ in layers) / stiffness
     D = sum(E * ((z1 - neutral) ** 3 - (z0 - neutral) ** 3) / 3 for z0, z1, E, _ in layers)

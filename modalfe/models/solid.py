@@ -66,15 +66,27 @@ class PiezoUnknowns:
         """The map from free unknowns to the full DOF vector for a ``short`` or ``open`` circuit.
 
         Short: every electrode at 0 V. Open: each driven electrode floats as one shared unknown.
-        Potentials are scaled so that the coupled matrix stays well conditioned.
+        Potentials are scaled so that the coupled matrix stays well conditioned. A piezo region that no fixed
+        electrode touches (poled, without electrodes) has its potential fixed at one node: only its gradient
+        enters, and left free the potential's constant made the matrix singular.
         """
+        from scipy.sparse.csgraph import connected_components
+
         if circuit not in ("short", "open"):
             raise SceneError(f"circuit: must be 'short' or 'open', got '{circuit}'")
         roles = self.scene.electrodes
         free_u = np.setdiff1d(np.arange(self.n_u), self.clamped)
         on_electrode = np.zeros(self.n_phi, dtype=bool)
+        fixed = np.zeros(self.n_phi, dtype=bool)
         for group in self.electrodes:
             on_electrode[self.electrodes[group]] = True
+            if not (circuit == "open" and roles.get(group) == "drive"):
+                fixed[self.electrodes[group]] = True
+        count, region = connected_components(self.K[self.n_u:, self.n_u:], directed=False)
+        anchored = np.zeros(count, dtype=bool)
+        anchored[region[fixed]] = True
+        gauged = [np.flatnonzero((region == r) & ~on_electrode)[:1] for r in np.flatnonzero(~anchored)]
+        on_electrode[np.concatenate([*gauged, np.zeros(0, dtype=int)]).astype(int)] = True
         interior = np.flatnonzero(~on_electrode)
         scale = self.potential_scale()
         cols = [sp.csr_matrix((np.ones(len(free_u)), (free_u, np.arange(len(free_u)))),
@@ -377,7 +389,7 @@ def assemble(scene, device_mesh, *, frame: np.ndarray | None = None) -> Model:
     K_blocks, M_blocks = [], []
     boxes, piezo_parts = [], []
     for part in assembly.parts:
-        mat, tensors = _material_of(scene, part, frame)
+        mat, tensors = material_of(scene, part, frame)
         found, rest = box_assembly.find_boxes(mesh, scalar, scalar_dofs, device_mesh.parts[part.name])
         boxes.append((found, mat))
         if part.poling:
@@ -411,7 +423,7 @@ def assemble(scene, device_mesh, *, frame: np.ndarray | None = None) -> Model:
                  {"assembly": time.perf_counter() - start}, frame, attached)
 
 
-def _material_of(scene, part, frame):
+def material_of(scene, part, frame) -> tuple[object, object]:
     """(material, tensors) of one part: the material poled along the part's poling direction (boxes: +z or -z;
     other parts: any axis, ``modalfe.scene.materials.poling_frames``) and turned by ``frame``; ``tensors(basis)``
     gives (c^E, e, eps^S) on a batch basis, constant, or for radial poling one set per quadrature point: the poling
@@ -486,7 +498,7 @@ def _scatter(rows, cols, Ke, n_rows, n_cols) -> sp.csr_matrix:
 
 def _piezo_blocks(mesh, scalar, intorder, scalar_dofs, piezo_parts, n_u, chunk_size):
     """K_uphi and K_phiphi over the piezo parts ((material, tensors, boxes, other elements) each, see
-    ``_material_of``; a radially poled part has no box elements), on the potential unknowns they use."""
+    ``material_of``; a radially poled part has no box elements), on the potential unknowns they use."""
     from skfem import Basis, ElementVector
 
     if not piezo_parts:

@@ -137,12 +137,12 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
     ``stress``: True (every part) or part names for the peak stress and field at resonance. The mode is the one
     ``modes`` gives for the scene's question about it (``modalfe.solve.api.working_question``), solved at
     ``resolution`` (``solve_modes``' tol, fidelity, error_estimate) on the 3-D solid."""
-    from modalfe.response.forced import Damping, harmonic_response, reduce, resonant_state
+    from modalfe.response.forced import Damping, harmonic_response, open_circuit_fa, reduce, resonant_state
     from modalfe.response.loads import Load, check_forcing, check_outputs
     from modalfe.response.stress import limit_loads, part_peaks
     from modalfe.results.labels import check_selector
     from modalfe.results.modes import select
-    from modalfe.solve.api import derived_errors, open_circuit_partner, solid_modes, sought_near, working_question
+    from modalfe.solve.api import derived_errors, solid_modes, sought_near, working_question
 
     if load is None:
         load, load_source = scene.drive.load, scene.drive.load_source
@@ -182,12 +182,9 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
     mode = select(modes, selector, near)
     rom = reduce(mode, outputs=outputs, damping=damping, load=None if voltage else load)
     fa, notes_fa = None, ""
-    if voltage:  # at the short circuit's shift (its factorization reused), else where the one-mode circuit puts it:
-        try:  # a strongly coupled mode's fa lies past other modes (a disc's R1)
-            try:
-                fa = open_circuit_partner(modes, mode, near=question.get("near", mode.frequency)).frequency
-            except SolverError:
-                fa = open_circuit_partner(modes, mode, near=rom.antiresonance).frequency
+    if voltage:
+        try:
+            fa = open_circuit_fa(modes, mode, near=question.get("near", mode.frequency))
         except SolverError as exc:
             notes_fa = f"open-circuit fa not found ({exc}); the BVD's one-mode fa stands alone"
     amp = {o: float(abs(rom.frf(rom.frequency, o))) for o in rom.shapes}
@@ -253,9 +250,18 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
                          f"each peak has a mirror image")
     fine = device_numbers(rom, fa, peaks)
 
+    levels = {id(level.model): level for level in (*modes.estimate.levels, modes.estimate.floor) if level} \
+        if modes.estimate is not None else {}
+
+    def level_fa(m) -> float | None:  # fa of a mode's partner on its level, sought as the answer's is
+        try:
+            return open_circuit_fa(levels[id(m.model)], m, near=m.frequency)
+        except SolverError:
+            return None
+
     def level_numbers(m) -> dict[str, float]:  # the same numbers from a mode's partner on an estimate level
         r = reduce(m, outputs=outputs, damping=damping, reference=rom.reference, load=None if voltage else load)
-        at_level = None if not voltage else fe_antiresonance(m, r.antiresonance)
+        at_level = None if not voltage else level_fa(m)
         level_peaks = None if parts is None else part_peaks(
             m.model, resonant_state(m, damping=damping, load=None if voltage else load), parts)
         return device_numbers(r, at_level, level_peaks)
@@ -311,20 +317,6 @@ def with_composed_errors(errors: dict[str, tuple[float, str]], frequency_error: 
         out["bvd:L1"] = composed(("modal_mass", 1), ("force_factor", 2))
         out["bvd:C1"] = composed(("force_factor", 2), ("modal_mass", 1), (None, 2))
     return out
-
-
-def fe_antiresonance(mode, near: float) -> float | None:
-    """fa [Hz] of ``mode``'s open-circuit partner on its own model, sought near the mode, else near ``near`` (where
-    the one-mode circuit puts it: a strongly coupled mode's fa lies past other modes); None if neither holds it."""
-    from modalfe.results.coupling import antiresonance
-    from modalfe.solve.api import open_circuit_modes
-
-    for at in (mode.frequency, near):
-        try:
-            return antiresonance(mode, open_circuit_modes(mode, near=at, count=6)).frequency
-        except SolverError:
-            continue
-    return None
 
 
 def singular_peak_notes(scene, model, peaks) -> list[str]:

@@ -242,6 +242,37 @@ def beside_resonance(mode: Mode, load=None):
     return result
 
 
+def _charge(mode: Mode, load=None) -> tuple[float, float, float]:
+    """(theta: the mode's modal force per unit load, its residual modal displacement at 0.97 omega_r, C0 [F]: the
+    charge per volt of everything but the mode) of the drive, from one full solve beside resonance."""
+    T, F, C_b, _, x_d, omega_d = beside_resonance(mode, load)
+    theta = float(free_coordinates(mode.model, T, mode.shape) @ F)
+    modal_d = theta / (mode.omega**2 - omega_d**2)
+    return theta, modal_d, float(F @ x_d + C_b - theta * modal_d)
+
+
+def one_mode_antiresonance(mode: Mode) -> float:
+    """fa [Hz] of ``mode``'s one-mode circuit driven by voltage (``ReducedModel.antiresonance``: fr sqrt(1 + C1 /
+    C0), C1 / C0 = theta^2 / (omega_r^2 C0) whatever the output that carries the modal mass)."""
+    theta, _, capacitance = _charge(mode)
+    return mode.frequency * math.sqrt(1 + theta**2 / (mode.omega**2 * capacitance))
+
+
+def open_circuit_fa(modes, mode: Mode, *, near: float | None = None) -> float:
+    """fa [Hz] of ``mode`` (one of the short-circuit ``modes``): its open-circuit partner by shape on the same model
+    (``modalfe.solve.api.open_circuit_partner``), sought at ``near`` (the short circuit's shift: its factorization
+    reused) and else where the one-mode circuit puts it (a strongly coupled mode's fa lies past other modes: a disc's
+    R1); the same answer for ``table``, ``forced`` and the API. SolverError where neither holds it."""
+    from modalfe.solve.api import open_circuit_partner
+
+    if near is not None:
+        try:
+            return open_circuit_partner(modes, mode, near=near).frequency
+        except SolverError:
+            pass
+    return open_circuit_partner(modes, mode, near=one_mode_antiresonance(mode)).frequency
+
+
 def reduce(mode: Mode, *, outputs, damping: Damping, reference: str | None = None, load=None) -> ReducedModel:
     """Reduced model of ``mode`` (short circuit, bound to its model) at the named ``outputs``; the
     ``reference`` output (default: the one with the largest normal motion) carries the modal mass.
@@ -250,13 +281,10 @@ def reduce(mode: Mode, *, outputs, damping: Damping, reference: str | None = Non
     if mode.circuit != "short":
         raise SolverError(f"mode: the reduced model needs a short-circuit mode, got {mode.circuit}")
     model = mode.model
-    T, F, C_b, x_v, x_d, omega_d = beside_resonance(mode, load)
+    T, _, _, x_v, x_d, _ = beside_resonance(mode, load)
     probes = output_operators(model, outputs)
-    v_free = free_coordinates(model, T, mode.shape)
-    theta = float(v_free @ F)
+    theta, modal_d, capacitance = _charge(mode, load)  # residual of the other modes: one solve beside resonance
     omega_r = mode.omega
-    # residual of the other modes: one undamped full solve just below resonance
-    modal_d = theta / (omega_r**2 - omega_d**2)
     phi = {name: P @ mode.shape for name, P in probes.items()}
     if reference is None:  # the output that moves most; among equals (symmetric feet) the first listed, so the
         # choice does not depend on the eigen solver's rounding (it changed between runs before)
@@ -267,7 +295,7 @@ def reduce(mode: Mode, *, outputs, damping: Damping, reference: str | None = Non
     full_d = {name: P @ (T @ x_d + x_v) for name, P in probes.items()}
     feed = {name: (full_d[name] - phi[name] * modal_d) for name in probes}
     voltage = load is None or load.kind == "voltage"
-    capacitance = float(F @ x_d + C_b - theta * modal_d) if voltage else 0.0
+    capacitance = capacitance if voltage else 0.0
     ref = phi[reference][2]
     if abs(ref) < 1e-12 * max(np.abs(np.concatenate(list(phi.values())))):
         raise SolverError(f"outputs: the reference '{reference}' sits on a node of mode {mode.label}")

@@ -129,7 +129,7 @@ def material_stiffness(model, names) -> dict[str, sp.csr_matrix]:
     modal strain energy U_m = u^T K_m u / 2."""
     from skfem import Basis, ElementVector
 
-    from modalfe.models.solid import _contract, _scatter, _strain_and_value, element_for
+    from modalfe.models.solid import _contract, _scatter, _strain_and_value, element_for, material_of
 
     scene = model.scene
     if not hasattr(model, "u_basis"):
@@ -142,15 +142,12 @@ def material_stiffness(model, names) -> dict[str, sp.csr_matrix]:
         mat = scene.material(part.material)
         if mat.name not in names:
             continue
-        if part.poling:
-            mat = mat.poled(part.poling)
-        if model.frame is not None:
-            mat = mat.rotated(model.frame)
+        _, tensors = material_of(scene, part, model.frame)
         elements = model.mesh.parts[part.name]
         for chunk in np.array_split(elements, max(1, int(np.ceil(len(elements) / 500)))):
             b = Basis(mesh, ElementVector(scalar), intorder=intorder, elements=chunk)
             Bv, _ = _strain_and_value(b)
-            Ke = _scatter(b.element_dofs, b.element_dofs, _contract(Bv, mat.C, Bv, b.dx), model.n_u, model.n_u)
+            Ke = _scatter(b.element_dofs, b.element_dofs, _contract(Bv, tensors(b)[0], Bv, b.dx), model.n_u, model.n_u)
             out[mat.name] = out.get(mat.name, 0) + Ke
     return {k: sp.csr_matrix(v) for k, v in out.items()}
 

@@ -113,7 +113,10 @@ def mode_table(scene, *, near: float | None = None, count: int | None = None,
     """The mode table of ``scene`` (3-D solid): ``count`` modes nearest ``near`` [Hz] or every mode in ``band``
     (default: the scene's analysis), the answer ``modes`` gives for that question at ``resolution``
     (``solve_modes``' tol, fidelity, error_estimate). fa from one open-circuit solve on the same model, each short
-    mode's partner by shape (``modalfe.results.coupling.antiresonance``)."""
+    mode's partner by shape (``modalfe.results.coupling.antiresonance``); a partner past that band is sought where
+    ``forced`` seeks it (``modalfe.response.forced.open_circuit_fa``). Each number of a row that depends on the
+    discretization has its stated error from the frequencies' estimate levels (``derived_errors``)."""
+    from modalfe.response.forced import open_circuit_fa
     from modalfe.solve.api import derived_errors, open_circuit_modes, solid_modes
 
     short = solid_modes(scene, needs="the mode table", near=near, count=count, band=band, **resolution)
@@ -151,7 +154,20 @@ def mode_table(scene, *, near: float | None = None, count: int | None = None,
     gamma, total = effective_masses(short)
     meff = gamma**2
     cum = np.cumsum(meff, axis=0) / np.where(total > 0, total, np.inf)
-    level_opens: dict[int, object] = {}
+    plan = short.estimate
+    own = {id(level.model): level for level in (*plan.levels, plan.floor) if level} if plan is not None else {}
+    own[id(model)] = short
+    level_opens: dict[int, object] = {id(model): opens}  # each model's open circuit, solved once
+
+    def fa_of(m, opens) -> float | None:
+        """fa of ``m`` from the open circuit of its model ``opens``, else sought where ``forced`` seeks it."""
+        try:
+            return antiresonance(m, opens).frequency
+        except SolverError:  # its partner lies past the band (a strongly coupled mode): sought as forced seeks it
+            try:
+                return open_circuit_fa(own[id(m.model)], m)
+            except SolverError:
+                return None
 
     def numbers(m, opens) -> dict[str, float]:
         """The numbers of a row that depend on the discretization: effective masses, fa, k_eff, force factor."""
@@ -160,9 +176,8 @@ def mode_table(scene, *, near: float | None = None, count: int | None = None,
         out = {f"meff_{d}": float(g[k] ** 2) for k, d in enumerate("xyz")
                if g[k] ** 2 >= SIGNIFICANT_MASS * total[k]}
         if driven:
-            try:
-                fa = antiresonance(m, opens).frequency
-            except SolverError:
+            fa = fa_of(m, opens)
+            if fa is None:
                 return out
             out.update(fa=fa, k_eff=k_eff(m.frequency, fa))
             theta = float(shape @ m.model.voltage_load(1.0))
@@ -184,10 +199,7 @@ def mode_table(scene, *, near: float | None = None, count: int | None = None,
     for i, m in enumerate(short):
         fa = ke = theta = force = None
         if driven:
-            try:
-                fa = antiresonance(m, opens).frequency
-            except SolverError:
-                fa = None
+            fa = fa_of(m, opens)
             ke = k_eff(m.frequency, fa) if fa is not None and m.frequency > 0 else None
             theta = float(m.shape @ load)
             umax = float(np.max(np.abs(model.nodal_displacement(m.shape))))

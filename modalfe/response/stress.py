@@ -53,17 +53,12 @@ def part_fields(model, x: np.ndarray, part: str) -> tuple[np.ndarray, np.ndarray
     a full DOF vector ``x`` (real or complex)."""
     from skfem import Basis, ElementVector
 
-    from modalfe.models.solid import element_for
+    from modalfe.models.solid import element_for, material_of
 
     dm, scene = model.mesh, model.scene
     if part not in dm.parts:
         raise SceneError(f"stress: no part '{part}'; parts: {sorted(dm.parts)}")
-    box = scene.assembly().part(part)
-    mat = scene.material(box.material)
-    if box.poling:
-        mat = mat.poled(box.poling)
-    if model.frame is not None:
-        mat = mat.rotated(model.frame)
+    mat, tensors = material_of(scene, scene.assembly().part(part), model.frame)
     scalar = element_for(scene.mesh)
     elements = dm.parts[part]
     ub = Basis(dm.mesh, ElementVector(scalar), intorder=2 * scene.mesh.order, elements=elements)
@@ -77,14 +72,15 @@ def part_fields(model, x: np.ndarray, part: str) -> tuple[np.ndarray, np.ndarray
 
     G = grads(ub, x[: model.n_u])  # (3, 3, nel, nq): G[i, j] = d u_i / d x_j
     S = np.stack([G[0, 0], G[1, 1], G[2, 2], G[1, 2] + G[2, 1], G[0, 2] + G[2, 0], G[0, 1] + G[1, 0]])
-    stress = np.einsum("ab,b...->a...", mat.C, S)
+    C, e, _ = tensors(ub)  # constant (6, 6), (3, 6), or one per point (nel, nq, ...) where poled radially
+    stress = np.einsum("...ab,...b->a...", C, np.moveaxis(S, 0, -1))
     field = None
     if mat.is_piezoelectric and model.n_phi:
         pb = Basis(dm.mesh, scalar, intorder=2 * scene.mesh.order, elements=elements)
         phi = np.zeros(pb.N, dtype=x.dtype)
         phi[model.phi_dofs] = x[model.n_u:]
         field = -grads(pb, phi)
-        stress = stress - np.einsum("ia,i...->a...", mat.e, field)
+        stress = stress - np.einsum("...ia,...i->a...", e, np.moveaxis(field, 0, -1))
     points = np.asarray(ub.global_coordinates())
     return points, stress, field
 

@@ -46,6 +46,9 @@ _SMALL = 0.08  # samples below this fraction of the line's peak carry no sign (n
 _LINE = 0.25  # a grid line whose peak |w| is below this fraction of the plate's peak does not vote
 _ISLAND = 0.02  # a closed nodal region counts if its peak |w| is above this fraction of the plate's peak
 _RIGID = 0.98  # main parts moving 98 % as a rigid body: a suspension mode (plate modes reach ~0.9)
+# an eigenvalue (omega^2) below this fraction of a solve's highest is a free body's rigid-body mode (~0 Hz): it is named
+# as one whatever its fit (the solver's zero-frequency space mixes in elastic noise that a fit of 98 % may miss)
+RIGID_FRACTION = 1e-6
 DEGENERATE = 1e-3  # relative frequency gap below which two modes are a degenerate pair
 _ANGLES = 36  # rotations tried within a degenerate pair's span (every 2.5 degrees of a quarter turn)
 SUFFIX = "#"  # ``(0,3)#2``: the second mode of one solve with the pattern ``(0,3)``
@@ -99,17 +102,18 @@ def unique_labels(model, shapes: np.ndarray, frequencies, carried=None) -> list[
     carried = np.zeros(n, dtype=bool) if carried is None else np.asarray(carried) > CARRIED
     fields = [model.label_field(shapes[:, i]) for i in range(n)]
     axial = axial_frame(model.scene)
+    rigid = f**2 < RIGID_FRACTION * float(np.max(f**2, initial=0.0))
     described: list[tuple[str, float, float]] = [None] * n  # type: ignore[list-item]
     i = 0
     while i < n:
         j = i + 1
         while j < n and abs(f[j] - f[j - 1]) <= DEGENERATE * max(abs(f[j]), 1e-300):
             j += 1
-        if j - i == 2 and f[i] > 0:
+        if j - i == 2 and f[i] > 0 and not rigid[i]:
             described[i], described[i + 1] = _pair(model.scene, fields[i], fields[i + 1], axial)
         else:
             for k in range(i, j):
-                described[k] = _describe(model.scene, *fields[k], axial=axial)
+                described[k] = _describe(model.scene, *fields[k], axial=axial, rigid=bool(rigid[k]))
         i = j
     groups: dict[str, list[int]] = {}
     for k, (name, _, _) in enumerate(described):
@@ -126,12 +130,14 @@ def unique_labels(model, shapes: np.ndarray, frequencies, carried=None) -> list[
     return out
 
 
-def _describe(scene, points: np.ndarray, u: np.ndarray, grid=None, axial=None) -> tuple[str, float, float]:
+def _describe(scene, points: np.ndarray, u: np.ndarray, grid=None, axial=None,
+              rigid: bool = False) -> tuple[str, float, float]:
     """(label, wavelength, clarity in [0, 1]) of one displacement field of the main parts; ``axial`` the
-    (axis, centre) of a disc or ring device (``axial_frame``), else None."""
+    (axis, centre) of a disc or ring device (``axial_frame``), else None; ``rigid`` for a mode at ~0 Hz
+    (``RIGID_FRACTION``), named as a rigid motion on an unclamped body."""
     if not scene.clamps:  # only a free or spring-supported body has rigid-body modes
         name, fraction, purity = _rigid(points, u)
-        if fraction > _RIGID:
+        if rigid or fraction > _RIGID:
             return name, float("nan"), purity
     if axial is not None:
         name, clarity = _disc(points, u, *axial)

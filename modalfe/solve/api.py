@@ -11,6 +11,7 @@ from dataclasses import replace
 import numpy as np
 
 from modalfe.errors import SceneError, SolverError
+from modalfe.models.estimate import machine_memory
 from modalfe.results.labels import base_label
 from modalfe.results.modes import Mode, Modes
 from modalfe.scene.scene import Analysis, Scene
@@ -29,6 +30,11 @@ DEFAULT_TOL = 0.005
 MAX_COUNT = 1000
 OWN_MESH = math.inf  # the ``tol`` that refines nothing: the scene's own mesh (the cheapest fidelity) with its estimate
 Check = tuple[tuple[str | None, float], ...]
+# a shift above this multiple of the frequency the mesh resolves (``Scene.max_frequency``) is refused: there the
+# shear wavelength spans under 0.6 of the 6 elements per wavelength the mesh is sized for, so the modes found are the
+# mesh's (cube_plate near 1e12 Hz answered 19-23 MHz "in-plane" modes on a mesh resolving 50 kHz), and refinement
+# within its few steps cannot reach them; up to it the error estimates say how far a mode is resolved
+FAR_ABOVE_MESH = 10.0
 NEAREST = None  # the selector of a check entry (selector, near) that means the mode nearest ``near``
 
 
@@ -89,11 +95,16 @@ def solve_modes(
         a = Analysis(near=a.near, count=a.count if count is None else count, band=a.band, circuit=circuit or a.circuit)
     if a.band is None and a.near is None:
         raise SolverError("give near (and count) or band")
+    if a.near is not None and a.near > FAR_ABOVE_MESH * scene.max_frequency:
+        raise SolverError(f"near: {a.near:.6g} Hz is {a.near / scene.max_frequency:.3g} times the highest frequency "
+                          f"the mesh resolves ({scene.max_frequency:.6g} Hz, mesh.max_frequency): the modes found "
+                          f"there would be the mesh's, not the device's; raise mesh.max_frequency to solve there")
     if a.band is not None and a.band[1] > scene.max_frequency:
         # a band is a frequency range the mesh must resolve; ``near`` is only the shift of the eigen solve
         scene = replace(scene, mesh=replace(scene.mesh, max_frequency=a.band[1]))
     if check is None:
         check = asked_modes(scene, a, mode)
+    machine_memory()  # a bad $MODALFE_MAX_MEMORY is refused whether or not the answer is kept
     key = None
     if frame is None:
         key = resolved.answer_key(scene, a, fidelity=fidelity, tol=float(tol), check=check,
@@ -222,14 +233,17 @@ def open_circuit_modes(short: Modes | Mode, *, near: float | None = None, count:
     """The open-circuit modes, ``count`` nearest ``near`` [Hz] or all in ``band``, of the very model that solved
     ``short`` (short-circuit modes, or one mode of the 3-D solid: its mesh, even where ``fidelity="auto"`` refined
     it past the scene's; at ``short``'s shift the factorization is reused,
-    ``modalfe.solve.levels.open_circuit_solve``)."""
+    ``modalfe.solve.levels.open_circuit_solve``); an open mode paired by shape with one of ``short`` (Modes) takes its
+    label (``modalfe.results.coupling.partner_labels``)."""
+    from modalfe.results.coupling import partner_labels
     from modalfe.solve.levels import modes_of
 
     analysis = Analysis(band=band, circuit="open") if band is not None else \
         Analysis(near=near, count=count, circuit="open")
     with single_threaded_blas():
-        return modes_of(short.model, analysis, fidelity=short.fidelity if isinstance(short, Modes) else "solid",
-                        solver=solver)
+        opens = modes_of(short.model, analysis, fidelity=short.fidelity if isinstance(short, Modes) else "solid",
+                         solver=solver)
+    return partner_labels(short, opens) if isinstance(short, Modes) else opens
 
 
 def open_circuit_partner(short: Modes, mode, *, near: float, solver: str = "auto"):

@@ -26,6 +26,7 @@ import scipy.sparse as sp
 from scipy.sparse.linalg import ArpackError, ArpackNoConvergence, LinearOperator, eigsh
 
 from modalfe.errors import SolverError
+from modalfe.results.labels import RIGID_FRACTION  # a band starting below it (of its top) holds the rigid-body modes
 from modalfe.solve.linalg import checked, counted_factorization, factorize, negative_eigenvalue_count
 
 log = logging.getLogger(__name__)
@@ -34,7 +35,6 @@ WINDOW_MODES = 24  # most modes one shift-invert Lanczos run is asked for in a b
 # the relative shift moves tried when a shift is singular (on an eigenvalue) or too close to one to factor
 # well: growing, alternating in sign, so that a mode exactly on the shift is not jumped over by a near pair
 NUDGES = (1e-6, -1e-5, 1e-4, -1e-3, 1e-2)
-RIGID_FRACTION = 1e-6  # a band starting below this fraction of its top includes the rigid-body modes (~0 Hz)
 LANCZOS_BYTES = 2e9  # refuse a near/count solve whose Lanczos basis alone needs more memory than this
 
 

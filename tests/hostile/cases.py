@@ -378,6 +378,9 @@ SETS = [
     _cli("set-near-negative", "--set", ("modes", "{file}", "--set", "analysis.near=-5"), "analysis.near"),
     _cli("set-near-1e12", "sizes", ("modes", "cube_plate", "--set", "analysis.near=1e12"), "mesh"),
     _cli("band-1e9", "sizes", ("modes", "cube_plate", "--band", "1", "1e9"), "mesh"),
+    # issue 35: a shift far above what the mesh resolves answered MHz modes with confident labels
+    _cli("near-flag-1e12", "sizes", ("modes", "cube_plate", "--near", "1e12"), "near"),
+    _cli("forced-near-1e9", "sizes", ("forced", "cube_plate", "--mode", "(0,6)", "--near", "1e9"), "near"),
     _cli("set-count-zero", "--set", ("modes", "{file}", "--set", "analysis.count=0"), "analysis.count"),
     _cli("set-band-one", "--set", ("modes", "{file}", "--set", "analysis.band=[1]"), "analysis.band"),
     _cli("set-band-scalar", "--set", ("modes", "{file}", "--set", "analysis.band=5"), "analysis.band"),

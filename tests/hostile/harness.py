@@ -81,7 +81,11 @@ def _substitute(text: str, tmp: Path, first: str | None) -> str:
 
 
 def run_case(case: Case, tmp: Path) -> Observed:
-    """Run ``case`` in folder ``tmp`` and classify it."""
+    """Run ``case`` in folder ``tmp`` and classify it, with no resolved answer kept from another case (as the tests'
+    conftest keeps none): each case answers the question it asks."""
+    from modalfe.solve import resolved
+
+    resolved.clear(disk=True)
     tmp.mkdir(parents=True, exist_ok=True)
     for name, content in case.files.items():
         path = tmp / name

@@ -176,3 +176,20 @@ def test_radially_poled_ring_is_frame_invariant(element):
         a = solve_modes(scene, near=54e3, count=6, error_estimate=False, circuit=circuit).frequencies
         b = solve_modes(scene, near=54e3, count=6, error_estimate=False, circuit=circuit, frame=R).frequencies
         assert b == pytest.approx(a, rel=1e-9)
+
+
+def test_a_poled_disc_without_electrodes_is_solved_and_stiffer_than_short_circuited():
+    # issue 35 (found beside it): a poled piezo part that no electrode touches left its potential's constant free,
+    # and every solve failed with "no regular shift" (a singular matrix). Its potential is now fixed at one node
+    # (only its gradient enters). Law: charge-free faces stiffen the disc against shorted electrodes, never soften
+    # it (fr <= f_free <= fa, to the solver's round-off)
+    disc = {"name": "disc", "shape": "cylinder", "material": "PZT-5A", "centre": [0, 0, 0], "axis": "z",
+            "radius": 6, "height": 0.6, "poling": "+z"}
+    bare = scene_from_dict({"units": "mm", "parts": [disc], "analysis": {"near": 30e3, "count": 8}})
+    electroded = scene_from_dict({"units": "mm", "parts": [disc], "analysis": {"near": 30e3, "count": 8},
+                                  "faces": {"top": ["disc.top"], "bottom": ["disc.bottom"]},
+                                  "electrodes": {"top": "drive", "bottom": "ground"}})
+    free = solve_modes(bare, near=30e3, count=8, error_estimate=False).frequencies
+    short = solve_modes(electroded, near=30e3, count=8, error_estimate=False).frequencies
+    elastic = short > 1.0
+    assert np.all(free[elastic] >= short[elastic] * (1 - 1e-9))

@@ -74,3 +74,25 @@ def test_cli_table_refuses_near_with_band(capsys):
     assert main(["table", "cube_plate", "--near", "40e3", "--band", "30e3", "50e3"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "--near" in err[0]
+
+
+def test_table_and_forced_give_a_free_pzt5a_discs_radial_mode_one_fa_and_k_eff():
+    # issue 35: on a free PZT-5A disc (20 x 1 mm) `table` gave the radial mode R1 fa = 102.8 kHz (another mode's) and
+    # k_eff 0.257, `forced` 117.3 kHz and 0.533; then, paired by shape, `table` gave none: R1's partner lies past the
+    # open circuit's band (k_eff ~ 0.53 lifts it by ~ 18 %, past other modes). Both now seek it where the one-mode
+    # circuit puts it, on the same model, by shape: one fa (to 1e-9: the same open mode of the same model)
+    from modalfe.response.figures import forced_figures
+
+    disc = {"name": "disc", "shape": "cylinder", "material": "PZT-5A", "centre": [0, 0, 0], "axis": "z",
+            "radius": 10, "height": 1, "poling": "+z"}
+    scene = scene_from_dict({"units": "mm", "parts": [disc], "faces": {"top": ["disc.top"], "bottom": ["disc.bottom"]},
+                             "electrodes": {"top": "drive", "bottom": "ground"},
+                             "analysis": {"near": 100e3, "count": 6}})
+    table = mode_table(scene, near=100e3, count=6, error_estimate=False)
+    radial = next(r for r in table.rows if r["label"] == "R1")
+    forced = forced_figures(scene, selector="R1", near=100e3, outputs=("top",), error_estimate=False)
+    assert radial["fa_Hz"] == pytest.approx(forced.antiresonance, rel=1e-9)
+    assert radial["fa_Hz"] > 1.15 * radial["frequency_Hz"]  # the partner, not a neighbour of the band
+    # IEEE Std 176-1987 planar coupling of PZT-5A: k_p = 0.60 (thin-disc theory); the 3-D disc's k_eff is smaller
+    # by the mode's thickness strain (measured 0.532); the table's k_eff is the forced one's fa with the same fr
+    assert 0.45 < radial["k_eff"] < 0.6

@@ -95,3 +95,45 @@ def test_cube_plate_ceramics_stress_at_resonance():
         assert p.field.value >= 0.99e3
     volts = [r["load_to_limit"] for r in fig.limits]
     assert all(v > 0 for v in volts) and len(volts) == 4
+
+
+def _curved_piezo(shape: str) -> dict:
+    """A PZT-4 disc poled along x (constant rotated tensors) or a ring poled radially (tensors per point)."""
+    if shape == "disc":
+        part = {"name": "p", "shape": "cylinder", "material": "PZT-4", "centre": [0, 0, 0], "axis": "x",
+                "radius": 5, "height": 1, "poling": "+x"}
+        faces = {"a": ["p.top"], "b": ["p.bottom"]}
+    else:
+        part = {"name": "p", "shape": "ring", "material": "PZT-4", "centre": [0, 0, 0], "axis": "z", "inner": 4,
+                "outer": 5, "height": 1, "poling": "radial"}
+        faces = {"a": ["p.outer"], "b": ["p.inner"]}
+    return {"units": "mm", "parts": [part], "faces": faces, "electrodes": {"a": "drive", "b": "ground"},
+            "analysis": {"near": 50e3, "count": 4}, "mesh": {"max_size": 2, "min_layers": 1}}
+
+
+@pytest.mark.parametrize("shape", ["disc", "ring"])
+def test_stress_of_a_curved_piezo_part_is_the_models_own(shape):
+    # issue 35: `forced --stress` on a cylinder, ring or extrusion that is poled raised TypeError (the stress read a
+    # box's +-1 poling). Law: the stress and field the part reports, integrated against the strain of every test
+    # function, are the model's internal force, int B^T (c^E S - e^T E) dV = K_uu u + K_uphi phi, for any state x
+    # (the model's own tensors: rotated along x, or per quadrature point about the ring's axis). 1e-9: round-off
+    from skfem import Basis, ElementVector, LinearForm
+
+    from modalfe.models.solid import element_for
+
+    scene = scene_from_dict(_curved_piezo(shape))
+    model, _ = build_model(scene)
+    x = np.random.default_rng(1).standard_normal(model.n_u + model.n_phi)
+    _, stress, field = part_fields(model, x, "p")
+    assert field is not None
+
+    @LinearForm
+    def internal(v, w):
+        G = v.grad
+        strain = (G[0, 0], G[1, 1], G[2, 2], G[1, 2] + G[2, 1], G[0, 2] + G[2, 0], G[0, 1] + G[1, 0])
+        return sum(w[f"T{k}"] * strain[k] for k in range(6))
+
+    basis = Basis(model.mesh.mesh, ElementVector(element_for(scene.mesh)), intorder=2 * scene.mesh.order)
+    force = internal.assemble(basis, **{f"T{k}": stress[k] for k in range(6)})
+    expected = model.K[: model.n_u] @ x
+    assert np.abs(force - expected).max() <= 1e-9 * np.abs(expected).max()

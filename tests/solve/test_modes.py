@@ -96,3 +96,28 @@ def test_a_shift_exactly_on_an_eigenvalue_is_moved_and_said(caplog):
     assert "singular" in caplog.text
     # the shift moves by 1e-6 relative in omega^2: the mode is still found, to ARPACK's accuracy
     assert again.frequency == pytest.approx(first.frequency, rel=1e-5)
+
+
+class _SolvedError(Exception):
+    """Raised in place of a solve: the question got past the checks made before it."""
+
+
+@pytest.mark.parametrize("name", ["cube_plate", "glass_plate", "honeycomb_tile", "ciliary_beam"])
+def test_a_shift_far_above_what_the_mesh_resolves_is_refused_before_the_solve(name, monkeypatch):
+    # issue 35: `modes cube_plate --near 1e12` answered 5-7 MHz modes labelled "(4,6)" on a mesh resolving 50 kHz.
+    # Law for every built-in scene: a shift past FAR_ABOVE_MESH x its resolved range is refused, naming near and
+    # mesh.max_frequency, before any solve; one within it goes on to the solve (its error estimate says the rest)
+    import modalfe.solve.api as api
+
+    def solved(*args, **kwargs):
+        raise _SolvedError
+
+    monkeypatch.setattr(api, "solve_at_fidelity", solved)
+    scene = load_scene(name)
+    top = scene.max_frequency
+    with pytest.raises(SolverError, match=r"^near: .*mesh\.max_frequency"):
+        solve_modes(scene, near=1.01 * api.FAR_ABOVE_MESH * top, count=4)
+    with pytest.raises(SolverError, match=r"^near: "):
+        solve_modes(scene, near=1e12, count=4)
+    with pytest.raises(_SolvedError):
+        solve_modes(scene, near=0.99 * api.FAR_ABOVE_MESH * top, count=4)

@@ -44,6 +44,7 @@ potential one floating unknown (its n >= 1 potentials stay zero in both circuits
 from __future__ import annotations
 
 import functools
+import itertools
 import math
 import time
 from dataclasses import dataclass, field
@@ -207,7 +208,7 @@ def strain_maps(n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return B0, Br, Bz
 
 
-def meridian_mesh(section: MeridianSection, order: int):
+def meridian_mesh(section: MeridianSection):
     """(MeshQuad of the parts' rectangles on a tensor grid conforming to every part edge, each interval cut into
     elements no longer than the section's element size, region index per element)."""
     from skfem import MeshQuad
@@ -216,7 +217,7 @@ def meridian_mesh(section: MeridianSection, order: int):
     for which in (0, 1):
         b = section.breaks(which)
         cuts = [np.linspace(a, c, max(1, math.ceil((c - a) / section.element_size - 1e-9)) + 1)[:-1]
-                for a, c in zip(b[:-1], b[1:])]
+                for a, c in itertools.pairwise(b)]
         lines.append(np.concatenate([*cuts, b[-1:]]))
     mesh = MeshQuad.init_tensor(*lines)
     centres = mesh.p[:, mesh.t].mean(axis=1)
@@ -388,22 +389,22 @@ def _interleave(N: int) -> np.ndarray:
     return (np.arange(3)[None, :] * N + np.arange(N)[:, None]).ravel()
 
 
-def assemble_axisymmetric(scene, *, harmonics: tuple[int, ...] = (0, 1, 2, 3), order: int | None = None,
+def assemble_axisymmetric(scene, *, harmonics: tuple[int, ...] | None = None, order: int | None = None,
                           size_factor: float = 1.0) -> AxisymmetricModel:
-    """Assemble the harmonics ``harmonics`` of ``scene``'s meridian section (``meridian_section``) on Lagrange
-    quadrilaterals of ``order`` (default the scene's ``mesh.order``; 2-4), element size x ``size_factor``:
+    """Assemble the harmonics ``harmonics`` (default 0..``mesh.harmonics``) of ``scene``'s meridian section
+    (``meridian_section``) on quadrilaterals of ``order`` (default ``mesh.order``; 2-4), element size x ``size_factor``:
     K = c_n sum_ab kron(int r d_a(v) d_b(u), B_a^T D B_b) with d = (value / r, d/dr, d/dz) (module docstring)."""
     from skfem import Basis, BilinearForm, ElementQuad2, ElementQuadP
 
     order = scene.mesh.order if order is None else order
     if order not in ORDERS:
         raise SceneError(f"mesh.order: the axisymmetric model takes orders {ORDERS}, got {order}")
-    harmonics = tuple(sorted(int(n) for n in harmonics))
+    harmonics = tuple(range(scene.mesh.harmonics + 1)) if harmonics is None else tuple(sorted(int(n) for n in harmonics))
     if not harmonics or harmonics[0] < 0 or len(set(harmonics)) != len(harmonics):
         raise SceneError(f"harmonics: distinct whole numbers >= 0, got {harmonics}")
     t0 = time.perf_counter()
     section = meridian_section(scene, size_factor)
-    mesh, region = meridian_mesh(section, order)
+    mesh, region = meridian_mesh(section)
     element = ElementQuad2() if order == 2 else ElementQuadP(order)  # nodal 9-node quad; hierarchical above
     basis = Basis(mesh, element, intorder=2 * order + 2)
     t_mesh = time.perf_counter() - t0

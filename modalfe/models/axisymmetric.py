@@ -399,7 +399,7 @@ def assemble_axisymmetric(scene, *, harmonics: tuple[int, ...] | None = None, or
     order = scene.mesh.order if order is None else order
     if order not in ORDERS:
         raise SceneError(f"mesh.order: the axisymmetric model takes orders {ORDERS}, got {order}")
-    harmonics = tuple(range(scene.mesh.harmonics + 1)) if harmonics is None else tuple(sorted(int(n) for n in harmonics))
+    harmonics = tuple(sorted(int(n) for n in (range(scene.mesh.harmonics + 1) if harmonics is None else harmonics)))
     if not harmonics or harmonics[0] < 0 or len(set(harmonics)) != len(harmonics):
         raise SceneError(f"harmonics: distinct whole numbers >= 0, got {harmonics}")
     t0 = time.perf_counter()
@@ -409,7 +409,7 @@ def assemble_axisymmetric(scene, *, harmonics: tuple[int, ...] | None = None, or
     basis = Basis(mesh, element, intorder=2 * order + 2)
     t_mesh = time.perf_counter() - t0
     N = basis.N
-    derivative = (lambda f, r: f.value / r, lambda f, r: f.grad[0], lambda f, r: f.grad[1])
+    derivative = (lambda f, r: f / r, lambda f, r: f.grad[0], lambda f, r: f.grad[1])
     maps = {n: strain_maps(n) for n in harmonics}
     K_blocks = {n: [] for n in harmonics}
     M_terms = []

@@ -1,6 +1,7 @@
 """One entry that builds a scene's assembled model at a fidelity: the 3-D solid (mesh + assembly), the 2-D
-axisymmetric model (harmonics 0..``mesh.harmonics``), the 2-D plate or the 1-D beam. Models are kept while the scene's physics and mesh are unchanged (a second window,
-the other circuit, a forced response reuse them); ``modalfe.caches.clear`` drops them."""
+axisymmetric model (harmonics 0..``mesh.harmonics``), the 2-D plate or the 1-D beam. Models are kept while the
+scene's physics and mesh are unchanged (a second window, the other circuit, a forced response reuse them);
+``modalfe.caches.clear`` drops them."""
 
 from __future__ import annotations
 

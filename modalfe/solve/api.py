@@ -15,6 +15,7 @@ from modalfe.results.labels import base_label
 from modalfe.results.modes import Mode, Modes
 from modalfe.scene.scene import Analysis, Scene
 from modalfe.solve import resolved
+from modalfe.solve.axisymmetric import solve_axisymmetric
 from modalfe.solve.fidelity import solve_at_fidelity
 
 log = logging.getLogger(__name__)
@@ -110,8 +111,14 @@ def solve_modes(
         if kept is not None:
             return kept
     with single_threaded_blas():
-        modes = solve_at_fidelity(scene, a, fidelity=fidelity, tol=tol, check=check, size_factor=size_factor,
-                                  solver=solver, error_estimate=error_estimate, frame=frame)
+        if fidelity == "axisymmetric":
+            if frame is not None:
+                raise SolverError("frame: rotating the device is supported at solid fidelity only")
+            modes = solve_axisymmetric(scene, a, tol=tol, check=check, size_factor=size_factor, solver=solver,
+                                       error_estimate=error_estimate)
+        else:
+            modes = solve_at_fidelity(scene, a, fidelity=fidelity, tol=tol, check=check, size_factor=size_factor,
+                                      solver=solver, error_estimate=error_estimate, frame=frame)
     if key is not None:
         resolved.store(key, modes)
     stages = ", ".join(f"{k} {v:.2f} s" for k, v in modes.timings.items() if isinstance(v, float))

@@ -80,19 +80,11 @@ NOT_ESTIMATED = ("none: error not estimated (error_estimate off, --no-error-esti
 
 def solve_at_fidelity(scene, analysis, *, fidelity: str, tol: float, check, size_factor: float = 1.0,
                       solver: str = "auto", error_estimate: bool = True, frame=None) -> Modes:
-    """Modes at ``fidelity`` (``beam``, ``plate``, ``axisymmetric``, ``solid`` or ``auto``) whose stated error of the
-    ``check``ed modes meets ``tol``: ``auto`` the cheapest fidelity (``solve_auto``), ``solid`` the solid refined to
-    ``tol`` (``refined_to_tol``), ``axisymmetric`` its own refinement (``modalfe.solve.axisymmetric``), a reduced
-    model on its own mesh with its discretization and model error. Without
+    """Modes at ``fidelity`` (``beam``, ``plate``, ``solid`` or ``auto``) whose stated error of the ``check``ed modes
+    meets ``tol``: ``auto`` the cheapest fidelity (``solve_auto``), ``solid`` the solid refined to ``tol``
+    (``refined_to_tol``), a reduced model on its own mesh with its discretization and model error. Without
     ``error_estimate``: the scene's own mesh once (``auto``: the solid), every error unknown (NaN,
     ``NOT_ESTIMATED``). The solid's rungs are ``Rung`` values from here on."""
-    if fidelity == "axisymmetric":
-        if frame is not None:
-            raise SolverError("frame: rotating the device is supported at solid fidelity only")
-        from modalfe.solve.axisymmetric import solve_axisymmetric
-
-        return solve_axisymmetric(scene, analysis, tol=tol, check=check, size_factor=size_factor, solver=solver,
-                                  error_estimate=error_estimate)
     rung = Rung(scene, size_factor, solver=solver, frame=frame)
     if not error_estimate:
         fine = solve_estimated(rung, analysis, "solid" if fidelity == "auto" else fidelity, error_estimate=False)

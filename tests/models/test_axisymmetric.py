@@ -7,21 +7,25 @@ revolution."""
 import numpy as np
 import pytest
 import scipy.optimize as so
-import scipy.sparse as sp
 import scipy.special as ss
-from scipy.sparse.linalg import eigsh
 
 from modalfe.errors import SceneError
 from modalfe.models.axisymmetric import assemble_axisymmetric, meridian_section
 from modalfe.scene.loading import load_scene, scene_from_dict
-from modalfe.scene.materials import material
 from modalfe.solve.api import solve_modes
-from tests.oracles.discs import compliances, ring_inplane_frequency, thin_disc, thin_ring_breathing
+from tests.oracles.discs import (
+    SOLID_FA,
+    SOLID_FR,
+    SOLID_FR_ERROR,
+    compliances,
+    laterally_held,
+    ring_inplane_frequency,
+    thickness_resonator,
+    thin_disc,
+    thin_ring_breathing,
+)
 
 DISC = "studies/scenes/pzt5a_disc.toml"
-# the 3-D solid's 20 x 1 mm PZT-5A disc (docs/studies.md "Curved parts", "Mesh error of the disc"): R1 short circuit
-# 99,365 Hz stated to 0.001 % (P2, 17,940 DOFs; two layers 99,364.8 Hz), open circuit 117,317 Hz
-SOLID_FR, SOLID_FR_ERROR, SOLID_FA = 99_365.0, 1e-5, 117_317.0
 
 
 def _disc(radius_mm: float, height_mm: float, material_name: str, near: float, poling: int = 0):
@@ -109,37 +113,17 @@ def test_radially_poled_ring_breathing_mode_and_its_k31_coupling():
         assert mode.frequency == pytest.approx(f_theory, rel=1e-3)
 
 
-def _laterally_constrained(model, circuit: str, near: float) -> float:
-    """Frequency [Hz] nearest ``near`` of ``model`` with u_r = u_theta = 0 everywhere (the model's constraint map
-    with those columns dropped): plane waves through the thickness only."""
-    T = sp.csc_matrix(model.constraints(circuit).T)
-    radial = np.zeros(model.ndofs, dtype=bool)
-    for h in range(len(model.harmonics)):
-        for c in (0, 1):
-            radial[model.u_dof(h, np.arange(model.basis.N), c)] = True
-    keep = [j for j in range(T.shape[1]) if not radial[T.indices[T.indptr[j]:T.indptr[j + 1]]].any()]
-    T = T[:, keep]
-    A, B = (T.T @ model.K @ T).tocsc(), (T.T @ model.M @ T).tocsc()
-    w2 = eigsh(A, 1, B, sigma=(2 * np.pi * near) ** 2)[0]
-    return float(np.sqrt(w2[0]) / (2 * np.pi))
-
-
 def test_thickness_mode_of_a_laterally_constrained_plate_is_the_1d_theory():
     """With no lateral motion a disc is the 1-D thickness resonator of IEEE Std 176-1987: open circuit fa =
     (1 / 2t) sqrt(c33^D / rho), c33^D = c33^E + e33^2 / eps33^S; short circuit fr from k_t^2 = (pi fr / 2 fa)
     tan(pi (fa - fr) / 2 fa), k_t^2 = e33^2 / (c33^D eps33^S). Exact for the model (e33, c33, eps33, the equipotential
     electrodes and the floating potential all enter); tolerance 1e-5, the quartic elements' error on ~4 elements
     through the thickness of a half wavelength being ~1e-8."""
-    mat = material("PZT-5A")
-    c33D = mat.C[2, 2] + mat.e[2, 2] ** 2 / mat.eps_S[2, 2]
-    fa = np.sqrt(c33D / mat.rho) / (2 * 1e-3)
-    kt2 = mat.e[2, 2] ** 2 / (c33D * mat.eps_S[2, 2])
-    x = so.brentq(lambda x: x * np.tan(np.pi / 2 - x) - kt2, 1.0, np.pi / 2 - 1e-9)  # x = pi fr / 2 fa
-    fr = 2 * fa * x / np.pi
+    fr, fa = thickness_resonator("PZT-5A", 1e-3)
     scene = load_scene(DISC, **{"mesh.max_size": 2.5e-4})
     model = assemble_axisymmetric(scene, harmonics=(0,), order=4)
-    assert _laterally_constrained(model, "open", fa) == pytest.approx(fa, rel=1e-5)
-    assert _laterally_constrained(model, "short", fr) == pytest.approx(fr, rel=1e-5)
+    assert laterally_held(model, "open", fa) == pytest.approx(fa, rel=1e-5)
+    assert laterally_held(model, "short", fr) == pytest.approx(fr, rel=1e-5)
 
 
 @pytest.mark.parametrize(("n", "rigid"), [(0, 2), (1, 2), (2, 0), (3, 0)])

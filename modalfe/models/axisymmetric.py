@@ -62,6 +62,7 @@ ORDERS = (2, 3, 4)  # Lagrange quadrilateral orders offered (scikit-fem ElementQ
 _ISOTROPY_TOL = 1e-9
 _COS = [0, 1, 2, 4, 6, 8]  # generalised strain rows carried by cos n theta (rr, tt, zz, rz, G_r, G_z)
 _SIN = [3, 5, 7]  # rows carried by sin n theta (tz, rt, G_t)
+_ON_SURFACE = 1e-9  # element sizes by which a probed point may lie outside the mesh's bounds (round-off)
 _LABEL_ANGLES = 64  # angles the meridian is revolved at for the disc labeller (harmonics up to 10 resolved)
 
 
@@ -326,12 +327,16 @@ class AxisymmetricModel(PiezoUnknowns):
         return Constraints(T, scale, tuple(floating))
 
     def _cylindrical(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(r, theta, z) of ``points`` (n, 3) [m] about the section's axis."""
+        """(r, theta, z) of ``points`` (n, 3) [m] about the section's axis; (r, z) within ``_ON_SURFACE`` element
+        sizes outside the meridian mesh's bounds (a point on a curved face, off by round-off) put on those bounds."""
         d = np.asarray(points, dtype=float).reshape(-1, 3) - self.section.origin
         z = d @ self.section.axis
         e2 = np.cross(self.section.axis, self.section.radial)
         x, y = d @ self.section.radial, d @ e2
-        return np.hypot(x, y), np.arctan2(y, x), z
+        r = np.hypot(x, y)
+        (r0, z0), (r1, z1) = self.mesh.p.min(axis=1), self.mesh.p.max(axis=1)
+        slack = _ON_SURFACE * self.section.element_size
+        return _snapped(r, r0, r1, slack), np.arctan2(y, x), _snapped(z, z0, z1, slack)
 
     def displacement_probes(self, points: np.ndarray) -> sp.csr_matrix:
         """(3 n, ndofs) matrix giving (ux, uy, uz) [m] at ``points`` (n, 3) [m] of the revolved body from a full DOF
@@ -382,6 +387,12 @@ class AxisymmetricModel(PiezoUnknowns):
         at ``_LABEL_ANGLES`` angles: the whole body's field the disc labeller reads (``modalfe.results.labels``)."""
         points, probes = self._label_probes
         return points, (probes @ np.asarray(x)).reshape(3, -1)
+
+
+def _snapped(v: np.ndarray, lo: float, hi: float, slack: float) -> np.ndarray:
+    """``v`` with values within ``slack`` below ``lo`` (above ``hi``) set to ``lo`` (``hi``)."""
+    v = np.where((v < lo) & (v >= lo - slack), lo, v)
+    return np.where((v > hi) & (v <= hi + slack), hi, v)
 
 
 def _interleave(N: int) -> np.ndarray:

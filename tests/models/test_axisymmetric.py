@@ -4,6 +4,8 @@ flexural modes, a radially poled ring's breathing mode, the thickness mode of a 
 regularity conditions through the rigid motions of each harmonic, and the refusals of scenes that are no body of
 revolution."""
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 import scipy.optimize as so
@@ -12,7 +14,7 @@ import scipy.special as ss
 from modalfe.errors import SceneError
 from modalfe.models.axisymmetric import assemble_axisymmetric, meridian_section
 from modalfe.scene.loading import load_scene, scene_from_dict
-from modalfe.solve.api import solve_modes
+from modalfe.solve.api import OWN_MESH, solve_modes
 from tests.oracles.discs import (
     SOLID_FA,
     SOLID_FR,
@@ -140,6 +142,28 @@ def test_axis_conditions_keep_each_harmonics_rigid_motions(n, rigid):
     f = np.sqrt(np.abs(eigh(A, B, eigvals_only=True, subset_by_index=[0, 3]))) / (2 * np.pi)
     assert np.sum(f < 1.0) == rigid  # elastic modes of this disc start above 10 kHz
     assert f[rigid] > 1e3
+
+
+@pytest.mark.parametrize(("scene", "label", "harmonics"), [(DISC, "R1", 4), ("ring", "n=3", 3)])
+def test_stated_error_covers_the_distance_from_a_finer_discretization(scene, label, harmonics):
+    """The stated error by the order (order 3 against 2 on the scene's grid) covers the actual error, measured
+    against order 4 on elements half as large (its own error orders of magnitude smaller: the stated errors fall
+    ~10x per order here)."""
+    if scene == "ring":
+        scene = scene_from_dict({
+            "units": "mm", "materials": {"steel": {"E": 200e9, "nu": 0.3, "rho": 7850.0}},
+            "parts": [{"name": "ring", "shape": "ring", "material": "steel", "centre": [0, 0, 0], "axis": "z",
+                       "inner": 19.5, "outer": 20.5, "height": 2}], "analysis": {"near": 4.4e3, "count": 6}})
+    scene = load_scene(scene) if isinstance(scene, str) else scene
+    stated = solve_modes(scene, fidelity="axisymmetric", harmonics=harmonics, tol=OWN_MESH).labelled(label)
+    finer = solve_modes(_at_order(scene, order=4), fidelity="axisymmetric", harmonics=harmonics,
+                        error_estimate=False, size_factor=0.5).labelled(label)
+    assert abs(stated.frequency / finer.frequency - 1) <= stated.error_estimate
+
+
+def _at_order(scene, *, order: int):
+    """``scene`` with its elements of ``order``."""
+    return replace(scene, mesh=replace(scene.mesh, order=order))
 
 
 def test_refuses_scenes_that_are_no_body_of_revolution():

@@ -1,6 +1,7 @@
 """One entry that builds a scene's assembled model at a fidelity: the 3-D solid (mesh + assembly), the 2-D
-plate or the 1-D beam. Models are kept while the scene's physics and mesh are unchanged (a second window,
-the other circuit, a forced response reuse them); ``modalfe.caches.clear`` drops them."""
+axisymmetric model (harmonics 0..``mesh.harmonics``), the 2-D plate or the 1-D beam. Models are kept while the
+scene's physics and mesh are unchanged (a second window, the other circuit, a forced response reuse them);
+``modalfe.caches.clear`` drops them."""
 
 from __future__ import annotations
 
@@ -13,10 +14,10 @@ import numpy as np
 import modalfe.caches as caches
 from modalfe.errors import SceneError
 
-MODEL_FIDELITIES = ("beam", "plate", "solid")
+MODEL_FIDELITIES = ("beam", "plate", "axisymmetric", "solid")
 _KEPT = 3  # per kind of model: a fine and a coarse model of the scene in use, plus one
 _MODELS: OrderedDict = OrderedDict()  # solid models
-_LAYERED: OrderedDict = OrderedDict()  # plate and beam models
+_LAYERED: OrderedDict = OrderedDict()  # plate, beam and axisymmetric models
 
 
 @dataclass(frozen=True)
@@ -53,7 +54,8 @@ def build_model(scene, fidelity: str = "solid", *, size_factor: float = 1.0, fra
         raise SceneError(f"fidelity: must be one of {MODEL_FIDELITIES}, got '{fidelity}'")
     from modalfe.models.estimate import check_size
 
-    check_size(scene, fidelity, size_factor=size_factor, min_layers=min_layers)  # refuse before meshing
+    if fidelity != "axisymmetric":  # a meridian mesh: a 2-D model of a few thousand unknowns per harmonic
+        check_size(scene, fidelity, size_factor=size_factor, min_layers=min_layers)  # refuse before meshing
     if fidelity == "solid":
         return _solid(scene, size_factor=size_factor, frame=frame, min_layers=min_layers)
     key = repr((fidelity, scene, size_factor))
@@ -62,8 +64,10 @@ def build_model(scene, fidelity: str = "solid", *, size_factor: float = 1.0, fra
         return _LAYERED[key], {"mesh": 0.0, "assembly": 0.0}
     if fidelity == "beam":
         from modalfe.models.beam import assemble_beam as assemble
-    else:
+    elif fidelity == "plate":
         from modalfe.models.plate import assemble_plate as assemble
+    else:
+        from modalfe.models.axisymmetric import assemble_axisymmetric as assemble
     model = assemble(scene, size_factor=size_factor)
     _keep(_LAYERED, key, model)
     return model, dict(model.timings)

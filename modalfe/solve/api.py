@@ -16,11 +16,12 @@ from modalfe.results.labels import base_label
 from modalfe.results.modes import Mode, Modes
 from modalfe.scene.scene import Analysis, Scene
 from modalfe.solve import resolved
+from modalfe.solve.axisymmetric import solve_axisymmetric
 from modalfe.solve.fidelity import solve_at_fidelity
 
 log = logging.getLogger(__name__)
 
-FIDELITIES = ("auto", "beam", "plate", "solid")
+FIDELITIES = ("auto", "beam", "plate", "axisymmetric", "solid")
 # the relative frequency error every command and ``solve_modes`` answer at unless told otherwise, one default for all
 # (issue 34): 0.5 %, a fraction of the 1-32 % by which the seed devices' working modes differ from the seeds'
 # measured, analytic and FE targets, so that a deviation is the model's and not the mesh's
@@ -53,6 +54,7 @@ def solve_modes(
     fidelity: str = "auto",
     tol: float = DEFAULT_TOL,
     check: Check | None = None,
+    harmonics: int | None = None,
 ) -> Modes:
     """Modes of ``scene`` (a ``Scene``, or a built-in name or TOML file for ``load_scene``): ``count`` nearest
     ``near`` [Hz], or all in ``band`` [Hz], answered on a discretization whose stated error of the modes asked about
@@ -68,6 +70,9 @@ def solve_modes(
     solid), its error unknown (NaN), for the expert who sets the mesh; ``tol=OWN_MESH`` (inf): that mesh with its
     stated error, never refined. ``size_factor`` scales the element sizes.
     ``frame`` (3, 3) rotates the whole device (mesh and materials), for invariance checks.
+    ``fidelity="axisymmetric"``: a body of revolution (cylinders and rings on one axis) on its meridian plane,
+    circumferential harmonics n = 0..``harmonics`` (default the scene's ``mesh.harmonics``), refined by the order and
+    the grid to ``tol`` (``modalfe.solve.axisymmetric``); not (yet) a rung ``auto`` tries.
     The mesh resolves the scene's frequency range (``Scene.max_frequency``: ``mesh.max_frequency`` or the
     scene's own analysis, widened to a ``band`` asked here); ``near`` only places the shift, so modes far
     above that range carry the large error estimates of an under-resolved mesh.
@@ -75,6 +80,10 @@ def solve_modes(
     scene = _scene(scene)
     if fidelity not in FIDELITIES:
         raise SolverError(f"fidelity: must be one of {FIDELITIES}, got '{fidelity}'")
+    if harmonics is not None:
+        if fidelity != "axisymmetric":
+            raise SolverError(f"harmonics: only the axisymmetric fidelity solves harmonics, got fidelity '{fidelity}'")
+        scene = replace(scene, mesh=replace(scene.mesh, harmonics=harmonics))
     if not (isinstance(tol, numbers.Real) and tol > 0):  # NaN fails too; inf: the scene's own mesh, estimated
         raise SolverError(f"tol: must be a positive relative error, got {tol}")
     if not (isinstance(size_factor, numbers.Real) and math.isfinite(size_factor) and size_factor > 0):
@@ -113,8 +122,14 @@ def solve_modes(
         if kept is not None:
             return kept
     with single_threaded_blas():
-        modes = solve_at_fidelity(scene, a, fidelity=fidelity, tol=tol, check=check, size_factor=size_factor,
-                                  solver=solver, error_estimate=error_estimate, frame=frame)
+        if fidelity == "axisymmetric":
+            if frame is not None:
+                raise SolverError("frame: rotating the device is supported at solid fidelity only")
+            modes = solve_axisymmetric(scene, a, tol=tol, check=check, size_factor=size_factor, solver=solver,
+                                       error_estimate=error_estimate)
+        else:
+            modes = solve_at_fidelity(scene, a, fidelity=fidelity, tol=tol, check=check, size_factor=size_factor,
+                                      solver=solver, error_estimate=error_estimate, frame=frame)
     if key is not None:
         resolved.store(key, modes)
     stages = ", ".join(f"{k} {v:.2f} s" for k, v in modes.timings.items() if isinstance(v, float))

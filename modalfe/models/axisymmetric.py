@@ -1,0 +1,512 @@
+"""Axisymmetric model of a body of revolution on its meridian (r, z) plane, circumferential harmonics n = 0..N:
+the ``axisymmetric`` rung of the fidelity ladder, on scikit-fem Lagrange quadrilaterals of order 2-4.
+
+Unknowns per node and harmonic (the "symmetric" Fourier set, Zienkiewicz, Taylor & Zhu, The Finite Element
+Method: Its Basis and Fundamentals, 7th ed. 2013, sec. 9.5 "Axisymmetric solids with non-symmetric load"):
+
+    u_r = U_r(r, z) cos n theta,   u_theta = U_theta(r, z) sin n theta,   u_z = U_z(r, z) cos n theta,
+    phi = Phi(r, z) cos n theta.
+
+Each n >= 1 mode stands for a degenerate pair of the 3-D body (its twin is the set turned by pi / 2n), which the
+model solves once. For n = 0 the sine set has u_theta = 0; the torsional motion u_theta = U_theta(r, z) (the other
+Fourier set at n = 0) decouples from (U_r, U_z, Phi) and is kept in the same system, so the n = 0 block gives the
+radial, thickness and flexural (0, c) modes and the torsional ones (labels ``T1``...) together.
+
+Strains (Voigt order r, theta, z, theta-z, r-z, r-theta: xx, yy, zz, yz, xz, xy of the local frame) and the
+potential gradient G = -E, as amplitudes of cos n theta (rr, tt, zz, rz, G_r, G_z) or sin n theta (tz, rt, G_t):
+
+    S_rr = U_r,r            S_tt = (U_r + n U_t) / r           S_zz = U_z,z
+    S_tz = U_t,z - n U_z / r    S_rz = U_r,z + U_z,r      S_rt = U_t,r - (n U_r + U_t) / r
+    G_r = Phi,r             G_t = -n Phi / r                   G_z = Phi,z
+
+e-form piezoelectricity as the 3-D model (Allik & Hughes, Int. J. Numer. Meth. Eng. 2 (1970) 151-157), T = c^E S -
+e^T E, D = e S + eps^S E, so the harmonic's energy is c_n int [S; G]^T [[c^E, e^T], [e, -eps^S]] [S; G] r dr dz
+with c_n = int cos^2 n theta dtheta = pi (n >= 1), 2 pi (n = 0; the torsional set's too). The material must not
+couple the cosine and sine amplitudes, which holds for any material transversely isotropic about the axis (checked)
+and for ceramics poled along the axis or radially (Kagawa & Yamabuchi, IEEE Trans. Sonics Ultrason. 23 (1976)
+379-385, for the n = 0 piezoelectric form). The mass is c_n int rho (U_r^2 + U_t^2 + U_z^2) r dr dz, so modal
+masses are the whole body's (of one member of a pair). Integrals at Gauss points (r > 0).
+
+Regularity on the axis r = 0 (the revolved field single-valued with finite strain energy: S_tt, S_rt, S_tz and G_t
+bounded as r -> 0), standard for Fourier-series axisymmetric elements (e.g. Bathe, Finite Element Procedures, 2nd
+ed. 2014, sec. 5.3.6; derived here from the strain table above):
+
+    n = 0: U_r = U_t = 0;   n = 1: U_r + U_t = 0, U_z = 0, Phi = 0;   n >= 2: U_r = U_t = U_z = Phi = 0.
+
+With these, every 1 / r term is a polynomial on the elements next to the axis (the Lagrange functions of nodes off
+the axis vanish on it), so Gauss quadrature integrates it exactly.
+
+Electrodes are equipotential faces, as in 3-D: their potential is uniform round the circumference, so they carry
+only the n = 0 harmonic. Short circuit: every electrode at 0 V; open circuit: each driven electrode's n = 0
+potential one floating unknown (its n >= 1 potentials stay zero in both circuits).
+"""
+
+from __future__ import annotations
+
+import functools
+import itertools
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+
+from modalfe.errors import SceneError
+from modalfe.geometry.shapes import AXES, Cylinder, Ring
+from modalfe.models.constraints import Constraints
+from modalfe.models.solid import PiezoUnknowns
+
+ORDERS = (2, 3, 4)  # Lagrange quadrilateral orders offered (scikit-fem ElementQuadP)
+# relative tolerance of the material checks: a tensor unchanged by a turn about the axis, no cos-sin coupling
+_ISOTROPY_TOL = 1e-9
+_COS = [0, 1, 2, 4, 6, 8]  # generalised strain rows carried by cos n theta (rr, tt, zz, rz, G_r, G_z)
+_SIN = [3, 5, 7]  # rows carried by sin n theta (tz, rt, G_t)
+_ON_SURFACE = 1e-9  # element sizes by which a probed point may lie outside the mesh's bounds (round-off)
+_LABEL_ANGLES = 64  # angles the meridian is revolved at for the disc labeller (harmonics up to 10 resolved)
+
+
+@dataclass(frozen=True)
+class Region:
+    """One part's rectangle r0..r1, z0..z1 [m] of the meridian plane, with its material in the local (r, theta, z)
+    frame (``PiezoMaterial`` poled along its 3-axis when ``poled``)."""
+
+    part: str
+    r0: float
+    r1: float
+    z0: float
+    z1: float
+    material: object
+    poled: bool
+
+
+@dataclass(frozen=True)
+class MeridianSection:
+    """A body of revolution's meridian section: ``regions`` (one per part), the ``axis`` (3,) and the point
+    ``origin`` (3,) [m] on it where z = 0, the unit ``radial`` direction (3,) that theta = 0 points along, and the
+    element size [m] from the scene's mesh settings."""
+
+    regions: tuple[Region, ...]
+    axis: np.ndarray
+    origin: np.ndarray
+    radial: np.ndarray
+    element_size: float
+
+    def breaks(self, which: int) -> np.ndarray:
+        """Sorted distinct r (``which`` = 0) or z (1) coordinates [m] of the regions' edges."""
+        values = [b for reg in self.regions for b in ((reg.r0, reg.r1) if which == 0 else (reg.z0, reg.z1))]
+        span = max(values) - min(values)
+        return np.unique(np.round(np.array(values) / span, 12)) * span
+
+    def region_at(self, r: float, z: float) -> int | None:
+        """Index of the region containing (r, z) [m], None outside every part."""
+        for i, reg in enumerate(self.regions):
+            if reg.r0 <= r <= reg.r1 and reg.z0 <= z <= reg.z1:
+                return i
+        return None
+
+
+def meridian_section(scene, size_factor: float = 1.0) -> MeridianSection:
+    """The meridian section of ``scene`` when every part is a cylinder or ring on one common axis, with the element
+    size of the solid's settings (``modalfe.models.mesh.element_sizes``: elements per wavelength at
+    ``scene.max_frequency``, clipped to ``mesh.min_size``..``mesh.max_size``; the smallest part's) x ``size_factor``.
+    SceneError naming the field where the scene is no body of revolution the model can take."""
+    from modalfe.models.mesh import element_sizes
+
+    for name in ("clamps", "springs", "masses"):
+        if getattr(scene, name):
+            raise SceneError(f"{name}: not supported by the axisymmetric model yet (free bodies only)")
+    if scene.mirror_axes:
+        raise SceneError("symmetry: mirror planes do not apply to the axisymmetric model (it solves harmonics)")
+    assembly = scene.assembly()
+    first = assembly.parts[0]
+    for part in assembly.parts:
+        if not isinstance(part, (Cylinder, Ring)):
+            raise SceneError(f"parts.{part.name}.shape: the axisymmetric model takes cylinders and rings only")
+        if part.axis != first.axis:
+            raise SceneError(f"parts.{part.name}.axis: '{part.axis}' is not the common axis '{first.axis}'")
+        k = AXES.index(part.axis)
+        if not np.allclose(np.delete(part.centre, k), np.delete(first.centre, k), rtol=0, atol=1e-12):
+            raise SceneError(f"parts.{part.name}.centre: off the common axis through {tuple(first.centre)}")
+    for group, faces in assembly.faces.items():
+        if any(f.window is not None for f in faces):
+            raise SceneError(f"faces.{group}: face windows break the axial symmetry")
+    k = AXES.index(first.axis)
+    axis, radial = np.eye(3)[k], np.eye(3)[(k + 1) % 3]
+    origin = np.array(first.centre, dtype=float)
+    origin[k] = 0.0
+    frame = np.array([radial, np.cross(axis, radial), axis])  # rows: local r (theta = 0), theta, z in xyz
+    regions = []
+    for part in assembly.parts:
+        r0, r1 = (0.0, part.radius) if isinstance(part, Cylinder) else (part.inner, part.outer)
+        z0 = float(part.centre[k])
+        regions.append(Region(part.name, r0, r1, z0, z0 + part.height,
+                              _local_material(scene, part, frame), bool(part.poling)))
+    size = min(element_sizes(scene).values()) * size_factor
+    return MeridianSection(tuple(regions), axis, origin, radial, size)
+
+
+def _local_material(scene, part, frame: np.ndarray):
+    """The part's material in the local (r, theta, z) frame: a ceramic poled along +-z (the axis) or +-radial turned
+    so its 3-axis points that way, any other material seen from ``frame`` (rows: local axes in xyz); SceneError
+    naming the part's poling or material where the result would couple harmonics (not symmetric about the axis)."""
+    from modalfe.scene.materials import poling_frames
+
+    mat = scene.material(part.material)
+    if part.poling:
+        if part.poling.endswith("radial"):
+            direction = np.array([1.0, 0.0, 0.0])
+        elif part.poling[1] == part.axis:
+            direction = np.array([0.0, 0.0, 1.0])
+        else:
+            raise SceneError(f"parts.{part.name}.poling: '{part.poling}' is across the axis '{part.axis}', "
+                             f"not axisymmetric (pole along the axis or radially)")
+        local = mat.rotated(poling_frames(direction if part.poling[0] != "-" else -direction))
+    else:
+        local = mat.rotated(frame)
+        if local.is_piezoelectric:  # an unpoled ceramic: its elastic tensor only, as the 3-D model
+            from modalfe.scene.materials import ElasticMaterial
+
+            local = ElasticMaterial(local.name, local.C, local.rho, local.source)
+    D = coupled_tensor(local)
+    couples = np.abs(D[np.ix_(_COS, _SIN)]).max() > _ISOTROPY_TOL * np.abs(D).max()
+    radial = bool(part.poling) and part.poling.endswith("radial")  # cylindrically orthotropic: no turn invariance
+    if couples or not (radial or _turn_invariant(local)):
+        raise SceneError(f"parts.{part.name}.material: '{part.material}' is not transversely isotropic about the "
+                         f"axis '{part.axis}'; the axisymmetric model needs a body of revolution")
+    return local
+
+
+def _turn_invariant(material) -> bool:
+    """Whether ``material``'s tensors are unchanged by a turn about its local z (transverse isotropy about z)."""
+    c, s = math.cos(0.3), math.sin(0.3)
+    turned = coupled_tensor(material.rotated(np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])))
+    D = coupled_tensor(material)
+    return bool(np.abs(turned - D).max() <= _ISOTROPY_TOL * np.abs(D).max())
+
+
+def coupled_tensor(material) -> np.ndarray:
+    """[[c^E, e^T], [e, -eps^S]] (9, 9) on (S, G = -E) of a material (zero coupling and permittivity if passive):
+    the e-form energy density S^T c^E S + 2 S^T e^T G - G^T eps^S G (Allik & Hughes 1970)."""
+    D = np.zeros((9, 9))
+    D[:6, :6] = material.C
+    if material.is_piezoelectric:
+        D[:6, 6:], D[6:, :6], D[6:, 6:] = material.e.T, material.e, -material.eps_S
+    return D
+
+
+def strain_maps(n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(B0, Br, Bz), each (9, 4) on q = (U_r, U_t, U_z, Phi): [S; G] = B0 q / r + Br q,r + Bz q,z for harmonic
+    ``n`` (the strain table of the module docstring)."""
+    B0, Br, Bz = np.zeros((9, 4)), np.zeros((9, 4)), np.zeros((9, 4))
+    Br[0, 0] = 1.0  # S_rr = U_r,r
+    B0[1, 0], B0[1, 1] = 1.0, n  # S_tt = (U_r + n U_t) / r
+    Bz[2, 2] = 1.0  # S_zz = U_z,z
+    Bz[3, 1], B0[3, 2] = 1.0, -n  # S_tz = U_t,z - n U_z / r
+    Bz[4, 0], Br[4, 2] = 1.0, 1.0  # S_rz = U_r,z + U_z,r
+    Br[5, 1], B0[5, 0], B0[5, 1] = 1.0, -n, -1.0  # S_rt = U_t,r - (n U_r + U_t) / r
+    Br[6, 3], B0[7, 3], Bz[8, 3] = 1.0, -n, 1.0  # G = (Phi,r, -n Phi / r, Phi,z)
+    return B0, Br, Bz
+
+
+def meridian_mesh(section: MeridianSection):
+    """(MeshQuad of the parts' rectangles on a tensor grid conforming to every part edge, each interval cut into
+    elements no longer than the section's element size, region index per element)."""
+    from skfem import MeshQuad
+
+    lines = []
+    for which in (0, 1):
+        b = section.breaks(which)
+        cuts = [np.linspace(a, c, max(1, math.ceil((c - a) / section.element_size - 1e-9)) + 1)[:-1]
+                for a, c in itertools.pairwise(b)]
+        lines.append(np.concatenate([*cuts, b[-1:]]))
+    mesh = MeshQuad.init_tensor(*lines)
+    centres = mesh.p[:, mesh.t].mean(axis=1)
+    region = np.array([section.region_at(r, z) for r, z in centres.T], dtype=object)
+    outside = np.flatnonzero(region == None)  # noqa: E711 (object array)
+    if len(outside):
+        mesh = mesh.remove_elements(outside)
+        region = np.delete(region, outside)
+    return mesh, region.astype(int)
+
+
+@dataclass(frozen=True, eq=False)
+class AxisymmetricModel(PiezoUnknowns):
+    """Assembled harmonics n in ``harmonics`` of one meridian mesh, as one block-diagonal system (full DOF set, no
+    constraint applied): u DOFs first (harmonic-major, then 3 per node: U_r, U_t, U_z), then the potentials
+    (harmonic-major, one per scalar DOF of a poled part). ``electrodes``: face group -> indices into the phi unknowns
+    of one block of the DOFs that are values on the face (equal on an equipotential face: the electrode's potential,
+    carried by n = 0 only). ``clamped`` is empty (free bodies only)."""
+
+    scene: object
+    section: MeridianSection
+    mesh: object
+    basis: object
+    harmonics: tuple[int, ...]
+    K: sp.csr_matrix
+    M: sp.csr_matrix
+    n_u: int
+    phi_nodes: np.ndarray  # scalar DOFs of the basis carrying a potential (poled parts)
+    electrodes: dict[str, np.ndarray]
+    electrode_higher: np.ndarray  # phi unknowns of higher-order DOFs on electrodes: zero on an equipotential face
+    timings: dict[str, float] = field(default_factory=dict)
+    clamped: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
+    attached_mass: None = None
+
+    @property
+    def n_phi(self) -> int:
+        return len(self.harmonics) * len(self.phi_nodes)
+
+    def u_dof(self, h: int, nodes: np.ndarray, component: int) -> np.ndarray:
+        """Full DOF indices of displacement ``component`` (0 r, 1 theta, 2 z) at scalar ``nodes`` of block ``h``."""
+        return h * 3 * self.basis.N + 3 * np.asarray(nodes) + component
+
+    def phi_dof(self, h: int, which: np.ndarray) -> np.ndarray:
+        """Full DOF indices of the potentials ``which`` (indices into ``phi_nodes``) of block ``h``."""
+        return self.n_u + h * len(self.phi_nodes) + np.asarray(which)
+
+    def prescribed_potential(self, volts: float) -> np.ndarray:
+        """Full DOF vector that is ``volts`` [V] on every driven electrode (its n = 0 potential) and zero elsewhere."""
+        if 0 not in self.harmonics:
+            raise SceneError("harmonics: a voltage on the electrodes drives n = 0 only, which is not solved")
+        x = np.zeros(self.ndofs)
+        h = self.harmonics.index(0)
+        for group, role in self.scene.electrodes.items():
+            if role == "drive" and group in self.electrodes:
+                x[self.phi_dof(h, self.electrodes[group])] = volts
+        return x
+
+    def harmonic_of(self, x: np.ndarray) -> int:
+        """The harmonic n whose block carries most of the full DOF vector ``x`` (one harmonic per mode)."""
+        u = np.asarray(x)[: self.n_u].reshape(len(self.harmonics), -1)
+        return self.harmonics[int(np.argmax(np.sum(u**2, axis=1)))]
+
+    def constraints(self, circuit: str) -> Constraints:
+        """x_full = T x_free for a ``short`` or ``open`` circuit: the axis regularity conditions of each harmonic
+        (module docstring; n = 1: one unknown U_r = -U_t per axis node), every electrode's potential zero, except
+        in an open circuit each driven electrode's n = 0 potential, one floating unknown (last columns).
+        Potentials scaled by ``potential_scale`` as in 3-D."""
+        if circuit not in ("short", "open"):
+            raise SceneError(f"circuit: must be 'short' or 'open', got '{circuit}'")
+        N = self.basis.N
+        on_axis = np.concatenate(_segment_dofs(self.basis, lambda x: np.abs(x[0]) <= 1e-12 * self.section.element_size))
+        phi_on_axis = np.flatnonzero(np.isin(self.phi_nodes, on_axis))
+        on_electrode = np.unique(np.concatenate([self.electrode_higher, *self.electrodes.values()]))
+        scale = self.potential_scale()
+        rows, cols, vals, k = [], [], [], 0
+
+        def column(dofs, values) -> None:
+            nonlocal k
+            rows.extend(dofs)
+            vals.extend(values)
+            cols.extend([k] * len(dofs))
+            k += 1
+
+        for h, n in enumerate(self.harmonics):
+            fixed = {0: (0, 1), 1: (0, 1, 2)}.get(n, (0, 1, 2))
+            for c in range(3):
+                nodes = np.arange(N) if c not in fixed else np.setdiff1d(np.arange(N), on_axis)
+                for dof in self.u_dof(h, nodes, c):
+                    column([dof], [1.0])
+            if n == 1:  # U_r + U_t = 0 on the axis
+                for node in on_axis:
+                    column([self.u_dof(h, node, 0), self.u_dof(h, node, 1)], [1.0, -1.0])
+        for h, n in enumerate(self.harmonics):
+            fixed = on_electrode if n == 0 else np.union1d(on_electrode, phi_on_axis)
+            for dof in self.phi_dof(h, np.setdiff1d(np.arange(len(self.phi_nodes)), fixed)):
+                column([dof], [scale])
+        floating = []
+        if circuit == "open" and 0 in self.harmonics:
+            h = self.harmonics.index(0)
+            for group, role in self.scene.electrodes.items():
+                if role == "drive" and group in self.electrodes:
+                    idx = self.phi_dof(h, self.electrodes[group])
+                    column(list(idx), [scale] * len(idx))
+                    floating.append(group)
+        T = sp.csr_matrix((vals, (rows, cols)), shape=(self.ndofs, k))
+        return Constraints(T, scale, tuple(floating))
+
+    def _cylindrical(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(r, theta, z) of ``points`` (n, 3) [m] about the section's axis; (r, z) within ``_ON_SURFACE`` element
+        sizes outside the meridian mesh's bounds (a point on a curved face, off by round-off) put on those bounds."""
+        d = np.asarray(points, dtype=float).reshape(-1, 3) - self.section.origin
+        z = d @ self.section.axis
+        e2 = np.cross(self.section.axis, self.section.radial)
+        x, y = d @ self.section.radial, d @ e2
+        r = np.hypot(x, y)
+        (r0, z0), (r1, z1) = self.mesh.p.min(axis=1), self.mesh.p.max(axis=1)
+        slack = _ON_SURFACE * self.section.element_size
+        return _snapped(r, r0, r1, slack), np.arctan2(y, x), _snapped(z, z0, z1, slack)
+
+    def displacement_probes(self, points: np.ndarray) -> sp.csr_matrix:
+        """(3 n, ndofs) matrix giving (ux, uy, uz) [m] at ``points`` (n, 3) [m] of the revolved body from a full DOF
+        vector, rows component-major: the harmonics summed, u = u_r e_r + u_t e_t + u_z e_z (module docstring)."""
+        r, theta, z = self._cylindrical(points)
+        return self._revolved(sp.csr_matrix(self.basis.probes(np.array([r, z]))), theta)
+
+    def _revolved(self, P: sp.csr_matrix, theta: np.ndarray) -> sp.csr_matrix:
+        """(3 n, ndofs) displacement probes from the meridian probes ``P`` (n, basis.N) of n points at angles
+        ``theta`` (n,)."""
+        e1, e3 = self.section.radial, self.section.axis
+        e2 = np.cross(e3, e1)
+        e_r = np.outer(np.cos(theta), e1) + np.outer(np.sin(theta), e2)  # (n, 3)
+        e_t = -np.outer(np.sin(theta), e1) + np.outer(np.cos(theta), e2)
+        blocks = []
+        for i in range(3):
+            row = []
+            for n in self.harmonics:
+                c, s = np.cos(n * theta), (np.sin(n * theta) if n else np.ones_like(theta))  # n = 0: torsion
+                parts = [sp.diags(c * e_r[:, i]) @ P, sp.diags(s * e_t[:, i]) @ P, sp.diags(c * e3[i]) @ P]
+                row.append(sp.hstack(parts).tocsr()[:, _interleave(P.shape[1])])
+            blocks.append(sp.hstack([*row, sp.csr_matrix((P.shape[0], self.n_phi))]))
+        return sp.vstack(blocks, format="csr")
+
+    def potential_probes(self, points: np.ndarray) -> sp.csr_matrix:
+        """(n, ndofs) matrix giving the potential [V] at ``points`` (n, 3) [m] (zero outside the poled parts)."""
+        r, theta, z = self._cylindrical(points)
+        P = sp.csc_matrix(self.basis.probes(np.array([r, z])))[:, self.phi_nodes]
+        row = [sp.diags(np.cos(n * theta)) @ P for n in self.harmonics]
+        return sp.hstack([sp.csr_matrix((len(r), self.n_u)), *row], format="csr")
+
+    @functools.cached_property
+    def _label_probes(self) -> tuple[np.ndarray, sp.csr_matrix]:
+        r, z = self.mesh.p
+        vertices = np.flatnonzero(r > 1e-12 * self.section.element_size)  # the axis is one point per z, not a ring
+        theta = np.linspace(0, 2 * np.pi, _LABEL_ANGLES, endpoint=False)
+        which, angle = np.repeat(vertices, len(theta)), np.tile(theta, len(vertices))
+        e1, e3 = self.section.radial, self.section.axis
+        e2 = np.cross(e3, e1)
+        points = (self.section.origin[:, None] + np.outer(e1, r[which] * np.cos(angle))
+                  + np.outer(e2, r[which] * np.sin(angle)) + np.outer(e3, z[which]))
+        P = sp.csr_matrix((np.ones(len(which)), (np.arange(len(which)), self.basis.nodal_dofs[0][which])),
+                          shape=(len(which), self.basis.N))  # Lagrange: a vertex's value is its DOF
+        return points, self._revolved(P, angle)
+
+    def label_field(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(points (3, m) [m], displacement (3, m) [m]) of the full DOF vector ``x`` on the mesh vertices revolved
+        at ``_LABEL_ANGLES`` angles: the whole body's field the disc labeller reads (``modalfe.results.labels``)."""
+        points, probes = self._label_probes
+        return points, (probes @ np.asarray(x)).reshape(3, -1)
+
+
+def _snapped(v: np.ndarray, lo: float, hi: float, slack: float) -> np.ndarray:
+    """``v`` with values within ``slack`` below ``lo`` (above ``hi``) set to ``lo`` (``hi``)."""
+    v = np.where((v < lo) & (v >= lo - slack), lo, v)
+    return np.where((v > hi) & (v <= hi + slack), hi, v)
+
+
+def _interleave(N: int) -> np.ndarray:
+    """Column order taking [r nodes, theta nodes, z nodes] to the model's 3 per node (r, theta, z)."""
+    return (np.arange(3)[None, :] * N + np.arange(N)[:, None]).ravel()
+
+
+def assemble_axisymmetric(scene, *, harmonics: tuple[int, ...] | None = None, order: int | None = None,
+                          size_factor: float = 1.0) -> AxisymmetricModel:
+    """Assemble the harmonics ``harmonics`` (default 0..``mesh.harmonics``) of ``scene``'s meridian section
+    (``meridian_section``) on quadrilaterals of ``order`` (default ``mesh.order``; 2-4), element size x ``size_factor``:
+    K = c_n sum_ab kron(int r d_a(v) d_b(u), B_a^T D B_b) with d = (value / r, d/dr, d/dz) (module docstring)."""
+    from skfem import Basis, BilinearForm, ElementQuad2, ElementQuadP
+
+    order = scene.mesh.order if order is None else order
+    if order not in ORDERS:
+        raise SceneError(f"mesh.order: the axisymmetric model takes orders {ORDERS}, got {order}")
+    harmonics = tuple(sorted(int(n) for n in (range(scene.mesh.harmonics + 1) if harmonics is None else harmonics)))
+    if not harmonics or harmonics[0] < 0 or len(set(harmonics)) != len(harmonics):
+        raise SceneError(f"harmonics: distinct whole numbers >= 0, got {harmonics}")
+    t0 = time.perf_counter()
+    section = meridian_section(scene, size_factor)
+    mesh, region = meridian_mesh(section)
+    element = ElementQuad2() if order == 2 else ElementQuadP(order)  # nodal 9-node quad; hierarchical above
+    basis = Basis(mesh, element, intorder=2 * order + 2)
+    t_mesh = time.perf_counter() - t0
+    N = basis.N
+    derivative = (lambda f, r: f / r, lambda f, r: f.grad[0], lambda f, r: f.grad[1])
+    maps = {n: strain_maps(n) for n in harmonics}
+    K_blocks = {n: [] for n in harmonics}
+    M_terms = []
+    poled_elements = []
+    for i, reg in enumerate(section.regions):
+        elements = np.flatnonzero(region == i)
+        if reg.poled:
+            poled_elements.append(elements)
+        sub = Basis(mesh, element, intorder=2 * order + 2, elements=elements)
+        D = coupled_tensor(reg.material)
+        forms = {}
+        for a in range(3):
+            for b in range(a, 3):
+                forms[a, b] = BilinearForm(lambda u, v, w, a=a, b=b: w.x[0] * derivative[a](v, w.x[0])
+                                           * derivative[b](u, w.x[0])).assemble(sub)
+                forms[b, a] = forms[a, b].T
+        for n in harmonics:
+            B = maps[n]
+            for a in range(3):
+                for b in range(3):
+                    block = B[a].T @ D @ B[b]
+                    if np.any(block):
+                        K_blocks[n].append(sp.kron(forms[a, b], block, format="csr"))
+        mass = BilinearForm(lambda u, v, w: w.x[0] * u * v).assemble(sub)
+        M_terms.append(reg.material.rho * mass)
+    phi_nodes = (np.unique(basis.element_dofs[:, np.concatenate(poled_elements)]) if poled_elements
+                 else np.zeros(0, dtype=int))
+    u_idx = np.arange(4 * N).reshape(N, 4)[:, :3].ravel()  # (U_r, U_t, U_z) of each node in 4-per-node
+    phi_idx = 4 * phi_nodes + 3
+    K_u, K_up, K_p, M_u = [], [], [], []
+    M_scalar = sum(M_terms)
+    for n in harmonics:
+        c_n = 2 * np.pi if n == 0 else np.pi
+        K4 = (c_n * sum(K_blocks[n])).tocsr()
+        K_u.append(K4[u_idx][:, u_idx])
+        K_up.append(K4[u_idx][:, phi_idx])
+        K_p.append(K4[phi_idx][:, phi_idx])
+        M_u.append(sp.kron(c_n * M_scalar, sp.eye(3), format="csr"))
+    K = sp.bmat([[sp.block_diag(K_u), sp.block_diag(K_up)], [sp.block_diag(K_up).T, sp.block_diag(K_p)]],
+                format="csr")
+    n_u = 3 * N * len(harmonics)
+    M = sp.block_diag([sp.block_diag(M_u), sp.csr_matrix((len(harmonics) * len(phi_nodes),) * 2)], format="csr")
+    electrodes, higher = {}, [np.zeros(0, dtype=int)]
+    for group, (values, edges) in _electrode_dofs(scene, section, basis).items():
+        electrodes[group] = np.flatnonzero(np.isin(phi_nodes, values))
+        if len(electrodes[group]) == 0:
+            raise SceneError(f"electrodes.{group}: the face group touches no poled part")
+        higher.append(np.flatnonzero(np.isin(phi_nodes, edges)))
+    timings = {"mesh": t_mesh, "assembly": time.perf_counter() - t0 - t_mesh}
+    return AxisymmetricModel(scene, section, mesh, basis, harmonics, K, M, n_u, phi_nodes, electrodes,
+                             np.unique(np.concatenate(higher)), timings)
+
+
+def _segment_dofs(basis, on_segment) -> tuple[np.ndarray, np.ndarray]:
+    """(DOFs that are values, higher-order DOFs) of ``basis`` on the mesh facets whose midpoints (2, m) [m] satisfy
+    ``on_segment``: a field is zero there when both are; uniform when the values are equal and the higher-order ones
+    zero. The 9-node ``ElementQuad2``'s edge DOFs are midpoint values; ``ElementQuadP``'s are hierarchical."""
+    facets = basis.mesh.facets_satisfying(on_segment)
+    if not len(facets):
+        return np.zeros(0, dtype=int), np.zeros(0, dtype=int)
+    dofs = basis.get_dofs(facets)
+    nodal, edge = (np.unique(np.concatenate([*d.values(), np.zeros(0, dtype=int)])) for d in (dofs.nodal, dofs.facet))
+    from skfem import ElementQuadP
+
+    if isinstance(basis.elem, ElementQuadP):
+        return nodal, edge
+    return np.union1d(nodal, edge), np.zeros(0, dtype=int)
+
+
+def _electrode_dofs(scene, section: MeridianSection, basis) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """Electrode face group -> (value DOFs, higher-order DOFs) of ``basis`` on its faces (``_segment_dofs``; a
+    part's top or bottom: a segment of constant z, its outer or inner wall: one of constant r)."""
+    regions = {reg.part: reg for reg in section.regions}
+    tol = 1e-9 * section.element_size
+    out = {}
+    for group in scene.electrodes:
+        found = []
+        for face in scene.assembly().faces[group]:
+            reg = regions[face.part]
+            if face.side in ("top", "bottom"):
+                at = reg.z1 if face.side == "top" else reg.z0
+                found.append(_segment_dofs(basis, lambda x, at=at, reg=reg: (np.abs(x[1] - at) <= tol)
+                                           & (x[0] >= reg.r0 - tol) & (x[0] <= reg.r1 + tol)))
+            else:
+                at = reg.r1 if face.side == "outer" else reg.r0
+                found.append(_segment_dofs(basis, lambda x, at=at, reg=reg: (np.abs(x[0] - at) <= tol)
+                                           & (x[1] >= reg.z0 - tol) & (x[1] <= reg.z1 + tol)))
+        out[group] = tuple(np.unique(np.concatenate([f[i] for f in found])) for i in (0, 1))
+    return out

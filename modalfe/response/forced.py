@@ -225,18 +225,19 @@ _BESIDE: dict = {}  # the last mode's solve beside resonance, shared by ``reduce
 
 def beside_resonance(mode: Mode, load=None):
     """(T, F, C_b, x_p, x_d, omega_d): one undamped full solve at 0.97 omega_r, for the quasi-static
-    contribution of every other mode (residual flexibility)."""
-    from modalfe.solve.linalg import factorize
+    contribution of every other mode (residual flexibility). It reuses the pencil and the factorization the mode's
+    eigen solve kept (``modalfe.solve.levels.short_circuit_pencil``), solving at omega_d from the factorization at
+    the eigen solve's shift (``modalfe.solve.linalg.shifted_solve``: as accurate as a new factorization)."""
+    from modalfe.solve.levels import short_circuit_pencil
+    from modalfe.solve.linalg import shifted_solve
 
     if _BESIDE.get("mode") is mode and _BESIDE.get("load") == load:
         return _BESIDE["result"]
     model = mode.model
     T, F, C_b, x_v = drive_vectors(model, load)
-    A = (T.T @ model.K @ T).tocsr()
-    B = (T.T @ model.M @ T).tocsr()
+    A, B, factor = short_circuit_pencil(model)
     omega_d = 0.97 * mode.omega
-    solve, _ = factorize(A - omega_d**2 * B)
-    result = (T, F, C_b, x_v, solve(F), omega_d)
+    result = (T, F, C_b, x_v, shifted_solve(A, B, omega_d**2, factor)(F), omega_d)
     _BESIDE.clear()
     _BESIDE.update(mode=mode, load=load, result=result)
     return result

@@ -79,6 +79,17 @@ def modes_of(model, analysis, *, fidelity: str, solver: str = "auto", timings: d
                  mesh_frequency=model.scene.max_frequency)
 
 
+def short_circuit_pencil(model) -> tuple[sp.csr_matrix, sp.csr_matrix, tuple | None]:
+    """(A, B, factor): the short-circuit pencil T^T K T, T^T M T of ``model`` and the factorization (solve, shift)
+    of A - shift B its eigen solve kept (``_ShortSolve``); projected afresh, factor None, where none is kept (a
+    model read back from the resolved answers, or one without a driven electrode)."""
+    kept = next((k for k in _SHORT_SOLVES if k.model() is model), None)
+    if kept is not None:
+        return kept.A, kept.B, kept.factor
+    constraints = model.constraints("short")
+    return constraints.project(model.K), constraints.project(model.M), None
+
+
 def open_circuit_solve(A_open, n_short: int, factor: tuple) -> tuple:
     """(solve, shift) with A_open - shift B_open from the short-circuit factorization ``factor`` of the same model:
     the open circuit's unknowns are the short circuit's plus one potential per floating electrode (the last

@@ -208,14 +208,15 @@ def band_modes(scene, band: tuple[float, float], **resolution) -> Modes:
 
     Where the band holds one working mode and ``modes`` asks about it by its frequency (near and count,
     ``modalfe.solve.api.working_question``), that question: its answer (``modes``' own, read back where kept) sets
-    the level, and the band is then solved once on that answer's model, not at every estimate
-    level and refinement step. The band's modes the answer holds take its frequency and stated error (those ``modes``
-    gives; the labels are the band solve's, unique in the band); the others of the band are solved on the same model
-    but carry no error estimate (NaN: not estimated), which the note says, with how many lie above the frequency the
-    mesh resolves (``Scene.max_frequency``: the band question raised it to the band's top, and so refined the mesh
-    past the one ``modes`` answers on, which then gave the working mode another frequency). Otherwise (none or several
-    working modes in the band, or a scene whose own question is a band) the band question itself, every mode
-    estimated."""
+    the level, and the band is then solved once on that answer's model, not at every estimate level and refinement
+    step: its Sturm counts, the answer's modes in it kept and only the others sought, at the answer's own shift and
+    factorization (``modalfe.solve.levels.modes_of``'s ``known``). The band's modes the answer holds take its
+    frequency and stated error (those ``modes`` gives; the labels are the band solve's, unique in the band); the
+    others are solved on the same model but carry no error estimate (NaN: not estimated), which the note says, with
+    how many lie above the frequency the mesh resolves (``Scene.max_frequency``: the band question raised it to the
+    band's top, and so refined the mesh past the one ``modes`` answers on, which then gave the working mode another
+    frequency). Otherwise (none or several working modes in the band, or a scene whose own question is a band) the
+    band question itself, every mode estimated."""
     from modalfe.solve.api import NEAREST, solid_modes, working_question
     from modalfe.solve.levels import modes_of
 
@@ -228,7 +229,7 @@ def band_modes(scene, band: tuple[float, float], **resolution) -> Modes:
         check = tuple((wm.selector, wm.near) for wm in inside) or ((NEAREST, near),)
         return solid_modes(scene, needs="the admittance", band=band, circuit="short", check=check, **resolution)
     answer = solid_modes(scene, needs="the admittance", circuit="short", **question, **resolution)
-    found = modes_of(answer.model, Analysis(band=band, circuit="short"), fidelity=answer.fidelity)
+    found = modes_of(answer.model, Analysis(band=band, circuit="short"), fidelity=answer.fidelity, known=answer)
     unmatched = list(answer)
     rows = []
     for mode in found:

@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from modalfe.errors import SceneError, SolverError
+from modalfe.models.constraints import free_values
 from modalfe.response.loads import load_vector, output_operators
 from modalfe.results.coupling import k_eff
 from modalfe.results.modes import Mode
@@ -253,7 +254,7 @@ def reduce(mode: Mode, *, outputs, damping: Damping, reference: str | None = Non
     model = mode.model
     T, F, C_b, x_v, x_d, omega_d = beside_resonance(mode, load)
     probes = output_operators(model, outputs)
-    v_free = free_coordinates(model, T, mode.shape)
+    v_free = free_values(T, mode.shape)
     theta = float(v_free @ F)
     omega_r = mode.omega
     # residual of the other modes: one undamped full solve just below resonance
@@ -292,17 +293,11 @@ def resonant_state(mode: Mode, *, damping: Damping, load=None) -> np.ndarray:
     solve beside resonance) and the prescribed potential."""
     T, F, _, x_p, x_d, omega_d = beside_resonance(mode, load)
     omega_r = mode.omega
-    theta = float(free_coordinates(mode.model, T, mode.shape) @ F)
+    theta = float(free_values(T, mode.shape) @ F)
     modal_d = theta / (omega_r**2 - omega_d**2)
     residual = T @ x_d + x_p - mode.shape * modal_d
     zeta = damping.ratio(omega_r)
     return mode.shape * (theta / (2j * zeta * omega_r**2)) + residual
-
-
-def free_coordinates(model, T, x_full: np.ndarray) -> np.ndarray:
-    """Free unknowns x with T x = x_full (T's columns are disjoint: a weighted pick)."""
-    weights = np.asarray(T.multiply(T).sum(axis=0)).ravel()
-    return (T.T @ x_full) / weights
 
 
 @dataclass(frozen=True)

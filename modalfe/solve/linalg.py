@@ -79,8 +79,8 @@ def factorize(A: sp.spmatrix, *, solver: str = "auto"):
 
 
 # a solve at one shift from a factorization at another (``shifted_solve``) is accepted at the relative residual a bare
-# PARDISO solve is (``REFINED_ABOVE``; GMRES aims 100x lower: measured 6.5e-14 beside the Cu-Be plate's (0,6), 3.9e-12
-# at the admittance's band centre 0.1 % from it, where the shifted matrix is nearly singular)
+# PARDISO solve is (``REFINED_ABOVE``; GMRES aims 100x lower: measured 6.5e-14 beside the Cu-Be plate's (0,6), where
+# forced solves at 0.97 f_r)
 SHIFTED_RESIDUAL = REFINED_ABOVE
 SHIFTED_ITERATIONS = 200  # most Krylov steps a shifted solve takes before it factorizes instead
 SHIFTED_RESTART = 40  # GMRES's basis before a restart (the Cu-Be plate's solve beside resonance converges in 15)

@@ -62,7 +62,7 @@ def log_timings(modes, seconds: float) -> None:
 
 def _show(args) -> int:
     from modalfe.errors import SolverError
-    from modalfe.plot.render import animate_mode, preload, render_mode
+    from modalfe.plot.render import animate_mode, render_mode
     from modalfe.results.labels import check_selector
     from modalfe.results.modes import select
     from modalfe.solve.api import seek, working_question
@@ -75,7 +75,6 @@ def _show(args) -> int:
             return {"near": args.near or seek(scene)[1]}
         return working_question(scene, selector, args.near)
 
-    loading = preload()  # while the modes are solved
     scene, modes = _modes(args, question)
     if index:
         if int(args.mode) >= len(modes):
@@ -88,7 +87,6 @@ def _show(args) -> int:
     interactive = args.out is None and bool(os.environ.get("DISPLAY"))
     out = args.out or (None if interactive else f"{scene.name}.png")
     start = time.perf_counter()
-    loading.join()
     if out and Path(out).suffix.lower() == ".gif":
         animate_mode(mode, out, view=args.view)
     else:

@@ -14,10 +14,8 @@ they never call ``show()`` for the caller.
 
 from __future__ import annotations
 
-import contextlib
 import os
 import tempfile
-import threading
 from dataclasses import dataclass
 
 import numpy as np
@@ -170,21 +168,6 @@ def _outline(mode, axis: int, c: float, lo, hi, *, grow: float, lift: float):
     poly = pv.PolyData(points, lines=np.r_[len(points) + 1, np.arange(len(points)), 0])
     poly.point_data["displacement"] = mode.displacement(probe)
     return poly
-
-
-def preload() -> threading.Thread:
-    """Start importing pyvista's plotting in a thread, and return it (join it before rendering): for a command that
-    solves first (``modalfe show``). The import takes seconds (VTK's libraries: 2-3 s, as long as a small device's
-    whole solve), the solve's time goes mostly to PARDISO and ARPACK, which leave the interpreter free, so the two
-    overlap. Where pyvista is missing the thread ends quietly, and ``render_mode`` says so as before."""
-
-    def load() -> None:
-        with contextlib.suppress(ImportError):
-            import pyvista.plotting  # noqa: F401
-
-    thread = threading.Thread(target=load, name="pyvista import", daemon=True)
-    thread.start()
-    return thread
 
 
 def quiet_vtk(verbose: bool = False) -> None:

@@ -41,29 +41,3 @@ def test_an_upper_case_extension_is_written(tmp_path, capsys, name):
     magic = {".png": b"\x89PNG", ".gif": b"GIF8"}[out.suffix.lower()]
     assert out.read_bytes().startswith(magic)
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted(["bimorph.toml", name])  # no temporary left
-
-
-def test_the_renderer_is_imported_while_the_modes_are_solved(monkeypatch):
-    """pyvista's plotting (seconds of import, a small device's whole solve) is loaded in a thread started before
-    the solve, and joined before rendering."""
-    import sys
-
-    from modalfe.plot import render
-
-    events = []
-
-    class Loading:
-        def join(self):
-            events.append("joined")
-
-    def solve(scene, **kw):
-        events.append("solve")
-        raise SolverError("stand-in solve")
-
-    monkeypatch.setattr(render, "preload", lambda: events.append("preload") or Loading())
-    monkeypatch.setattr("modalfe.solve.api.solve_modes", solve)
-    assert main(["show", "ciliary_beam", "--out", "c.png"]) == 1
-    assert events == ["preload", "solve"]
-    monkeypatch.undo()
-    render.preload().join()
-    assert "pyvista.plotting" in sys.modules

@@ -10,6 +10,13 @@ import numpy as np
 import scipy.sparse as sp
 
 
+def free_values(T: sp.spmatrix, x_full: np.ndarray) -> np.ndarray:
+    """Free unknowns x with T x = x_full, for x_full (ndofs,) or (ndofs, k) (T's columns are disjoint: a weighted
+    pick)."""
+    weights = np.asarray(T.multiply(T).sum(axis=0)).ravel()
+    return (T.T @ x_full) / (weights if np.ndim(x_full) == 1 else weights[:, None])
+
+
 @dataclass(frozen=True, eq=False)
 class Constraints:
     """x_full = T @ x_free; ``floating`` electrodes each carry one potential unknown (last columns)."""

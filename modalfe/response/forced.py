@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from modalfe.errors import SceneError, SolverError
+from modalfe.models.constraints import free_values
 from modalfe.response.loads import load_vector, output_operators
 from modalfe.results.coupling import k_eff
 from modalfe.results.modes import Mode
@@ -225,18 +226,19 @@ _BESIDE: dict = {}  # the last mode's solve beside resonance, shared by ``reduce
 
 def beside_resonance(mode: Mode, load=None):
     """(T, F, C_b, x_p, x_d, omega_d): one undamped full solve at 0.97 omega_r, for the quasi-static
-    contribution of every other mode (residual flexibility)."""
-    from modalfe.solve.linalg import factorize
+    contribution of every other mode (residual flexibility). It reuses the pencil and the factorization the mode's
+    eigen solve kept (``modalfe.solve.levels.short_circuit_pencil``), solving at omega_d from the factorization at
+    the eigen solve's shift (``modalfe.solve.linalg.shifted_solve``: as accurate as a new factorization)."""
+    from modalfe.solve.levels import short_circuit_pencil
+    from modalfe.solve.linalg import shifted_solve
 
     if _BESIDE.get("mode") is mode and _BESIDE.get("load") == load:
         return _BESIDE["result"]
     model = mode.model
     T, F, C_b, x_v = drive_vectors(model, load)
-    A = (T.T @ model.K @ T).tocsr()
-    B = (T.T @ model.M @ T).tocsr()
+    A, B, factor = short_circuit_pencil(model)
     omega_d = 0.97 * mode.omega
-    solve, _ = factorize(A - omega_d**2 * B)
-    result = (T, F, C_b, x_v, solve(F), omega_d)
+    result = (T, F, C_b, x_v, shifted_solve(A, B, omega_d**2, factor)(F), omega_d)
     _BESIDE.clear()
     _BESIDE.update(mode=mode, load=load, result=result)
     return result
@@ -246,7 +248,7 @@ def _charge(mode: Mode, load=None) -> tuple[float, float, float]:
     """(theta: the mode's modal force per unit load, its residual modal displacement at 0.97 omega_r, C0 [F]: the
     charge per volt of everything but the mode) of the drive, from one full solve beside resonance."""
     T, F, C_b, _, x_d, omega_d = beside_resonance(mode, load)
-    theta = float(free_coordinates(mode.model, T, mode.shape) @ F)
+    theta = float(free_values(T, mode.shape) @ F)
     modal_d = theta / (mode.omega**2 - omega_d**2)
     return theta, modal_d, float(F @ x_d + C_b - theta * modal_d)
 
@@ -317,19 +319,12 @@ def resonant_state(mode: Mode, *, damping: Damping, load=None) -> np.ndarray:
     """Full DOF response (complex) per unit load at the mode's resonance, as the reduced model has it: the mode
     at theta / (2 i zeta omega_r^2) plus the quasi-static contribution of every other mode (the residual of the
     solve beside resonance) and the prescribed potential."""
-    T, F, _, x_p, x_d, omega_d = beside_resonance(mode, load)
+    T, _, _, x_p, x_d, _ = beside_resonance(mode, load)
     omega_r = mode.omega
-    theta = float(free_coordinates(mode.model, T, mode.shape) @ F)
-    modal_d = theta / (omega_r**2 - omega_d**2)
+    theta, modal_d, _ = _charge(mode, load)
     residual = T @ x_d + x_p - mode.shape * modal_d
     zeta = damping.ratio(omega_r)
     return mode.shape * (theta / (2j * zeta * omega_r**2)) + residual
-
-
-def free_coordinates(model, T, x_full: np.ndarray) -> np.ndarray:
-    """Free unknowns x with T x = x_full (T's columns are disjoint: a weighted pick)."""
-    weights = np.asarray(T.multiply(T).sum(axis=0)).ravel()
-    return (T.T @ x_full) / weights
 
 
 @dataclass(frozen=True)

@@ -47,8 +47,9 @@ import scipy.sparse as sp
 from modalfe.errors import SceneError, SolverError
 from modalfe.geometry import builder_parameters
 from modalfe.geometry.gmsh_model import grid_breaks
+from modalfe.models.constraints import free_values
 from modalfe.models.solid import Model, assemble
-from modalfe.response.forced import Damping, beside_resonance, free_coordinates
+from modalfe.response.forced import Damping, beside_resonance
 from modalfe.response.loads import output_operators
 from modalfe.results.coupling import k_eff
 from modalfe.results.modes import Mode, Modes
@@ -269,7 +270,7 @@ class _AmplitudeDerivative:
         model = mode.model
         T, F, _, x_v, y, omega_d = beside_resonance(mode)
         A, B = (T.T @ model.K @ T).tocsr(), (T.T @ model.M @ T).tocsr()
-        x = free_coordinates(model, T, mode.shape)
+        x = free_values(T, mode.shape)
         x = x / np.sqrt(x @ (B @ x))
         self.mode, self.damping, self.T, self.B, self.F, self.x_v, self.y, self.x = mode, damping, T, B, F, x_v, y, x
         self.lam, self.wd2 = mode.omega**2, omega_d**2

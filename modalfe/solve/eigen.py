@@ -53,11 +53,12 @@ class EigenSolution:
     factor: tuple | None = None  # (solve, shift): the factorization of A - shift B used (near/count solves)
 
 
-def eigenpairs(A, B, analysis, solver: str = "auto", factor: tuple | None = None) -> EigenSolution:
+def eigenpairs(A, B, analysis, solver: str = "auto", factor: tuple | None = None,
+               known: tuple | None = None) -> EigenSolution:
     """Eigenpairs of A x = lam B x near ``analysis``'s target (``near`` and ``count``, or every mode in ``band``);
-    ``factor``: see ``near_eigenpairs``."""
+    ``factor``: see ``near_eigenpairs``; ``known``: see ``band_eigenpairs``."""
     if analysis.band is not None:
-        return band_eigenpairs(A, B, analysis.band, solver)
+        return band_eigenpairs(A, B, analysis.band, solver, known)
     return near_eigenpairs(A, B, analysis.near, analysis.count, solver, factor)
 
 
@@ -115,9 +116,12 @@ def _lowest(A, B, sigma: float, count: int, floor: float, solver: str) -> EigenS
                          solution.eigensolve_seconds, solution.solver)
 
 
-def band_eigenpairs(A, B, band: tuple[float, float], solver: str = "auto") -> EigenSolution:
+def band_eigenpairs(A, B, band: tuple[float, float], solver: str = "auto", known: tuple | None = None) -> EigenSolution:
     """Every eigenpair with frequency in ``band`` [Hz], certified complete by Sturm counts (module docstring);
-    SolverError naming both numbers when the modes found are not the count."""
+    SolverError naming both numbers when the modes found are not the count. ``known`` ((solve, shift), values,
+    vectors): eigenpairs of this pencil found already (B-orthonormal) and the factorization they were found with;
+    where the band holds at most ``WINDOW_MODES`` modes, they complete it (``_completed``) instead of a window's own
+    factorization and Lanczos run."""
     f1, f2 = band
     top = (2 * np.pi * f2) ** 2
     low = (2 * np.pi * f1) ** 2 if f1 > RIGID_FRACTION * f2 else -RIGID_FRACTION * top
@@ -127,7 +131,38 @@ def band_eigenpairs(A, B, band: tuple[float, float], solver: str = "auto") -> Ei
     top, below_top = counter.count_near(top, outward=+1)
     if below_top - below_low <= 0:
         raise SolverError(f"no modes in the band {f1:g}-{f2:g} Hz (Sturm count 0)")
+    if known is not None and below_top - below_low <= WINDOW_MODES:
+        completed = _completed(A, B, low, top, below_top - below_low, known)
+        if completed is not None:
+            return completed
     return _interval(A, B, low, below_low, top, below_top, solver, counter)
+
+
+def _completed(A, B, low: float, top: float, expected: int, known: tuple) -> EigenSolution | None:
+    """The ``expected`` eigenpairs with lam in (low, top] (their Sturm count) from ``known`` ((solve, shift), values,
+    vectors): the known ones inside, the others sought by Lanczos at that shift with every pair found so far
+    deflated (those outside the interval too, so that each run finds new ones); None where four runs do not complete
+    the count (the interval is then solved in windows)."""
+    t = time.perf_counter()
+    (solve, shift), lam_known, X_known = known
+    inside = (lam_known > low) & (lam_known <= top)
+    values, vectors, deflate = [lam_known[inside]], [X_known[:, inside]], X_known
+    found, n = int(inside.sum()), A.shape[0]
+    for _attempt in range(4):
+        if found >= expected or deflate.shape[1] + 2 >= n - 2:
+            break
+        lam, X = _lanczos(A, B, shift, min(expected - found + 2, n - 2 - deflate.shape[1]), solve, deflate=deflate)
+        new = (lam > low) & (lam <= top)
+        values.append(lam[new])
+        vectors.append(X[:, new])
+        found += int(new.sum())
+        deflate = np.hstack([deflate, X])
+    if found != expected:
+        log.info("band: %d of %d modes from the known ones and their shift; solving in windows", found, expected)
+        return None
+    lam, X = np.concatenate(values), np.hstack(vectors)
+    order = np.argsort(lam, kind="stable")
+    return EigenSolution(lam[order], X[:, order], 0.0, time.perf_counter() - t, "reused", expected=expected)
 
 
 def _interval(A, B, low, below_low, top, below_top, solver, counter) -> EigenSolution:

@@ -11,6 +11,7 @@ import scipy.sparse as sp
 
 import modalfe.caches as caches
 from modalfe.models.build import Level, build_model
+from modalfe.models.constraints import free_values
 from modalfe.results.labels import unique_labels
 from modalfe.results.modes import Mode, Modes
 from modalfe.solve.eigen import eigenpairs
@@ -47,10 +48,12 @@ def solve_level(scene, analysis, *, fidelity: str = "solid", size_factor: float 
 
 
 def modes_of(model, analysis, *, fidelity: str, solver: str = "auto", timings: dict | None = None,
-             labels: bool = True) -> Modes:
+             labels: bool = True, known: Modes | None = None) -> Modes:
     """Modes of an assembled ``model`` (solid, plate or beam) for ``analysis``. An open-circuit solve of a model solved
     in short circuit borders that solve's matrices (``Constraints.project``) and, at its shift, reuses its
-    factorization (``open_circuit_solve``)."""
+    factorization (``open_circuit_solve``). ``known``: short-circuit modes of ``model`` solved near a frequency (an
+    answer), whose factorization was kept: a short-circuit band keeps those in it and seeks only the others at their
+    shift (``modalfe.solve.eigen.band_eigenpairs``)."""
     _SHORT_SOLVES[:] = [kept for kept in _SHORT_SOLVES if kept.model() is not None]
     constraints = model.constraints(analysis.circuit)
     short = [kept for kept in _SHORT_SOLVES if kept.model() is model] if analysis.circuit == "open" else []
@@ -60,7 +63,12 @@ def modes_of(model, analysis, *, fidelity: str, solver: str = "auto", timings: d
     if analysis.band is None:
         factor = next((open_circuit_solve(A, kept.A.shape[0], kept.factor) for kept in short
                        if kept.factor[1] == (2 * np.pi * analysis.near) ** 2), None)
-    solution = eigenpairs(A, B, analysis, solver, factor)
+    seed = None
+    kept = next((k for k in _SHORT_SOLVES if k.model() is model), None)
+    if known is not None and analysis.band is not None and analysis.circuit == "short" and kept is not None:
+        seed = (kept.factor, np.array([m.omega**2 for m in known]),
+                free_values(constraints.T, np.column_stack([m.shape for m in known])))
+    solution = eigenpairs(A, B, analysis, solver, factor, seed)
     driven = "drive" in model.scene.electrodes.values()  # else the open circuit is the short one: nothing to reuse
     if analysis.circuit == "short" and driven and solution.factor is not None:
         _SHORT_SOLVES.insert(0, _ShortSolve(weakref.ref(model), A, B, solution.factor))
@@ -77,6 +85,17 @@ def modes_of(model, analysis, *, fidelity: str, solver: str = "auto", timings: d
                "eigensolve": solution.eigensolve_seconds, "solver": solution.solver}
     return Modes(tuple(modes), model, analysis.circuit, fidelity, A.shape[0], seconds,
                  mesh_frequency=model.scene.max_frequency)
+
+
+def short_circuit_pencil(model) -> tuple[sp.csr_matrix, sp.csr_matrix, tuple | None]:
+    """(A, B, factor): the short-circuit pencil T^T K T, T^T M T of ``model`` and the factorization (solve, shift)
+    of A - shift B its eigen solve kept (``_ShortSolve``); projected afresh, factor None, where none is kept (a
+    model read back from the resolved answers, or one without a driven electrode)."""
+    kept = next((k for k in _SHORT_SOLVES if k.model() is model), None)
+    if kept is not None:
+        return kept.A, kept.B, kept.factor
+    constraints = model.constraints("short")
+    return constraints.project(model.K), constraints.project(model.M), None
 
 
 def open_circuit_solve(A_open, n_short: int, factor: tuple) -> tuple:

@@ -266,3 +266,31 @@ def test_cli_admittance_refuses_before_the_solve(capsys, monkeypatch):
     assert err[2].startswith("modalfe: error: --damping: damping.Q: modal damping ratio 1.25 is overdamped")
     assert err[3].startswith("modalfe: error: --mode-damping: '6' is a number, not a mode label")
     assert len(err) == 4
+
+
+def test_a_band_with_one_working_mode_is_solved_once_on_the_mesh_modes_resolves():
+    """The band holding the ciliary beam's working mode is solved on the discretization ``modes`` resolves it on,
+    once: the modes the answer holds keep its frequency and stated error bit for bit, the others state none (NaN,
+    said in the note), and within the frequency the mesh resolves the admittance is the one the band question gives
+    on that same mesh (to the eigen solves' round-off)."""
+    from modalfe.response.admittance import band_modes
+    from modalfe.scene import load_scene
+
+    scene = load_scene("ciliary_beam")
+    answer = solve_modes(scene)  # what `modes ciliary_beam` answers: 8 modes up to 28.9 kHz, mesh to 30 kHz
+    found = band_modes(scene, (16e3, 40e3))
+    assert found.model is answer.model
+    assert "others' errors not estimated" in found.fidelity_note and "above the 30000 Hz" in found.fidelity_note
+    kept = {m.frequency: m.error_estimate for m in answer}
+    assert found.labelled("bending-z 6").frequency in kept
+    for m in found:
+        assert m.error_estimate == kept[m.frequency] if m.frequency in kept else np.isnan(m.error_estimate)
+    assert any(np.isnan(m.error_estimate) for m in found)  # the band holds modes the question did not ask
+    band = (16e3, answer.mesh_frequency)  # the band question meshes for the band's top: here the scene's own
+    found = band_modes(scene, band)
+    asked = solve_modes(scene, band=band, circuit="short", fidelity="solid", check=(("bending-z 6", 24.2e3),))
+    assert asked.dofs == found.dofs  # the same discretization resolves the working mode
+    assert np.allclose(asked.frequencies, found.frequencies, rtol=1e-9, atol=0)
+    f = np.linspace(20e3, 28e3, 50)
+    losses = resolve_losses(scene)
+    assert np.allclose(modal_admittance(found, f, losses).Y, modal_admittance(asked, f, losses).Y, rtol=1e-7, atol=0)

@@ -120,3 +120,32 @@ def test_a_half_model_reports_the_whole_devices_circuit_and_modal_mass():
     half, whole = found[1], found[0]
     for name in ("capacitance", "modal_mass", "force_factor"):
         assert getattr(half, name) == pytest.approx(getattr(whole, name), rel=0.01), name
+
+
+def test_the_reduced_model_reuses_the_eigen_solves_factorization(monkeypatch):
+    """``reduce`` solves beside resonance from the factorization the eigen solve kept (no new one) and gives the
+    reduced model a new factorization gives, to a direct solve's round-off."""
+    from modalfe.response import forced
+    from modalfe.solve import levels, linalg, resolved
+
+    scene = load_scene("ciliary_beam")
+    options = {"near": 22e3, "count": 6, "fidelity": "solid", "error_estimate": False}
+    levels._SHORT_SOLVES.clear()
+    resolved.clear(disk=True)  # solved here, so that its factorization is kept
+    mode = solve_modes(scene, **options).labelled("bending-z 6")
+    made = []
+    factorize = linalg.factorize
+    monkeypatch.setattr(linalg, "factorize", lambda A, **kw: made.append(A.shape) or factorize(A, **kw))
+    forced._BESIDE.clear()
+    reused = reduce(mode, outputs=OUTPUTS, damping=Damping(zeta=0.025))
+    assert made == []
+    levels._SHORT_SOLVES.clear()  # nothing kept: the shift beside resonance factorized afresh
+    forced._BESIDE.clear()
+    fresh = reduce(mode, outputs=OUTPUTS, damping=Damping(zeta=0.025))
+    forced._BESIDE.clear()  # it holds the mode, and so its model
+    assert len(made) == 1
+    for name in ("capacitance", "force_factor", "modal_mass"):
+        assert getattr(reused, name) == pytest.approx(getattr(fresh, name), rel=1e-9), name
+    for output in fresh.feedthrough:
+        assert np.allclose(reused.feedthrough[output], fresh.feedthrough[output], rtol=1e-8,
+                           atol=1e-9 * np.abs(fresh.feedthrough[output]).max()), output

@@ -176,3 +176,23 @@ def test_a_bottom_window_is_solved_on_its_count_factorization(monkeypatch):
                         lambda self, a, below_a: answers.append(bottom_solve(self, a, below_a)) or answers[-1])
     free = eigen.band_eigenpairs(*_pencil(free_plate_scene(mesh={"max_size": 5e-3})), (0.0, 1e5))
     assert len(free.values) == 34 and answers and all(x is None for x in answers)  # rigid modes at its foot
+
+
+def test_a_band_completed_from_known_modes_is_the_band_solved_afresh(monkeypatch):
+    """A short-circuit band of a model solved near a frequency keeps those modes and seeks only the others at their
+    shift (no window factorization: the two Sturm counts alone), and finds the band a fresh solve finds."""
+    from modalfe.solve import eigen, levels, linalg, resolved
+
+    scene = load_scene("ciliary_beam")
+    levels._SHORT_SOLVES.clear()
+    resolved.clear(disk=True)  # solved here, so that its factorization is kept
+    near = solve_modes(scene, near=24e3, count=8, fidelity="solid", error_estimate=False)
+    band = Analysis(band=(16e3, 40e3), circuit="short")  # 3 of the 8 in it, and the modes above 28.9 kHz
+    made = []
+    factorize = linalg.factorize
+    monkeypatch.setattr(eigen, "factorize", lambda A, **kw: made.append(A.shape) or factorize(A, **kw))
+    completed = levels.modes_of(near.model, band, fidelity="solid", known=near)
+    assert made == [] and completed.timings["solver"] == "reused"  # the counts' own factorizations only
+    fresh = levels.modes_of(near.model, band, fidelity="solid")
+    assert made and len(completed) == len(fresh) > 3
+    assert np.allclose(completed.frequencies, fresh.frequencies, rtol=1e-9, atol=0)

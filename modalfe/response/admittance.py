@@ -270,7 +270,8 @@ def band_modes(scene, band: tuple[float, float], **resolution) -> Modes:
     centre (every mode of a wide band of a disc refined its flexural modes for minutes).
 
     Where the band holds one working mode and ``modes`` asks about it by its frequency (near and count,
-    ``modalfe.solve.api.working_question``), that question: its answer (``modes``' own, read back where kept) sets
+    ``modalfe.solve.api.working_question``), or none but the scene's own frequency (``modes`` without options asks
+    about the mode nearest it), that question: its answer (``modes``' own, read back where kept) sets
     the level, and the band is then solved once on that answer's model, not at every estimate level and refinement
     step: its Sturm counts, the answer's modes in it kept and only the others sought, at the answer's own shift and
     factorization (``modalfe.solve.levels.modes_of``'s ``known``). The band's modes the answer holds take its
@@ -284,12 +285,14 @@ def band_modes(scene, band: tuple[float, float], **resolution) -> Modes:
     from modalfe.solve.levels import modes_of
 
     lo, hi = band
+    a = scene.analysis
     inside = [wm for wm in scene.working_modes if lo <= wm.near <= hi]
     question = working_question(scene, inside[0].selector) if len(inside) == 1 else {}
+    if not inside and a.band is None and a.near is not None and lo <= a.near <= hi:
+        question = {"near": a.near, "count": a.count}  # no working mode: the scene's own question, as ``modes`` asks
     if question.get("near") is None:  # in a band without a working mode, the mode nearest the scene's own frequency
-        a = scene.analysis  # where the band holds it, else nearest its centre (a band without any: a capacitor)
-        near = a.near if a.near is not None and lo <= a.near <= hi else 0.5 * (lo + hi)
-        check = tuple((wm.selector, wm.near) for wm in inside) or ((NEAREST, near),)
+        near = a.near if a.near is not None and lo <= a.near <= hi else 0.5 * (lo + hi)  # where the band holds it,
+        check = tuple((wm.selector, wm.near) for wm in inside) or ((NEAREST, near),)  # else nearest its centre
         return solid_modes(scene, needs="the admittance", band=band, circuit="short", check=check, **resolution)
     answer = solid_modes(scene, needs="the admittance", circuit="short", **question, **resolution)
     found = modes_of(answer.model, Analysis(band=band, circuit="short"), fidelity=answer.fidelity, known=answer)

@@ -71,3 +71,17 @@ def test_forced_after_modes_solves_nothing_and_a_fresh_solve_gives_what_was_kept
     assert set(forced["stated_errors"]) == set(fresh["stated_errors"]) >= {"fa", "k_eff", "modal_mass", "bvd:C1"}
     for name, error in fresh["stated_errors"].items():
         assert error is not None and forced["stated_errors"][name] == pytest.approx(error, rel=1e-3), name
+
+
+def test_a_scene_without_working_modes_gets_the_same_answer_in_admittance(capsys):
+    """The PZT-5A disc names no working mode: ``modes`` asks about the mode nearest its own frequency, and a band
+    holding that frequency resolves the same question (it was 7.8e-7 apart on a band question's mesh)."""
+    from pathlib import Path
+
+    disc = str(Path(__file__).resolve().parents[2] / "studies" / "scenes" / "pzt5a_disc.toml")
+    modes = _json(capsys, ["modes", disc, "--json"])
+    r1 = next(m for m in modes["modes"] if m["label"] == "R1")
+    band = _json(capsys, ["admittance", disc, "--band", "95e3", "105e3", "--points", "50", "--json"])
+    found = next(m for m in band["modes"] if m["label"] == "R1")
+    assert found["frequency_hz"] == pytest.approx(r1["frequency_hz"], rel=SAME)
+    assert found["error_estimate"] == pytest.approx(r1["error_estimate"], rel=SAME)

@@ -18,11 +18,12 @@ import contextlib
 import hashlib
 import itertools
 import logging
+import math
 import os
 import tempfile
 import time
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -170,6 +171,33 @@ def element_sizes(scene) -> dict[str, float]:
             h = min(h, (part.outer - part.inner) / RING_WALL_ELEMENTS)
         sizes[part.name] = float(np.clip(h, settings.min_size, settings.max_size))
     return sizes
+
+
+def resolved_frequency(scene) -> float:
+    """The highest frequency [Hz] the scene's mesh resolves at ``mesh.elements_per_wavelength``: where the wavelength
+    sizes (``element_sizes`` unclipped) fall to the elements' actual sizes, which ``mesh.max_size`` and a part shorter
+    than one element (the mesher divides it into one at least) make smaller than ``scene.max_frequency`` asks, and
+    ``mesh.min_size`` larger. Bisection in ln f (the sizes fall monotonically with frequency)."""
+    settings = scene.mesh
+    unclipped = replace(settings, min_size=0.0, max_size=math.inf)
+    extents = {part.name: max(part.size) for part in scene.assembly().parts}
+    actual = {name: min(h, extents[name]) for name, h in element_sizes(scene).items()}
+
+    def resolved(f: float) -> bool:
+        at = replace(scene, mesh=replace(unclipped, max_frequency=f),
+                     analysis=replace(scene.analysis, near=f, band=None))
+        return all(h >= actual[name] for name, h in element_sizes(at).items())
+
+    lo, hi = scene.max_frequency, scene.max_frequency
+    while resolved(hi * 2) and hi < 1e15:
+        hi *= 2
+    hi *= 2
+    while not resolved(lo) and lo > 1e-6:
+        lo /= 2
+    for _ in range(40):
+        mid = math.sqrt(lo * hi)
+        lo, hi = (mid, hi) if resolved(mid) else (lo, mid)
+    return lo
 
 
 def bending_wavelength(scene, assembly, frequency: float) -> float:

@@ -105,9 +105,13 @@ def solve_modes(
     if a.band is None and a.near is None:
         raise SolverError("give near (and count) or band")
     if a.near is not None and a.near > FAR_ABOVE_MESH * scene.max_frequency:
-        raise SolverError(f"near: {a.near:.6g} Hz is {a.near / scene.max_frequency:.3g} times the highest frequency "
-                          f"the mesh resolves ({scene.max_frequency:.6g} Hz, mesh.max_frequency): the modes found "
-                          f"there would be the mesh's, not the device's; raise mesh.max_frequency to solve there")
+        from modalfe.models.mesh import resolved_frequency
+
+        resolves = resolved_frequency(scene)  # mesh.max_size may refine past mesh.max_frequency
+        if a.near > FAR_ABOVE_MESH * resolves:
+            raise SolverError(f"near: {a.near:.6g} Hz is {a.near / resolves:.3g} times the highest frequency the mesh "
+                              f"resolves ({resolves:.6g} Hz; mesh.max_frequency, mesh.max_size): the modes found "
+                              f"there would be the mesh's, not the device's; raise mesh.max_frequency to solve there")
     if a.band is not None and a.band[1] > scene.max_frequency:
         # a band is a frequency range the mesh must resolve; ``near`` is only the shift of the eigen solve
         scene = replace(scene, mesh=replace(scene.mesh, max_frequency=a.band[1]))

@@ -105,16 +105,18 @@ class _SolvedError(Exception):
 @pytest.mark.parametrize("name", ["cube_plate", "glass_plate", "honeycomb_tile", "ciliary_beam"])
 def test_a_shift_far_above_what_the_mesh_resolves_is_refused_before_the_solve(name, monkeypatch):
     # issue 35: `modes cube_plate --near 1e12` answered 5-7 MHz modes labelled "(4,6)" on a mesh resolving 50 kHz.
-    # Law for every built-in scene: a shift past FAR_ABOVE_MESH x its resolved range is refused, naming near and
+    # Law for every built-in scene: a shift past FAR_ABOVE_MESH x its resolved range (``resolved_frequency``: the
+    # tile's max_size resolves 16.9 kHz, past its mesh.max_frequency of 1.5 kHz) is refused, naming near and
     # mesh.max_frequency, before any solve; one within it goes on to the solve (its error estimate says the rest)
     import modalfe.solve.api as api
+    from modalfe.models.mesh import resolved_frequency
 
     def solved(*args, **kwargs):
         raise _SolvedError
 
     monkeypatch.setattr(api, "solve_at_fidelity", solved)
     scene = load_scene(name)
-    top = scene.max_frequency
+    top = resolved_frequency(scene)
     with pytest.raises(SolverError, match=r"^near: .*mesh\.max_frequency"):
         solve_modes(scene, near=1.01 * api.FAR_ABOVE_MESH * top, count=4)
     with pytest.raises(SolverError, match=r"^near: "):

@@ -24,7 +24,7 @@ from modalfe.report.report import working_windows
 from modalfe.scene import load_scene, scene_from_dict
 from modalfe.scene.scene import Analysis
 from modalfe.solve import fidelity
-from modalfe.solve.api import single_threaded_blas
+from modalfe.solve.linalg import single_threaded_blas
 from modalfe.solve.rung import Rung
 
 

@@ -18,6 +18,7 @@ from modalfe.scene.scene import Analysis, Scene
 from modalfe.solve import resolved
 from modalfe.solve.axisymmetric import solve_axisymmetric
 from modalfe.solve.fidelity import solve_at_fidelity
+from modalfe.solve.linalg import single_threaded_blas
 
 log = logging.getLogger(__name__)
 
@@ -297,13 +298,3 @@ def derived_errors(modes: Modes, mode, values, fine: dict[str, float] | None = N
         return {name: (math.nan, reason) for name in fine}
     with single_threaded_blas():
         return modes.estimate.derived_errors(mode, values, fine, eigenvalues)
-
-
-def single_threaded_blas():
-    """Context with one BLAS thread. numpy's OpenBLAS threads spin while they wait; on a small machine shared
-    with MKL PARDISO's threads and other processes, the small dense operations of a solve (the labels'
-    interpolation) then ran up to 100x slower (measured: the Cu-Be plate's report row 6 s with one BLAS thread,
-    30-40 s with two under load). The heavy work is sparse (PARDISO has its own threads), so this costs nothing."""
-    from threadpoolctl import threadpool_limits
-
-    return threadpool_limits(limits=1, user_api="blas")

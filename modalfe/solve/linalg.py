@@ -109,7 +109,6 @@ def shifted_solve(A: sp.spmatrix, B: sp.spmatrix, shift: float, factor: tuple | 
         return direct()
     from scipy.sparse.linalg import LinearOperator, gmres
 
-    from modalfe.solve.api import single_threaded_blas
 
     kept_solve, sigma = factor
     B = sp.csr_matrix(B)
@@ -313,3 +312,13 @@ def solve_complex(M: sp.csr_matrix, b: np.ndarray) -> np.ndarray:
     solver.free_memory(everything=True)
     n = len(b)
     return y[:n] + 1j * y[n:]
+
+
+def single_threaded_blas():
+    """Context with one BLAS thread. numpy's OpenBLAS threads spin while they wait; on a small machine shared
+    with MKL PARDISO's threads and other processes, the small dense operations of a solve (the labels'
+    interpolation) then ran up to 100x slower (measured: the Cu-Be plate's report row 6 s with one BLAS thread,
+    30-40 s with two under load). The heavy work is sparse (PARDISO has its own threads), so this costs nothing."""
+    from threadpoolctl import threadpool_limits
+
+    return threadpool_limits(limits=1, user_api="blas")

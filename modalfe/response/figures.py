@@ -253,9 +253,9 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
     levels = {id(level.model): level for level in (*modes.estimate.levels, modes.estimate.floor) if level} \
         if modes.estimate is not None else {}
 
-    def level_fa(m) -> float | None:  # fa of a mode's partner on its level, sought as the answer's is
-        try:
-            return open_circuit_fa(levels[id(m.model)], m, near=m.frequency)
+    def level_fa(m) -> float | None:  # fa of a mode's partner on its level, sought as the answer's is (at the shift
+        try:  # the level was solved at: its factorization reused)
+            return open_circuit_fa(levels[id(m.model)], m, near=question.get("near", m.frequency))
         except SolverError:
             return None
 

@@ -76,6 +76,10 @@ def _friction(args) -> int:
                                    f"({', '.join(rom.shapes)})")
             if args.frequency is None:
                 p = p.with_(frequency=rom.frequency)  # drive at the model's resonance
+            feet = [o for o in rom.shapes if o.startswith("foot")]
+            if args.feet is None and len(feet) > 1:  # the device's feet share the load (the Cu-Be plate has 4); one
+                # foot output alone says nothing of how many there are
+                p = p.with_(n=len(feet))
 
             def apv(frequency, rom=rom, output=output):
                 return float(abs(rom.frf(frequency, output)))
@@ -225,7 +229,8 @@ def register(subparsers) -> None:
     p.add_argument("--substrate", choices=("steel", "glass"), help="sets mu0: steel 0.2, glass 0.08 (default steel)")
     p.add_argument("--frequency", type=float, help="drive frequency [Hz] (default 40.7 kHz, seed 001)")
     p.add_argument("--kt", type=float, help="tangential contact stiffness [N/m] (default: identified)")
-    p.add_argument("--feet", type=int, help="number of feet sharing the load (default 3, seed 000 appendix)")
+    p.add_argument("--feet", type=int, help="number of feet sharing the load (default: the --rom's foot outputs "
+                                            "where it has two or more, else 3, seed 000 appendix)")
     _common(p)
     p.set_defaults(func=_friction)
 

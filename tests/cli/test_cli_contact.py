@@ -102,6 +102,15 @@ def test_friction_from_a_saved_reduced_model(tmp_path, capsys):
     assert out["amplitude_m"] == pytest.approx([0.0, 2 * rom.amplitude_per_volt()], rel=1e-12)
     with pytest.raises(ContactError, match=r"^--rom:"):
         run(["friction", "--voltage", "1", "--rom", str(tmp_path / "missing.json")])
+    # issue 37: the device's own feet share the load (the Cu-Be plate's model has 4), unless --feet says otherwise
+    assert out["parameters"]["n"] == 3  # one foot output says nothing of how many feet there are
+    four = forced.ReducedModel(**{**rom.__dict__, "shapes": {f"foot_{i}": [0.0, 0.0, 1.0] for i in range(1, 5)},
+                                  "feedthrough": {f"foot_{i}": [0.0, 0.0, 0.0] for i in range(1, 5)}})
+    four.save(path)
+    assert run(["friction", "--voltage", "1", "--rom", str(path), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["parameters"]["n"] == 4
+    assert run(["friction", "--voltage", "1", "--rom", str(path), "--feet", "3", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["parameters"]["n"] == 3
 
 
 def test_friction_at_zero_speed_prints_no_negative_zero_and_a_reduction_in_range(capsys):

@@ -115,13 +115,14 @@ def _forced(args) -> int:
     if fig.antiresonance is not None:
         print(f"  open circuit (same model): fa {fig.antiresonance:.2f} Hz{pm('fa')}, "
               f"k_eff {k_eff(rom.frequency, fig.antiresonance):.4f}{pm('k_eff')}")
-    print(f"  amplitude build-up time constant {1e3 * fig.time_constant:.3f} ms")
+    print(f"  amplitude build-up time constant {1e3 * fig.time_constant:.3f} ms{pm('time_constant')}")
     for o, a in fig.amplitude_per_volt.items():
         peak, avg = fig.acceleration[o]
-        print(f"  {o:<14} {1e9 * a:10.3f} nm/V 0-peak{pm(f'amplitude:{o}')}   accel {peak:.4g} m/s^2/V peak, "
+        print(f"  {o:<14} {1e9 * a:10.3f} nm/V 0-peak{pm(f'amplitude:{o}')}   accel {peak:.4g} m/s^2/V peak"
+              f"{pm(f'acceleration:{o}')}, "
               f"{avg:.4g} half-period avg")
     for name, volts in fig.volts_for.items():
-        print(f"  volts for {name}: {volts:.2f} V")
+        print(f"  volts for {name}: {volts:.2f} V{pm(f'amplitude:{rom.reference}')}")
     for name, a in fig.amplitude_at.items():
         print(f"  {name}: ours {1e6 * a['ours_m']:.3f} um at {a['volts']:g} V vs seed {1e6 * a['seed_m']:.3f} um "
               f"({100 * a['deviation']:+.0f}%)")
@@ -144,11 +145,11 @@ def _print_load(fig, pm) -> None:
     """Outputs per unit of a force, pressure or base acceleration at resonance."""
     unit = fig.load_unit
     print(f"  load: {fig.load_description} ({fig.load_source})")
-    print(f"  amplitude build-up time constant {1e3 * fig.time_constant:.3f} ms")
+    print(f"  amplitude build-up time constant {1e3 * fig.time_constant:.3f} ms{pm('time_constant')}")
     for o, a in fig.amplitude_per_volt.items():
         line = (f"  {o:<16} {1e9 * a:10.4g} nm/{unit} 0-peak{pm(f'amplitude:{o}')}   "
-                f"velocity {1e3 * fig.velocity[o]:.4g} mm/s/{unit}   "
-                f"accel {fig.acceleration[o][0]:.4g} m/s^2/{unit} peak")
+                f"velocity {1e3 * fig.velocity[o]:.4g} mm/s/{unit}{pm(f'velocity:{o}')}   "
+                f"accel {fig.acceleration[o][0]:.4g} m/s^2/{unit} peak{pm(f'acceleration:{o}')}")
         if o in fig.absolute_acceleration:
             line += f" (relative; absolute {fig.absolute_acceleration[o]:.4g} per m/s^2 of base)"
         print(line)

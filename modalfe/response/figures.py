@@ -301,9 +301,10 @@ def device_numbers(rom, fa: float | None, peaks=None) -> dict[str, float]:
 def with_composed_errors(errors: dict[str, tuple[float, str]], frequency_error: float,
                          voltage: bool) -> dict[str, tuple[float, str]]:
     """``errors`` (``device_numbers``' names) with those of the numbers made of them and the frequency (error
-    ``frequency_error``): stiffness k = m omega^2, damping c = 2 zeta omega m, and for a voltage drive the BVD's
-    R1 = c / N^2, L1 = m / N^2, C1 = N^2 / k: a product's relative error is at most the sum of its factors' times
-    their powers (first order)."""
+    ``frequency_error``): stiffness k = m omega^2, damping c = 2 zeta omega m, the time constant 1 / (zeta omega),
+    each output's velocity omega A and acceleration omega^2 A, and for a voltage drive the BVD's R1 = c / N^2,
+    L1 = m / N^2, C1 = N^2 / k: a product's relative error is at most the sum of its factors' times their powers
+    (first order; zeta is given, not computed)."""
     def composed(*terms: tuple[str | None, float]) -> tuple[float, str]:
         parts = [(frequency_error, "") if name is None else errors[name] for name, _ in terms]
         reasons = "; ".join(dict.fromkeys(why for _, why in parts if why))
@@ -312,6 +313,11 @@ def with_composed_errors(errors: dict[str, tuple[float, str]], frequency_error: 
     out = dict(errors)
     out["stiffness"] = composed(("modal_mass", 1), (None, 2))
     out["damping"] = composed(("modal_mass", 1), (None, 1))
+    out["time_constant"] = composed((None, 1))
+    for name in [n for n in errors if n.startswith("amplitude:")]:
+        output = name.split(":", 1)[1]
+        out[f"velocity:{output}"] = composed((name, 1), (None, 1))
+        out[f"acceleration:{output}"] = composed((name, 1), (None, 2))
     if voltage:
         out["bvd:R1"] = composed(("modal_mass", 1), (None, 1), ("force_factor", 2))
         out["bvd:L1"] = composed(("modal_mass", 1), ("force_factor", 2))

@@ -48,9 +48,12 @@ from modalfe.solve.api import OWN_MESH, solve_modes
 from tests.oracles.discs import (
     SOLID_FA,
     SOLID_FR,
+    STEEL_RING,
     compliances,
     laterally_held,
+    radial_ring_scene,
     ring_inplane_frequency,
+    steel_ring_scene,
     thickness_resonator,
     thin_disc,
     thin_ring_breathing,
@@ -104,13 +107,11 @@ def elastic_rows() -> list[tuple]:
          "radius": 10, "height": 0.1}]})
     mode, modes, t = _timed(al, "R1", harmonics=0)
     rows = [_row("Al-5052 disc 20x0.1 R1", mode, modes.dofs, t, f_disc, "plane-stress J1 equation")]
-    E, nu, rho, R, w, h = 200e9, 0.3, 7850.0, 0.02, 0.001, 0.002
-    ring = scene_from_dict({"units": "mm", "materials": {"steel": {"E": E, "nu": nu, "rho": rho}},
-                            "analysis": {"near": 3e3, "count": 6}, "parts": [
-        {"name": "ring", "shape": "ring", "material": "steel", "centre": [0, 0, 0], "axis": "z",
-         "inner": 19.5, "outer": 20.5, "height": 2}]})
+    r = STEEL_RING
+    ring = steel_ring_scene()
     for n in (2, 3):
-        f_ring = ring_inplane_frequency(n, radius=R, E=E, rho=rho, area=h * w, inertia=h * w**3 / 12)
+        f_ring = ring_inplane_frequency(n, radius=r["radius"], E=r["E"], rho=r["rho"], area=r["height"] * r["wall"],
+                                        inertia=r["height"] * r["wall"] ** 3 / 12)
         mode, modes, t = _timed(ring, f"n={n}", harmonics=3, near=f_ring)
         rows.append(_row("steel ring R20 1x2", mode, modes.dofs, t, f_ring, "Hoppe 1871 thin ring"))
     return rows
@@ -120,11 +121,7 @@ def radial_ring_rows() -> list[tuple]:
     s, d, eps_T, _ = compliances("PZT-4")
     fr = thin_ring_breathing("PZT-4", 0.01)
     fa = fr / np.sqrt(1 - d[2, 0] ** 2 / (s[0, 0] * eps_T[2, 2]))
-    ring = scene_from_dict({
-        "units": "mm", "parts": [{"name": "ring", "shape": "ring", "material": "PZT-4", "centre": [0, 0, 0],
-                                  "axis": "z", "inner": 9.75, "outer": 10.25, "height": 1, "poling": "radial"}],
-        "faces": {"electrode_a": ["ring.outer"], "electrode_b": ["ring.inner"]},
-        "electrodes": {"electrode_a": "drive", "electrode_b": "ground"}, "analysis": {"near": fr, "count": 6}})
+    ring = radial_ring_scene(fr)
     rows = []
     for circuit, reference in (("short", fr), ("open", fa)):
         mode, modes, t = _timed(ring, "R1", circuit=circuit)

@@ -20,9 +20,12 @@ from tests.oracles.discs import (
     SOLID_FA,
     SOLID_FR,
     SOLID_FR_ERROR,
+    STEEL_RING,
     compliances,
     laterally_held,
+    radial_ring_scene,
     ring_inplane_frequency,
+    steel_ring_scene,
     thickness_resonator,
     thin_disc,
     thin_ring_breathing,
@@ -84,14 +87,11 @@ def test_free_thin_ring_in_plane_flexural_modes_against_hoppe():
     Tolerance 0.5 %: the thin-ring theory leaves out shear and rotary inertia, relative corrections ~ (n^2 + 1)
     (t/R)^2 / 12 = 0.10 % (n = 2), 0.21 % (n = 3); measured -0.11 %, -0.30 % (the 3-D solid: -0.06 %, -0.22 %
     with its own mesh error)."""
-    E, nu, rho = 200e9, 0.3, 7850.0
-    R, t, h = 0.02, 0.001, 0.002
-    scene = scene_from_dict({
-        "units": "mm", "materials": {"steel": {"E": E, "nu": nu, "rho": rho}},
-        "parts": [{"name": "ring", "shape": "ring", "material": "steel", "centre": [0, 0, 0], "axis": "z",
-                   "inner": 19.5, "outer": 20.5, "height": 2}], "analysis": {"near": 3e3, "count": 6}})
+    r = STEEL_RING
+    scene = steel_ring_scene()
     for n in (2, 3):
-        f_theory = ring_inplane_frequency(n, radius=R, E=E, rho=rho, area=h * t, inertia=h * t**3 / 12)
+        f_theory = ring_inplane_frequency(n, radius=r["radius"], E=r["E"], rho=r["rho"], area=r["height"] * r["wall"],
+                                          inertia=r["height"] * r["wall"] ** 3 / 12)
         modes = solve_modes(scene, fidelity="axisymmetric", harmonics=3, mode=f"n={n}", near=f_theory, tol=1e-4)
         mode = modes.labelled(f"n={n}")
         assert modes.model.harmonic_of(mode.shape) == n
@@ -106,11 +106,7 @@ def test_radially_poled_ring_breathing_mode_and_its_k31_coupling():
     s, d, eps_T, _ = compliances("PZT-4")
     fr_theory = thin_ring_breathing("PZT-4", 0.01)
     fa_theory = fr_theory / np.sqrt(1 - d[2, 0] ** 2 / (s[0, 0] * eps_T[2, 2]))
-    scene = scene_from_dict({
-        "units": "mm", "parts": [{"name": "ring", "shape": "ring", "material": "PZT-4", "centre": [0, 0, 0],
-                                  "axis": "z", "inner": 9.75, "outer": 10.25, "height": 1, "poling": "radial"}],
-        "faces": {"electrode_a": ["ring.outer"], "electrode_b": ["ring.inner"]},
-        "electrodes": {"electrode_a": "drive", "electrode_b": "ground"}, "analysis": {"near": fr_theory, "count": 6}})
+    scene = radial_ring_scene(fr_theory)
     for circuit, f_theory in (("short", fr_theory), ("open", fa_theory)):
         mode = solve_modes(scene, fidelity="axisymmetric", mode="R1", circuit=circuit, tol=1e-5).labelled("R1")
         assert mode.frequency == pytest.approx(f_theory, rel=1e-3)

@@ -208,3 +208,28 @@ def laterally_held(model, circuit: str, near: float) -> float:
     A, B = (T.T @ model.K @ T).tocsc(), (T.T @ model.M @ T).tocsc()
     w2 = eigsh(A, 1, B, sigma=(2 * np.pi * near) ** 2)[0]
     return float(np.sqrt(w2[0]) / (2 * np.pi))
+
+
+STEEL_RING = {"E": 200e9, "nu": 0.3, "rho": 7850.0, "radius": 0.02, "wall": 0.001, "height": 0.002}
+
+
+def steel_ring_scene():
+    """A free steel ring (``STEEL_RING``: mean radius 20 mm, wall 1 mm, height 2 mm), its in-plane modes near 3 kHz."""
+    from modalfe.scene.loading import scene_from_dict
+
+    r = STEEL_RING
+    return scene_from_dict({
+        "units": "mm", "materials": {"steel": {"E": r["E"], "nu": r["nu"], "rho": r["rho"]}},
+        "parts": [{"name": "ring", "shape": "ring", "material": "steel", "centre": [0, 0, 0], "axis": "z",
+                   "inner": 19.5, "outer": 20.5, "height": 2}], "analysis": {"near": 3e3, "count": 6}})
+
+
+def radial_ring_scene(near: float):
+    """A thin PZT-4 ring (mean radius 10 mm, wall 0.5 mm, height 1 mm) poled radially, electrodes on its walls."""
+    from modalfe.scene.loading import scene_from_dict
+
+    return scene_from_dict({
+        "units": "mm", "parts": [{"name": "ring", "shape": "ring", "material": "PZT-4", "centre": [0, 0, 0],
+                                  "axis": "z", "inner": 9.75, "outer": 10.25, "height": 1, "poling": "radial"}],
+        "faces": {"electrode_a": ["ring.outer"], "electrode_b": ["ring.inner"]},
+        "electrodes": {"electrode_a": "drive", "electrode_b": "ground"}, "analysis": {"near": near, "count": 6}})

@@ -213,15 +213,13 @@ def with_stated_errors(result: Admittance, modes, losses: Losses, residual: str)
     ``band_modes``, has levels that hold the modes near it only)."""
     from modalfe.solve.api import derived_errors
 
-    plan = modes.estimate
-    by_model = {} if plan is None else {id(level.model): level for level in (*plan.levels, plan.floor) if level}
     curves = {id(modes.model): (result, result.extrema())}
     every = all(r["error_estimate"] is not None for r in result.modes)  # else the levels hold part of the band
     strongest = max(abs(r["theta_N_per_V_sqrtkg"]) for r in result.modes) if result.modes else 0.0
 
     def numbers(m) -> dict[str, float]:
         if id(m.model) not in curves:
-            level = modal_admittance(by_model[id(m.model)], result.frequency, losses, residual=residual)
+            level = modal_admittance(modes.estimate.level_holding(m), result.frequency, losses, residual=residual)
             curves[id(m.model)] = (level, level.extrema() if every else None)
         curve, ext = curves[id(m.model)]
         out = {"C0": curve.capacitance_blocked}

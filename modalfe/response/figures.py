@@ -250,12 +250,9 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
                          f"each peak has a mirror image")
     fine = device_numbers(rom, fa, peaks)
 
-    levels = {id(level.model): level for level in (*modes.estimate.levels, modes.estimate.floor) if level} \
-        if modes.estimate is not None else {}
-
     def level_fa(m) -> float | None:  # fa of a mode's partner on its level, sought as the answer's is (at the shift
         try:  # the level was solved at: its factorization reused)
-            return open_circuit_fa(levels[id(m.model)], m, near=question.get("near", m.frequency))
+            return open_circuit_fa(modes.estimate.level_holding(m), m, near=question.get("near", m.frequency))
         except SolverError:
             return None
 

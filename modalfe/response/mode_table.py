@@ -154,9 +154,6 @@ def mode_table(scene, *, near: float | None = None, count: int | None = None,
     gamma, total = effective_masses(short)
     meff = gamma**2
     cum = np.cumsum(meff, axis=0) / np.where(total > 0, total, np.inf)
-    plan = short.estimate
-    own = {id(level.model): level for level in (*plan.levels, plan.floor) if level} if plan is not None else {}
-    own[id(model)] = short
     level_opens: dict[int, object] = {id(model): opens}  # each model's open circuit, solved once
 
     def fa_of(m, opens) -> float | None:
@@ -165,7 +162,7 @@ def mode_table(scene, *, near: float | None = None, count: int | None = None,
             return antiresonance(m, opens).frequency
         except SolverError:  # its partner lies past the band (a strongly coupled mode): sought as forced seeks it
             try:
-                return open_circuit_fa(own[id(m.model)], m)
+                return open_circuit_fa(short if m.model is model else short.estimate.level_holding(m), m)
             except SolverError:
                 return None
 
@@ -198,13 +195,14 @@ def mode_table(scene, *, near: float | None = None, count: int | None = None,
     rows = []
     for i, m in enumerate(short):
         fa = ke = theta = force = None
+        fine = numbers(m, opens)  # the row's fa and the numbers its errors are of, computed once
         if driven:
-            fa = fa_of(m, opens)
+            fa = fine.get("fa")
             ke = k_eff(m.frequency, fa) if fa is not None and m.frequency > 0 else None
             theta = float(m.shape @ load)
             umax = float(np.max(np.abs(model.nodal_displacement(m.shape))))
             force = theta / umax if umax > 0 else None
-        errors = derived_errors(short, m, at_level, eigenvalues=("fa",)) if m.frequency > 0 else {}
+        errors = derived_errors(short, m, at_level, fine, eigenvalues=("fa",)) if m.frequency > 0 else {}
         meff_errors = [e for name, (e, _) in errors.items() if name.startswith("meff_")]
         rows.append({
             "index": m.index, "label": m.label, "frequency_Hz": m.frequency, "error_estimate_rel": m.error_estimate,

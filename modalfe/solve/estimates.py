@@ -429,7 +429,7 @@ def partner(mode: Mode, candidates: Modes) -> Mode | None:
 @dataclass(frozen=True)
 class EstimatePlan:
     """How a solid's stated errors are made, fixed once its estimate levels are solved, and applied alike to its
-    frequencies (``frequency_errors``) and to every number derived from one of its modes (``derived_error``):
+    frequencies (``frequency_errors``) and to every number derived from one of its modes (``derived_errors``):
 
     rule ``grids``: Richardson through ``levels`` (two coarser grids, elements ``ratios`` x the solid's) at the order
     observed within [MIN_ORDER, ``ceiling``]; ``grid``: two-level Richardson at MIN_ORDER from each of ``levels``
@@ -445,10 +445,12 @@ class EstimatePlan:
     floor: Modes | None = None
     method: str = ""
 
-    def frequency_errors(self, fine: Modes) -> dict[int, float]:
-        """{mode index: relative error estimate} of every mode of ``fine`` (partners by shape, module docstring)."""
+    def frequency_errors(self, fine: Modes) -> tuple[dict[int, float], list[float]]:
+        """({mode index: relative error estimate} of every mode of ``fine`` (partners by shape, module docstring), the
+        rates the ``orders`` rule observed (empty for the others))."""
+        rates: list[float] = []
         if self.rule == "orders":
-            estimates, _ = p_extrapolation(fine, *self.levels)
+            estimates, rates = p_extrapolation(fine, *self.levels)
         elif self.rule == "grids":
             estimates = richardson(fine, self.levels[0], self.ratios[0], self.levels[1], self.ratios[1],
                                    ceiling=self.ceiling)
@@ -466,7 +468,11 @@ class EstimatePlan:
         if self.floor is not None:
             step, _ = p_extrapolation(fine, self.floor)
             estimates = {i: max(e, step.get(i, e)) for i, e in estimates.items()}
-        return estimates
+        return estimates, rates
+
+    def level_holding(self, mode: Mode) -> Modes:
+        """The level (or the order-2 floor) whose model ``mode`` belongs to: a partner ``derived_errors`` handed on."""
+        return next(level for level in (*self.levels, self.floor) if level is not None and level.model is mode.model)
 
     def derived_errors(self, mode: Mode, values: Callable[[Mode], dict[str, float]],
                        fine: dict[str, float] | None = None,

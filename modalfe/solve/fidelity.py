@@ -48,7 +48,6 @@ from modalfe.solve.estimates import (
     MIN_RATIO,
     EstimatePlan,
     level_ratio,
-    p_extrapolation,
     partner,
     shape_partners,
     singular_field,
@@ -144,7 +143,10 @@ def solid_estimates(fine: Modes, levels: list[Modes], rung: Rung, step_level: Mo
     (``Modes.estimate``: a number derived from a mode is estimated alike); for a rung whose ``no_estimate_reason`` is
     None (else ``without_estimates``)."""
     plan = solid_plan(fine, levels, rung, step_level)
-    return replace(fine.with_error_estimates(plan.frequency_errors(fine)), estimate_method=plan.method, estimate=plan)
+    estimates, rates = plan.frequency_errors(fine)
+    if rates:  # the orders' rates, observed in the same pass
+        plan = replace(plan, method=plan.method.replace(")", f"; observed {min(rates):.1f}-{max(rates):.1f})", 1))
+    return replace(fine.with_error_estimates(estimates), estimate_method=plan.method, estimate=plan)
 
 
 def solid_plan(fine: Modes, levels: list[Modes], rung: Rung, step_level: Modes | None = None) -> EstimatePlan:
@@ -152,11 +154,9 @@ def solid_plan(fine: Modes, levels: list[Modes], rung: Rung, step_level: Modes |
     at least the step to ``step_level``, ``order_step_level``): the orders on one grid (``Rung.uses_orders``), else
     ``h_plan``."""
     if rung.uses_orders:
-        _, rates = p_extrapolation(fine, *levels)
         orders = "-".join(str(m.model.scene.mesh.order) for m in (*reversed(levels), fine))
-        seen = f"; observed {min(rates):.1f}-{max(rates):.1f}" if rates else ""
         return EstimatePlan("orders", tuple(levels), method=f"p-refinement: orders {orders} on one grid (error ~ "
-                            f"p^-q, q = {MIN_P_RATE:g} or slower{seen})")
+                            f"p^-q, q = {MIN_P_RATE:g} or slower)")
     plan = h_plan(fine, levels, rung.scene)
     if rung.checks_order_step:
         plan = replace(plan, floor=step_level,

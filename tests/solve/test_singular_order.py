@@ -51,7 +51,7 @@ def test_the_cube_plates_refined_estimates_cover_the_limit_of_nested_refinement(
     # 307,966 DOFs, at the order 1.34 its last three grids show) and how far it moves if the order falls to 1 beyond
     # them, as report_tolerance takes it. Both estimates auto can answer with must cover it: the h-estimate of the
     # quadratic grid it used to refine to (x0.444, 7 layers: 34,547 DOFs; at the ceiling 2 it stated 0.199 % against
-    # 0.282 %) and the p-estimate of the quartic grid it now refines to first (``refinement_step``)
+    # 0.282 %) and the p-estimate of the quartic grid it now refines to first (``Rung.step``)
     from modalfe.report.report import window_modes, working_windows
     from modalfe.scene import Analysis
     from modalfe.solve.fidelity import solve_estimated

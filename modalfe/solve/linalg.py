@@ -10,6 +10,7 @@ import glob
 import logging
 import os
 import sys
+import weakref
 
 import numpy as np
 import scipy.sparse as sp
@@ -156,20 +157,103 @@ def checked(A: sp.csr_matrix, solve, name: str):
 
 
 def _pardiso(A: sp.csr_matrix):
-    import pypardiso
+    """PARDISO's LDL^T of symmetric ``A`` as a solve(b) (``_PardisoFactor``), on the symbolic analysis of a live
+    factorization with the same sparsity pattern where one has a free slot (``_Analysis``), else on a new one."""
+    upper = upper_triangle(sp.csr_matrix(A, dtype=float))
+    if not np.diff(upper.indptr).all():  # PARDISO crashes on an empty row; such a matrix is singular anyway
+        raise ValueError("the matrix is singular: it has an empty row")
+    analysis = next((a for a in _live_analyses() if a.holds(upper)), None) or _Analysis(upper)
+    return analysis.factor(upper)
 
-    upper = upper_triangle(A)
-    ps = pypardiso.PyPardisoSolver(mtype=-2)  # real symmetric indefinite
-    # MKL's defaults for the matrix type (pardisoinit: nested dissection, 1e-8 pivot perturbation, Bunch-Kaufman
-    # pivots, no scaling or matching, two iterative refinement steps), but for:
-    ps.libmkl.pardisoinit.restype = None
-    ps.libmkl.pardisoinit(ps.pt.ctypes.data_as(ctypes.POINTER(ps._pt_type[0])), ctypes.byref(ctypes.c_int32(-2)),
-                          ps.iparm.ctypes.data_as(ctypes.POINTER(ctypes.c_int32)))
-    if A.nnz >= MINIMUM_DEGREE_ROWS * A.shape[0]:
-        ps.iparm[1] = 0  # minimum degree ordering (MINIMUM_DEGREE_ROWS)
-    ps.iparm[7] = 0  # no iterative refinement unless pivots were perturbed (``_PardisoFactor``)
-    ps.factorize(upper)
-    return _PardisoFactor(ps, upper)
+
+# numeric factorizations one symbolic analysis holds (PARDISO's maxfct). The shifted matrices A - sigma B of one model
+# share their pattern, and the analysis (reordering and symbolic factorization, phase 11) took about as long as the
+# numeric factorization (phase 22): measured on the Cu-Be plate's quartic model (30,865 DOFs), 0.87 s and 0.58-0.95 s,
+# so a band's Sturm counts and residual beside a kept eigen solve's factorization cost about half each
+SHARED_FACTORS = 8
+_ANALYSES: list = []  # weak references to the live ``_Analysis`` objects (their factorizations keep them alive)
+
+
+def _live_analyses() -> list:
+    _ANALYSES[:] = [ref for ref in _ANALYSES if ref() is not None]
+    return [ref() for ref in _ANALYSES]
+
+
+def _mkl_threads(ps) -> int:
+    """MKL's thread count now (``threadpoolctl`` limits change it)."""
+    return int(ps.libmkl.MKL_Get_Max_Threads())
+
+
+class _Analysis:
+    """One PARDISO handle: the symbolic analysis (phase 11) of one sparsity pattern of upper triangles, holding up to
+    ``SHARED_FACTORS`` numeric factorizations of matrices with that pattern (phase 22, numbered ``mnum``; MKL
+    reference, pardiso: maxfct and mnum). MKL's defaults for the matrix type (pardisoinit: nested dissection, 1e-8
+    pivot perturbation, Bunch-Kaufman pivots, no scaling or matching, two iterative refinement steps), but for the
+    ordering of dense-row matrices (``MINIMUM_DEGREE_ROWS``) and no iterative refinement unless pivots were
+    perturbed (``_PardisoFactor``)."""
+
+    def __init__(self, upper: sp.csr_matrix):
+        import pypardiso
+
+        self._ps = ps = pypardiso.PyPardisoSolver(mtype=-2)  # real symmetric indefinite
+        ps.libmkl.pardisoinit.restype = None
+        ps.libmkl.pardisoinit(ps.pt.ctypes.data_as(ctypes.POINTER(ps._pt_type[0])), ctypes.byref(ctypes.c_int32(-2)),
+                              ps.iparm.ctypes.data_as(ctypes.POINTER(ctypes.c_int32)))
+        if upper.nnz >= MINIMUM_DEGREE_ROWS * upper.shape[0]:
+            ps.iparm[1] = 0  # minimum degree ordering (MINIMUM_DEGREE_ROWS)
+        ps.iparm[7] = 0
+        self.threads = _mkl_threads(ps)  # a numeric factorization with other threads than its analysis crashed MKL
+        self.n = upper.shape[0]
+        self.indptr, self.indices = upper.indptr, upper.indices
+        self.ia, self.ja = (upper.indptr + 1).astype(np.int32), (upper.indices + 1).astype(np.int32)
+        self.free = list(range(1, SHARED_FACTORS + 1))
+        self.analysed = False
+        _ANALYSES.append(weakref.ref(self))
+
+    def holds(self, upper: sp.csr_matrix) -> bool:
+        """Whether ``upper`` has this analysis' pattern and a slot is free for it, under the analysis' MKL threads
+        (``single_threaded_blas`` limits them to one)."""
+        return bool(self.free) and self.analysed and _mkl_threads(self._ps) == self.threads \
+            and upper.shape[0] == self.n and upper.nnz == len(self.indices) \
+            and np.array_equal(upper.indptr, self.indptr) and np.array_equal(upper.indices, self.indices)
+
+    def call(self, phase: int, mnum: int, iparm: np.ndarray, data: np.ndarray, rhs: np.ndarray | None = None):
+        """One PARDISO call on factorization ``mnum`` (x for a solve phase); RuntimeError on PARDISO's error code."""
+        rhs = np.zeros((self.n, 1), order="F") if rhs is None else rhs
+        x = np.zeros_like(rhs)
+        error = ctypes.c_int32(0)
+        ps, int_p, double_p = self._ps, ctypes.POINTER(ctypes.c_int32), ctypes.POINTER(ctypes.c_double)
+        ps._mkl_pardiso(ps.pt.ctypes.data_as(ctypes.POINTER(ps._pt_type[0])),
+                        ctypes.byref(ctypes.c_int32(SHARED_FACTORS)), ctypes.byref(ctypes.c_int32(mnum)),
+                        ctypes.byref(ctypes.c_int32(ps.mtype)), ctypes.byref(ctypes.c_int32(phase)),
+                        ctypes.byref(ctypes.c_int32(self.n)), data.ctypes.data_as(double_p),
+                        self.ia.ctypes.data_as(int_p), self.ja.ctypes.data_as(int_p), ps.perm.ctypes.data_as(int_p),
+                        ctypes.byref(ctypes.c_int32(rhs.shape[1])), iparm.ctypes.data_as(int_p),
+                        ctypes.byref(ctypes.c_int32(0)), rhs.ctypes.data_as(double_p), x.ctypes.data_as(double_p),
+                        ctypes.byref(error))
+        if error.value != 0:
+            raise RuntimeError(f"PARDISO phase {phase} failed (error {error.value})")
+        return x
+
+    def factor(self, upper: sp.csr_matrix) -> _PardisoFactor:
+        """The numeric factorization of ``upper`` (this pattern) in a free slot, the analysis made first if not yet."""
+        if not self.analysed:
+            self.call(11, 1, self._ps.iparm, upper.data)
+            self.analysed = True
+        mnum, iparm = self.free.pop(0), self._ps.iparm.copy()
+        try:
+            self.call(22, mnum, iparm, upper.data)
+        except RuntimeError:
+            self.free.insert(0, mnum)
+            raise
+        return _PardisoFactor(self, mnum, iparm, upper.data)
+
+    def release(self, mnum: int) -> None:
+        """Frees factorization ``mnum`` (phase 0), and the whole handle with the last one (phase -1)."""
+        self.free.append(mnum)
+        last = len(self.free) == SHARED_FACTORS
+        self.analysed = self.analysed and not last
+        self.call(-1 if last else 0, mnum, self._ps.iparm, np.zeros(1))
 
 
 def upper_triangle(A: sp.csr_matrix) -> sp.csr_matrix:
@@ -209,7 +293,7 @@ def counted_factorization(A: sp.spmatrix, *, solver: str = "auto") -> tuple[int,
         except (RuntimeError, ValueError) as exc:
             log.warning("pardiso inertia failed (%s): using SuperLU", exc)
         else:
-            iparm = factor._ps.iparm
+            iparm = factor.iparm
             positive, negative, perturbed = int(iparm[21]), int(iparm[22]), int(iparm[13])
             if perturbed == 0 and positive + negative == n:
                 return negative, factor
@@ -231,27 +315,22 @@ def counted_factorization(A: sp.spmatrix, *, solver: str = "auto") -> tuple[int,
 
 
 class _PardisoFactor:
-    """A PARDISO factorization as a callable solve(b); frees MKL's memory when dropped.
+    """A PARDISO factorization (slot ``mnum`` of an ``_Analysis``) as a callable solve(b); frees its slot when dropped.
 
-    Solves call MKL's solve phase (33) directly with the matrix's 1-based index arrays made once (pypardiso's solve
-    re-hashes the matrix and its call re-indexes it, each time), without iterative refinement (``_pardiso`` sets
+    Solves call MKL's solve phase (33) directly with the pattern's 1-based index arrays made once (pypardiso's solve
+    re-hashes the matrix and its call re-indexes it, each time), without iterative refinement (``_Analysis`` sets
     iparm[7] = 0; MKL still refines where it perturbed pivots): its default two steps a solve, each one more solve
     and one product with the matrix, took 7x the time of a bare solve of the glass plate's quartic model (18,348
     DOFs: 0.085 s against 0.011 s, relative residuals 1.3e-13 and 1.5e-13). ``refine`` restores them, for a
-    factorization whose residual needs them (``factorize``)."""
+    factorization whose residual needs them (``factorize``). ``iparm`` holds what its factorization reported
+    (iparm[13] perturbed pivots, iparm[21] and iparm[22] the inertia)."""
 
-    def __init__(self, ps, upper):
-        self._ps, self._upper = ps, upper
-
-    @functools.cached_property
-    def _one_based(self) -> tuple[np.ndarray, np.ndarray]:
-        """(ia, ja): the upper triangle's index arrays as PARDISO reads them, made at the first solve (a Sturm count
-        only factorizes)."""
-        return (self._upper.indptr + 1).astype(np.int32), (self._upper.indices + 1).astype(np.int32)
+    def __init__(self, analysis: _Analysis, mnum: int, iparm: np.ndarray, data: np.ndarray):
+        self._analysis, self._mnum, self.iparm, self._data = analysis, mnum, iparm, data
 
     def refine(self) -> None:
         """Two iterative refinement steps on every solve from now on (MKL's default)."""
-        self._ps.iparm[7] = 2
+        self.iparm[7] = 2
 
     def __call__(self, b):
         """x = A^-1 b for b of shape (n,) or (n, m) (m right-hand sides in one call).
@@ -259,25 +338,12 @@ class _PardisoFactor:
         first, never passed as is (it was read as the wrong numbers)."""
         b = np.asarray(b, dtype=float)
         rhs = np.asfortranarray(b.reshape(len(b), -1))
-        x = np.zeros_like(rhs)
-        ia, ja = self._one_based
-        error = ctypes.c_int32(0)
-        ps, int_p, double_p = self._ps, ctypes.POINTER(ctypes.c_int32), ctypes.POINTER(ctypes.c_double)
-        ps._mkl_pardiso(ps.pt.ctypes.data_as(ctypes.POINTER(ps._pt_type[0])), ctypes.byref(ctypes.c_int32(1)),
-                        ctypes.byref(ctypes.c_int32(1)), ctypes.byref(ctypes.c_int32(ps.mtype)),
-                        ctypes.byref(ctypes.c_int32(33)), ctypes.byref(ctypes.c_int32(len(b))),
-                        self._upper.data.ctypes.data_as(double_p), ia.ctypes.data_as(int_p),
-                        ja.ctypes.data_as(int_p), ps.perm.ctypes.data_as(int_p),
-                        ctypes.byref(ctypes.c_int32(rhs.shape[1])), ps.iparm.ctypes.data_as(int_p),
-                        ctypes.byref(ctypes.c_int32(0)), rhs.ctypes.data_as(double_p), x.ctypes.data_as(double_p),
-                        ctypes.byref(error))
-        if error.value != 0:
-            raise RuntimeError(f"PARDISO solve failed (error {error.value})")
+        x = self._analysis.call(33, self._mnum, self.iparm, self._data, rhs)
         return np.ascontiguousarray(x).reshape(b.shape)
 
     def __del__(self, suppress=contextlib.suppress):  # bound now: at interpreter shutdown the module's globals are gone
         with suppress(Exception):  # and MKL may be gone too
-            self._ps.free_memory(everything=True)
+            self._analysis.release(self._mnum)
 
 
 def _superlu(A: sp.csr_matrix):

@@ -31,7 +31,7 @@ def test_orders_by_minimum_degree_only_dense_rows_and_solves_without_refinement(
     K = _shifted(order, size_factor)
     assert (K.nnz / K.shape[0] >= linalg.MINIMUM_DEGREE_ROWS) == (ordering == 0)
     solve, name = linalg.factorize(K, solver="pardiso")
-    assert name == "pardiso" and solve._ps.iparm[1] == ordering and solve._ps.iparm[7] == 0
+    assert name == "pardiso" and solve._analysis._ps.iparm[1] == ordering and solve.iparm[7] == 0
     b = np.random.default_rng(2).standard_normal(K.shape[0])
     # bare solves of these models reach ~1e-12 (refinement stayed off): below the level that switches it on
     assert np.linalg.norm(K @ solve(b) - b) <= linalg.REFINED_ABOVE * np.linalg.norm(b)
@@ -44,7 +44,7 @@ def test_a_residual_above_the_threshold_turns_refinement_on(monkeypatch):
     K = _shifted(4, 3.0)
     monkeypatch.setattr(linalg, "REFINED_ABOVE", 0.0)  # every residual is above it
     solve, _ = linalg.factorize(K, solver="pardiso")
-    assert solve._ps.iparm[7] == 2  # MKL's two steps on every solve from then on
+    assert solve.iparm[7] == 2  # MKL's two steps on every solve from then on
     b = np.random.default_rng(5).standard_normal(K.shape[0])
     assert np.linalg.norm(K @ solve(b) - b) <= 1e-10 * np.linalg.norm(b)
 
@@ -64,3 +64,40 @@ def test_upper_triangle_is_scipys_triu():
     duplicated = sp.csr_matrix((rng.standard_normal(4), [1, 1, 2, 0], [0, 2, 3, 4]), shape=(3, 3))  # (0, 1) twice
     assert not duplicated.has_canonical_format
     assert np.array_equal(linalg.upper_triangle(duplicated).toarray(), sp.triu(duplicated).toarray())
+
+
+def test_shifts_of_one_pattern_share_one_analysis_and_each_keeps_its_own_numbers():
+    K = _shifted(2, 3.0)
+    M = _shifted(2, 3.0, hz=30e3)  # the same pattern, other values (a second shift of the same pencil)
+    solve_k, _ = linalg.factorize(K, solver="pardiso")
+    solve_m, _ = linalg.factorize(M, solver="pardiso")
+    assert solve_k._analysis is solve_m._analysis and solve_k._mnum != solve_m._mnum
+    b = np.random.default_rng(3).standard_normal(K.shape[0])
+    for A, solve in ((K, solve_k), (M, solve_m)):  # each slot solves its own matrix to a direct solve's residual
+        assert np.linalg.norm(A @ solve(b) - b) <= linalg.REFINED_ABOVE * np.linalg.norm(b)
+    analysis = solve_k._analysis
+    del solve_k, solve_m, solve  # the last factorization frees the handle; a new one analyses afresh
+    assert not analysis.analysed and len(analysis.free) == linalg.SHARED_FACTORS
+    again, _ = linalg.factorize(K, solver="pardiso")
+    assert np.linalg.norm(K @ again(b) - b) <= linalg.REFINED_ABOVE * np.linalg.norm(b)
+
+
+def test_more_factorizations_than_slots_open_another_analysis():
+    K = _shifted(2, 3.0)
+    kept = [linalg.factorize(K * (1 + 0.01 * i), solver="pardiso")[0] for i in range(linalg.SHARED_FACTORS + 1)]
+    assert len({id(s._analysis) for s in kept}) == 2
+    b = np.random.default_rng(4).standard_normal(K.shape[0])
+    assert np.linalg.norm(K * (1 + 0.01 * linalg.SHARED_FACTORS) @ kept[-1](b) - b) <= 1e-10 * np.linalg.norm(b)
+
+
+def test_an_analysis_is_shared_only_under_its_own_thread_count():
+    # a numeric factorization under one MKL thread on an analysis made with two crashed MKL (segmentation fault)
+    K = _shifted(2, 3.0)
+    outside, _ = linalg.factorize(K, solver="pardiso")
+    with linalg.single_threaded_blas():
+        inside, _ = linalg.factorize(K * 1.01, solver="pardiso")
+        again, _ = linalg.factorize(K * 1.02, solver="pardiso")
+    assert (inside._analysis is outside._analysis) == (inside._analysis.threads == outside._analysis.threads)
+    assert again._analysis is inside._analysis
+    b = np.random.default_rng(6).standard_normal(K.shape[0])
+    assert np.linalg.norm(K * 1.01 @ inside(b) - b) <= linalg.REFINED_ABOVE * np.linalg.norm(b)

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import re
 from pathlib import Path
 
 import numpy as np
@@ -87,7 +88,7 @@ def _write_map(hmap, scene, chain, required: float | None, out: str) -> list[str
 
     d = Path(out)
     d.mkdir(parents=True, exist_ok=True)
-    stem = d / f"{scene.name}_{chain.rom.label.strip('()').replace(',', '_')}_{hmap.voltage:g}V"
+    stem = d / re.sub(r"[^\w.-]+", "_", f"{scene.name} {chain.rom.label} {hmap.voltage:g}V").replace("__", "_")
     paths = [f"{stem}.csv", f"{stem}.vtu", f"{stem}.png"]
     hmap.write_csv(paths[0])
     hmap.write_vtu(paths[1])
@@ -130,7 +131,7 @@ def _print(scene, chain, outcomes, needed, hmap, required, written) -> None:
         lo, hi = o.reduction_range
         print(f"  {o.voltage:7.2f} {1e6 * o.amplitude:8.4f} {100 * o.reduction:14.2f} "
               f"{100 * lo:7.2f}-{100 * hi:<7.2f} {100 * o.contact_uncertainty:9.2f} {o.flight_ratio:10.2f} "
-              f"{1e3 * o.current:8.3f} {stated(o.current_error):>8} {1e3 * o.power:8.3f} {stated(o.power_error):>8}")
+              f"{1e3 * o.current:8.4g} {stated(o.current_error):>8} {1e3 * o.power:8.4g} {stated(o.power_error):>8}")
     print("  [range: the reduction at the amplitude -+ its stated error; +-contact: standard error of a time average]")
     if needed is not None:
         print(f"  voltage for a {100 * needed.reduction:g} % reduction: {needed.voltage:.3f} V "

@@ -55,6 +55,11 @@ def _load_rom(path: str):
         raise ContactError(f"--rom: cannot read a reduced model from {path!r} ({exc})") from None
 
 
+def _volts(args) -> np.ndarray | None:
+    """``--voltage`` parsed, None when not given."""
+    return None if args.voltage is None else parse_values(args.voltage, "--voltage")
+
+
 def _friction(args) -> int:
     from modalfe.contact.chain import FootContact, chain_from_rom
     from modalfe.contact.foot import FootParameters, simulate_contact
@@ -72,7 +77,7 @@ def _friction(args) -> int:
             if value is not None:
                 raise ContactError(f"{flag}: not with a SCENE (its working mode sets the amplitude and frequency)")
         p = p.on(args.substrate) if args.substrate else p
-        return run(args, FootContact(p, args.preload, args.speed), feet_map=True)
+        return run(args, FootContact(p, args.preload, args.speed), _volts(args), feet_map=True)
     if args.frequency is not None:
         p = p.with_(frequency=args.frequency)
     if args.voltage is not None and args.rom:
@@ -147,7 +152,7 @@ def _finger(args) -> int:
         for flag, value in (("--frequency", args.frequency), ("--amplitude", args.amplitude)):
             if value is not None:
                 raise ContactError(f"{flag}: not with a SCENE (its working mode sets the amplitude and frequency)")
-        return run(args, FingerContact(p), feet_map=False)
+        return run(args, FingerContact(p), _volts(args), feet_map=False)
     if args.voltage is not None:
         raise ContactError("--voltage: needs a SCENE (the amplitude per volt comes from its working mode)")
     frequencies = args.frequency or list(FREQUENCIES)

@@ -33,18 +33,16 @@ def add_options(p: argparse.ArgumentParser) -> None:
     solve_options(p)
 
 
-def run(args, contact, *, feet_map: bool) -> int:
-    """Outcomes of ``args.scene``'s chain with ``contact`` at each ``--voltage``; ``feet_map``: the map is at the
-    reduced model's foot outputs, else over the main part's top face."""
-    from modalfe.cli.contact import parse_values
+def run(args, contact, volts: np.ndarray | None, *, feet_map: bool) -> int:
+    """Outcomes of ``args.scene``'s chain with ``contact`` at each of ``volts`` (``--voltage``, parsed); ``feet_map``:
+    the map is at the reduced model's foot outputs, else over the main part's top face."""
     from modalfe.cli.options import solve_keywords
     from modalfe.contact.chain import haptic_chain, haptic_map, surface_points
     from modalfe.response.forced import Damping
     from modalfe.scene import load_scene
 
-    if args.voltage is None:
+    if volts is None:
         raise ContactError("--voltage: give the drive voltage [V] with a scene")
-    volts = parse_values(args.voltage, "--voltage")
     if args.map and len(volts) != 1:
         raise ContactError("--voltage: --map takes one voltage")
     if args.map and args.points < 1:

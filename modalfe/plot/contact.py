@@ -12,6 +12,8 @@ from modalfe.contact.finger import EqualFriction, FingerCurve
 from modalfe.contact.foot import ContactCurve, ContactOrbit
 from modalfe.contact.texture import TextureRendering
 
+CONTOUR_POINTS = 20  # a map of fewer points (a device's feet) is drawn point by point, not contoured
+
 
 def _figure(rows: int = 1, cols: int = 1, size: tuple[float, float] = (6.4, 4.2)):
     from matplotlib.figure import Figure
@@ -106,12 +108,12 @@ def haptic_map_figure(hmap: HapticMap, outline: Sequence[tuple[str, tuple[float,
                               lw=0.8, color="0.3", zorder=3))
         a.annotate(name, (1e3 * lo[0], 1e3 * hi[1]), fontsize="x-small", color="0.3", va="bottom")
     x, y, r = 1e3 * hmap.points[:, 0], 1e3 * hmap.points[:, 1], 100 * hmap.reduction
-    if len(r) >= 3 and np.ptp(x) > 0 and np.ptp(y) > 0:
+    if len(r) >= CONTOUR_POINTS and np.ptp(x) > 0 and np.ptp(y) > 0:
         art = a.tricontourf(x, y, r, levels=20, cmap="viridis")
         if required is not None and r.min() < 100 * required < r.max():
             a.tricontour(x, y, r, levels=[100 * required], colors="w", linewidths=1.2)
     else:
-        art = a.scatter(x, y, c=r, s=160, cmap="viridis", edgecolors="k")
+        art = a.scatter(x, y, c=r, s=160, cmap="viridis", edgecolors="k", zorder=4)
         for xi, yi, ri in zip(x, y, r):
             a.annotate(f"{ri:.1f} %", (xi, yi), textcoords="offset points", xytext=(8, 8), fontsize="small")
     fig.colorbar(art, ax=a, label="friction reduction [%]")

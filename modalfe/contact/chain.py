@@ -26,13 +26,19 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from modalfe.contact.finger import FingerParameters, finger_steady_state, simulate_finger
-from modalfe.contact.foot import FN, SPEED, FootParameters, simulate_contact, steady_state
+from modalfe.contact.foot import FN, SPEED, ContactCurve, FootParameters, simulate_contact, steady_state
 from modalfe.contact.validation import require, values
 from modalfe.errors import ContactError
+
+if TYPE_CHECKING:
+    from modalfe.response.forced import ReducedModel
+    from modalfe.results.modes import Mode
+    from modalfe.scene.scene import Scene
 
 NO_ERROR = float("nan")  # a number the chain was not given a stated error for
 # A required reduction is sought by doubling the amplitude from SEARCH_START until it is reached, at most
@@ -186,12 +192,12 @@ class HapticChain:
     mode: the solved ``Mode`` (for amplitudes at points of a surface), or None.
     """
 
-    rom: object
+    rom: ReducedModel
     contact: Contact
     output: str
     frequency: float
     errors: Mapping[str, float] = field(default_factory=dict)
-    mode: object = None
+    mode: Mode | None = None
 
     def error(self, name: str) -> float:
         return float(self.errors.get(name, NO_ERROR))
@@ -272,7 +278,7 @@ class HapticChain:
         W = brentq(lambda w: self.reduction_at(w).reduction - target, low, high, rtol=SEARCH_RTOL, xtol=1e-15)
         return VoltageFor(target, output, W / self.amplitude_per_volt(output), W, self.error(f"amplitude:{output}"))
 
-    def foot_curve(self, voltage) -> object:
+    def foot_curve(self, voltage) -> ContactCurve:
         """``foot.simulate_contact`` over ``voltage`` [V] with this chain's amplitude per volt (a foot chain)."""
         if not isinstance(self.contact, FootContact):
             raise ContactError("contact: a friction curve against voltage needs the foot model")
@@ -281,15 +287,16 @@ class HapticChain:
                                 preload=c.preload, speed=c.speed, parameters=c.parameters)
 
 
-def foot_count(rom) -> int | None:
+def foot_count(rom: ReducedModel) -> int | None:
     """Feet sharing the load according to the reduced model: its ``foot*`` outputs where it has two or more (the
     Cu-Be plate has 4); one foot output alone says nothing of how many there are (None)."""
     feet = [o for o in rom.shapes if o.startswith("foot")]
     return len(feet) if len(feet) > 1 else None
 
 
-def chain_from_rom(rom, contact: Contact, *, output: str | None = None, frequency: float | None = None,
-                   feet: int | None = None, errors: Mapping[str, float] | None = None, mode=None) -> HapticChain:
+def chain_from_rom(rom: ReducedModel, contact: Contact, *, output: str | None = None, frequency: float | None = None,
+                   feet: int | None = None, errors: Mapping[str, float] | None = None,
+                   mode: Mode | None = None) -> HapticChain:
     """The chain of a reduced model ``rom`` and a contact model: drive at ``frequency`` [Hz] (default the
     resonance), the contact at ``output`` (default the reference); a foot model gets the frequency and ``feet``
     (default ``foot_count``)."""
@@ -301,7 +308,7 @@ def chain_from_rom(rom, contact: Contact, *, output: str | None = None, frequenc
     return HapticChain(rom, tuned, output, frequency, dict(errors or {}), mode)
 
 
-def haptic_chain(scene, contact: Contact, *, output: str | None = None, feet: int | None = None,
+def haptic_chain(scene: Scene, contact: Contact, *, output: str | None = None, feet: int | None = None,
                  **question) -> HapticChain:
     """The chain of ``scene``'s working mode (``modalfe.response.figures.forced_figures`` with ``question``: its
     selector, near, damping, outputs and resolution) and ``contact``, with ``forced``'s stated errors."""
@@ -364,7 +371,7 @@ class HapticMap:
             "reduction_high": self.reduction_high, "flight_ratio_percent": self.flight_ratio}))
 
 
-def surface_points(scene, *, part: str | None = None, side: str = "zmax", count: int = 400
+def surface_points(scene: Scene, *, part: str | None = None, side: str = "zmax", count: int = 400
                    ) -> tuple[np.ndarray, np.ndarray]:
     """(points (n, 3) [m], area weights (n,)) of a face of ``part`` (default the main part) of the whole device: the
     centres of a grid of about ``count`` equal cells (n >= count)."""

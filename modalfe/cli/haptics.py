@@ -66,7 +66,7 @@ def run(args, contact, volts: np.ndarray | None, *, feet_map: bool) -> int:
             points, weights = np.array(list(output_points(scene, feet).values())), None
         else:
             points, weights = surface_points(scene, count=args.points)
-        hmap = haptic_map(chain, points, float(volts[0]), weights=weights)
+        hmap = haptic_map(chain, points, float(volts[0]), weights=weights, progress=not args.json)
     required = args.required if args.required is not None else args.reduction
     written = _write_map(hmap, scene, chain, required, args.map_dir) if hmap is not None and args.map_dir else []
     if args.json:

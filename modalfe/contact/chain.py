@@ -90,9 +90,10 @@ class FootContact:
         reduction = 1.0 - o.friction_force / static
         return ContactState(float(amplitude), reduction, o.flight_ratio, o.friction_uncertainty * (1 - reduction))
 
-    def table(self, amplitudes: np.ndarray) -> list[ContactState]:
-        """States at each amplitude (``foot.simulate_contact``: each one independent)."""
-        c = simulate_contact(amplitudes, preload=self.preload, speed=self.speed, parameters=self.parameters)
+    def table(self, amplitudes: np.ndarray, progress: bool = False) -> list[ContactState]:
+        """States at each amplitude (``foot.simulate_contact``: each one independent); ``progress``: a tqdm bar."""
+        c = simulate_contact(amplitudes, preload=self.preload, speed=self.speed, parameters=self.parameters,
+                             progress=progress)
         return [ContactState(float(w), float(r), float(b), 0.0)
                 for w, r, b in zip(c.amplitude, c.friction_reduction, c.flight_ratio)]
 
@@ -120,9 +121,10 @@ class FingerContact:
         o = finger_steady_state(2 * amplitude, self.frequency, parameters=self.parameters)
         return ContactState(float(amplitude), 1.0 - o.friction_ratio, 100.0 - o.contact_ratio, o.uncertainty)
 
-    def table(self, amplitudes: np.ndarray) -> list[ContactState]:
-        """States at each amplitude, each continued from its smaller neighbour (``finger.simulate_finger``)."""
-        c = simulate_finger(2 * np.asarray(amplitudes), self.frequency, parameters=self.parameters)
+    def table(self, amplitudes: np.ndarray, progress: bool = False) -> list[ContactState]:
+        """States at each amplitude, each continued from its smaller neighbour (``finger.simulate_finger``);
+        ``progress``: a tqdm bar."""
+        c = simulate_finger(2 * np.asarray(amplitudes), self.frequency, parameters=self.parameters, progress=progress)
         return [ContactState(float(a / 2), float(1 - r), float(100 - cr), float(u))
                 for a, r, cr, u in zip(c.amplitude_pp, c.friction_ratio, c.contact_ratio, c.uncertainty)]
 
@@ -169,9 +171,9 @@ class Outcome:
 
 @dataclass(frozen=True)
 class VoltageFor:
-    """The drive voltage [V] at which the reduction first reaches ``reduction`` (the monotone part of the curve
-    from rest), the amplitude [m, 0-peak] it takes and the voltage's stated relative error (the amplitude per
-    volt's; NaN: none stated)."""
+    """The drive voltage [V] at which the reduction reaches ``reduction`` (``HapticChain.voltage_for``), the
+    amplitude [m, 0-peak] it takes and the voltage's stated relative error (the amplitude per volt's; NaN: none
+    stated)."""
 
     reduction: float
     output: str
@@ -259,9 +261,11 @@ class HapticChain:
         return (voltage * abs(Y), (abs(Y.real) * e_g + abs(Y.imag) * e_b) / abs(Y), voltage**2 * Y.real / 2, e_g)
 
     def voltage_for(self, reduction: float, output: str | None = None) -> VoltageFor:
-        """The least voltage [V] reaching ``reduction`` at ``output``: the amplitude doubled from SEARCH_START
-        until the contact model's reduction reaches it, then Brent's method between the last two amplitudes (the
-        first crossing, on the curve's monotone rise from rest)."""
+        """The voltage [V] at which the reduction at ``output`` first reaches ``reduction``: the amplitude doubled from
+        SEARCH_START until the contact model's reduction reaches it, then Brent's method between the last amplitude
+        below and the first at or above it. That is the first crossing wherever the curve rises monotonically within
+        that octave. The finger's curve at 66 kHz dips and recovers near 0.7 um pp, and there Brent may return a
+        later crossing of the same octave."""
         from scipy.optimize import brentq
 
         target = require("reduction", reduction)
@@ -393,11 +397,12 @@ def surface_points(scene: Scene, *, part: str | None = None, side: str = "zmax",
 
 
 def haptic_map(chain: HapticChain, points: np.ndarray, voltage: float, *, weights: np.ndarray | None = None,
-               amplitude_per_volt: np.ndarray | None = None, table_points: int = 17) -> HapticMap:
+               amplitude_per_volt: np.ndarray | None = None, table_points: int = 17,
+               progress: bool = False) -> HapticMap:
     """The reduction at ``points`` (n, 3) [m] at ``voltage`` [V]: the amplitude at each point
     (``HapticChain.amplitude_per_volt_at``, unless given), the contact model tabulated at ``table_points``
     amplitudes from 0 to the largest (times 1 + its stated error) and interpolated linearly; ``weights``: area
-    shares (default equal)."""
+    shares (default equal); ``progress``: a tqdm bar over the table."""
     volts = require("voltage", voltage, nonnegative=True)
     if table_points < 2:
         raise ContactError(f"table_points: at least 2, got {table_points}")
@@ -406,7 +411,7 @@ def haptic_map(chain: HapticChain, points: np.ndarray, voltage: float, *, weight
     e = chain.error(f"amplitude:{chain.output}")
     e = e if math.isfinite(e) else 0.0
     top = max(float(W.max()) * (1 + e), SEARCH_START)
-    table = tuple(chain.contact.table(np.linspace(0.0, top, table_points)))
+    table = tuple(chain.contact.table(np.linspace(0.0, top, table_points), progress))
     grid = np.array([s.amplitude for s in table])
     red = np.array([s.reduction for s in table])
 

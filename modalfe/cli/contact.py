@@ -55,6 +55,14 @@ def _load_rom(path: str):
         raise ContactError(f"--rom: cannot read a reduced model from {path!r} ({exc})") from None
 
 
+def _refuse_with_scene(args, *names: str) -> None:
+    """A one-line error for a flag given beside a SCENE, whose working mode sets what the flag would."""
+    for name in names:
+        if getattr(args, name) is not None:
+            raise ContactError(f"--{name.replace('_', '-')}: not with a SCENE (its working mode sets the amplitude and "
+                               "frequency; --map --map-dir DIR draws the map)")
+
+
 def _volts(args) -> np.ndarray | None:
     """``--voltage`` parsed, None when not given."""
     return None if args.voltage is None else parse_values(args.voltage, "--voltage")
@@ -72,10 +80,7 @@ def _friction(args) -> int:
     if args.scene is not None:
         from modalfe.cli.haptics import run
 
-        for flag, value in (("--frequency", args.frequency), ("--rom", args.rom), ("--amplitude", args.amplitude),
-                            ("--amplitude-per-volt", args.amplitude_per_volt)):
-            if value is not None:
-                raise ContactError(f"{flag}: not with a SCENE (its working mode sets the amplitude and frequency)")
+        _refuse_with_scene(args, "frequency", "rom", "amplitude", "amplitude_per_volt", "plot")
         p = p.on(args.substrate) if args.substrate else p
         return run(args, FootContact(p, args.preload, args.speed), _volts(args), feet_map=True)
     if args.frequency is not None:
@@ -149,9 +154,7 @@ def _finger(args) -> int:
         from modalfe.cli.haptics import run
         from modalfe.contact.chain import FingerContact
 
-        for flag, value in (("--frequency", args.frequency), ("--amplitude", args.amplitude)):
-            if value is not None:
-                raise ContactError(f"{flag}: not with a SCENE (its working mode sets the amplitude and frequency)")
+        _refuse_with_scene(args, "frequency", "amplitude", "plot")
         return run(args, FingerContact(p), _volts(args), feet_map=False)
     if args.voltage is not None:
         raise ContactError("--voltage: needs a SCENE (the amplitude per volt comes from its working mode)")

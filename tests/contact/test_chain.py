@@ -174,3 +174,8 @@ def test_cli_scene_forms_print_the_chains_outcome_and_write_the_map(bar, tmp_pat
     assert rows.shape == (out["map"]["points"], 9)
     assert main(["finger", *common[:-4], "--voltage", "1,2", "--map", "--json"]) == 1
     assert capsys.readouterr().err.strip() == "modalfe: error: --voltage: --map takes one voltage"
+    # refused before any solve: what the scene's mode sets, and a voltage with no mode to turn it into amplitude
+    assert main(["finger", str(path), "--voltage", "1", "--plot", str(tmp_path / "x.png")]) == 1
+    assert capsys.readouterr().err.startswith("modalfe: error: --plot: not with a SCENE")
+    assert main(["finger", "--voltage", "1"]) == 1
+    assert capsys.readouterr().err.startswith("modalfe: error: --voltage: needs a SCENE")

@@ -113,9 +113,12 @@ def haptic_map_figure(hmap: HapticMap, outline: Sequence[tuple[str, tuple[float,
         if required is not None and r.min() < 100 * required < r.max():
             a.tricontour(x, y, r, levels=[100 * required], colors="w", linewidths=1.2)
     else:
-        art = a.scatter(x, y, c=r, s=160, cmap="viridis", edgecolors="k", zorder=4)
+        middle = (r.max() + r.min()) / 2  # equal feet differ by rounding: a colour scale of at least 1 % point
+        half = max(np.ptp(r) / 2, 0.5)
+        art = a.scatter(x, y, c=r, s=160, cmap="viridis", edgecolors="k", zorder=4, vmin=middle - half,
+                        vmax=middle + half)
         for xi, yi, ri in zip(x, y, r):
-            a.annotate(f"{ri:.1f} %", (xi, yi), textcoords="offset points", xytext=(8, 8), fontsize="small")
+            a.annotate(f"{ri:.1f} %", (xi, yi), textcoords="offset points", xytext=(10, -14), fontsize="small")
     fig.colorbar(art, ax=a, label="friction reduction [%]")
     a.set(xlabel="x [mm]", ylabel="y [mm]", aspect="equal",
           title=title or f"{hmap.voltage:g} V, {hmap.frequency / 1e3:.1f} kHz")

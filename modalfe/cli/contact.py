@@ -11,6 +11,7 @@ import json
 
 import numpy as np
 
+from modalfe.cli import haptics
 from modalfe.contact.validation import require
 from modalfe.errors import ContactError
 
@@ -54,37 +55,51 @@ def _load_rom(path: str):
         raise ContactError(f"--rom: cannot read a reduced model from {path!r} ({exc})") from None
 
 
+def _refuse_with_scene(args, *names: str) -> None:
+    """A one-line error for a flag given beside a SCENE, whose working mode sets what the flag would."""
+    for name in names:
+        if getattr(args, name) is not None:
+            raise ContactError(f"--{name.replace('_', '-')}: not with a SCENE (its working mode sets the amplitude and "
+                               "frequency; --map --map-dir DIR draws the map)")
+
+
+def _volts(args) -> np.ndarray | None:
+    """``--voltage`` parsed, None when not given."""
+    return None if args.voltage is None else parse_values(args.voltage, "--voltage")
+
+
 def _friction(args) -> int:
+    from modalfe.contact.chain import FootContact, chain_from_rom
     from modalfe.contact.foot import FootParameters, simulate_contact
 
     p = FootParameters().with_(**_overrides(args.set))
-    if args.frequency is not None:
-        p = p.with_(frequency=args.frequency)
     if args.kt is not None:
         p = p.with_(kt=args.kt)
     if args.feet is not None:
         p = p.with_(n=args.feet)
-    if args.voltage is not None:
-        apv = args.amplitude_per_volt
-        if args.rom:
-            if apv is not None:
-                raise ContactError("--amplitude-per-volt: give it or --rom, not both")
-            rom = _load_rom(args.rom)
-            output = args.rom_output or rom.reference
-            if output not in rom.shapes:
-                raise ContactError(f"--rom-output: {output!r} is not an output of the reduced model "
-                                   f"({', '.join(rom.shapes)})")
-            if args.frequency is None:
-                p = p.with_(frequency=rom.frequency)  # drive at the model's resonance
-            feet = [o for o in rom.shapes if o.startswith("foot")]
-            if args.feet is None and len(feet) > 1:  # the device's feet share the load (the Cu-Be plate has 4); one
-                # foot output alone says nothing of how many there are
-                p = p.with_(n=len(feet))
+    if args.scene is not None:
+        from modalfe.cli.haptics import run
 
-            def apv(frequency, rom=rom, output=output):
-                return float(abs(rom.frf(frequency, output)))
+        _refuse_with_scene(args, "frequency", "rom", "amplitude", "amplitude_per_volt", "plot")
+        p = p.on(args.substrate) if args.substrate else p
+        return run(args, FootContact(p, args.preload, args.speed), _volts(args), feet_map=True)
+    if args.frequency is not None:
+        p = p.with_(frequency=args.frequency)
+    if args.voltage is not None and args.rom:
+        if args.amplitude_per_volt is not None:
+            raise ContactError("--amplitude-per-volt: give it or --rom, not both")
+        p = p.on(args.substrate) if args.substrate else p
+        try:
+            chain = chain_from_rom(_load_rom(args.rom), FootContact(p, args.preload, args.speed),
+                                   output=args.rom_output, frequency=args.frequency, feet=args.feet)
+        except ContactError as exc:  # the library names its field, the CLI its flag
+            if not str(exc).startswith("output:"):
+                raise
+            raise ContactError(f"--rom-output{str(exc)[len('output'):]}") from None
+        curve = chain.foot_curve(parse_values(args.voltage, "--voltage"))
+    elif args.voltage is not None:
         curve = simulate_contact(voltage=parse_values(args.voltage, "--voltage"),
-                                 amplitude_per_volt=apv, preload=args.preload,
+                                 amplitude_per_volt=args.amplitude_per_volt, preload=args.preload,
                                  speed=args.speed, substrate=args.substrate, parameters=p, progress=not args.json)
     else:
         curve = simulate_contact(parse_values(args.amplitude, "--amplitude"), preload=args.preload,
@@ -135,6 +150,14 @@ def _finger(args) -> int:
     p = FingerParameters().with_(**_overrides(args.set))
     if args.reading is not None:
         p = p.with_(reading=args.reading)
+    if args.scene is not None:
+        from modalfe.cli.haptics import run
+        from modalfe.contact.chain import FingerContact
+
+        _refuse_with_scene(args, "frequency", "amplitude", "plot")
+        return run(args, FingerContact(p), _volts(args), feet_map=False)
+    if args.voltage is not None:
+        raise ContactError("--voltage: needs a SCENE (the amplitude per volt comes from its working mode)")
     frequencies = args.frequency or list(FREQUENCIES)
     curves = [simulate_finger(a, f, parameters=p, progress=not args.json)
               for f, a in zip(frequencies, _finger_amplitudes(args, frequencies))]
@@ -215,9 +238,12 @@ def register(subparsers) -> None:
         description="Steady-state flight ratio and friction force of a plate on vibrating feet (seed 000 "
                     "eqs 2-17, Coulomb-Orowan friction), against amplitude or drive voltage. Parameters: "
                     "seed 000 appendix (kn, dn, m, h, n=3) with kt identified from seed 001; --set kn=...")
+    p.add_argument("scene", nargs="?", help="built-in scene or .toml file: the chain from its working mode "
+                                            "(outcomes per --voltage, --reduction, --map; docs/haptics.md)")
     src = p.add_mutually_exclusive_group(required=True)
     src.add_argument("--amplitude", help=f"vibration amplitude at the feet [m, 0-peak]: {RANGE_HELP}")
-    src.add_argument("--voltage", help=f"drive voltage [V] (needs --amplitude-per-volt): {RANGE_HELP}")
+    src.add_argument("--voltage", help=f"drive voltage [V] (needs --amplitude-per-volt, --rom or a SCENE): "
+                                       f"{RANGE_HELP}")
     p.add_argument("--amplitude-per-volt", type=float, metavar="M_PER_V",
                    help="amplitude at the feet per volt [m/V] (from the forced response)")
     p.add_argument("--rom", metavar="FILE", help="reduced model JSON (modalfe forced --save-rom) giving the "
@@ -229,9 +255,10 @@ def register(subparsers) -> None:
     p.add_argument("--substrate", choices=("steel", "glass"), help="sets mu0: steel 0.2, glass 0.08 (default steel)")
     p.add_argument("--frequency", type=float, help="drive frequency [Hz] (default 40.7 kHz, seed 001)")
     p.add_argument("--kt", type=float, help="tangential contact stiffness [N/m] (default: identified)")
-    p.add_argument("--feet", type=int, help="number of feet sharing the load (default: the --rom's foot outputs "
-                                            "where it has two or more, else 3, seed 000 appendix)")
+    p.add_argument("--feet", type=int, help="number of feet sharing the load (default: the --rom's or SCENE's foot "
+                                            "outputs where it has two or more, else 3, seed 000 appendix)")
     _common(p)
+    haptics.add_options(p)
     p.set_defaults(func=_friction)
 
     p = subparsers.add_parser(
@@ -244,7 +271,11 @@ def register(subparsers) -> None:
                                                         "once per --frequency (default: a range per frequency)")
     p.add_argument("--levels", default="0.95,0.9,0.85,0.8,0.75", help="friction levels mu_US/mu for the ratio")
     p.add_argument("--reading", choices=("kelvin-voigt", "literal"), help="reading of seed 004 eq. (1)")
+    p.add_argument("scene", nargs="?", help="built-in scene or .toml file: the finger on its working mode "
+                                            "(outcomes per --voltage, --reduction, --map; docs/haptics.md)")
+    p.add_argument("--voltage", help=f"drive voltage [V] with a SCENE: {RANGE_HELP}")
     _common(p)
+    haptics.add_options(p)
     p.set_defaults(func=_finger)
 
     p = subparsers.add_parser(

@@ -481,15 +481,18 @@ def coupling_extra(working) -> dict:
 
 
 def friction_extra(working, *, volts: float = 10.0, preload: float = 3.0, speed: float = 0.01) -> dict:
-    """Foot amplitude per volt (reduced model at the feet, the scene's damping) and the friction
-    reduction it gives at ``volts`` [V], preload [N] and sliding speed [m/s] (seed 001's 3 N, 1 cm/s)."""
-    from modalfe.contact import simulate_contact
+    """The felt outcome at ``volts`` [V], preload [N] and sliding speed [m/s] (seed 001's 3 N, 1 cm/s) as columns:
+    the chain (``modalfe.contact.chain``) of the working mode's reduced model at the feet (the scene's damping; the
+    foot model driven at the mode's frequency, its feet sharing the load) and seed 000's foot: the amplitude per
+    volt, the friction reduction, the flight ratio, the current and power drawn and the amplitude's rise time."""
+    from modalfe.contact.chain import FootContact, chain_from_rom
     from modalfe.response.forced import Damping, reduce
 
     scene = working.scene
     feet = [g for g in scene.full_assembly().faces if g.startswith("foot_")]
     rom = reduce(working, outputs=feet, damping=Damping.parse(scene.drive.damping))
-    per_volt = rom.amplitude_per_volt()
-    curve = simulate_contact(voltage=[volts], amplitude_per_volt=per_volt, preload=preload, speed=speed)
-    return {"amplitude_per_volt_m": per_volt, "friction_reduction": float(np.ravel(curve.friction_reduction)[0]),
-            "volts": volts}
+    chain = chain_from_rom(rom, FootContact(preload=preload, speed=speed), mode=working)
+    o = chain.outcome(volts)
+    return {"amplitude_per_volt_m": chain.amplitude_per_volt(), "friction_reduction": o.reduction,
+            "flight_ratio_percent": o.flight_ratio, "current_a": o.current, "power_w": o.power,
+            "rise_time_s": o.rise_time, "volts": volts}

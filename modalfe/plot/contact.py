@@ -7,9 +7,12 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from modalfe.contact.chain import HapticMap
 from modalfe.contact.finger import EqualFriction, FingerCurve
 from modalfe.contact.foot import ContactCurve, ContactOrbit
 from modalfe.contact.texture import TextureRendering
+
+CONTOUR_POINTS = 20  # a map of fewer points (a device's feet) is drawn point by point, not contoured
 
 
 def _figure(rows: int = 1, cols: int = 1, size: tuple[float, float] = (6.4, 4.2)):
@@ -89,4 +92,34 @@ def texture_figure(rendering: TextureRendering):
     ax[0, 0].legend(fontsize="small")
     ax[1, 0].plot(x, r.friction_force)
     ax[1, 0].set(xlabel="position along the track [mm]", ylabel="friction force [N]")
+    return fig
+
+
+def haptic_map_figure(hmap: HapticMap, outline: Sequence[tuple[str, tuple[float, float], tuple[float, float]]] = (),
+                      *, required: float | None = None, title: str = ""):
+    """Friction reduction over the touched points in the x-y plane (mm), over the device's ``outline``: (name,
+    (x0, y0), (x1, y1)) rectangles [m] of its parts; ``required``: the contour where the reduction reaches it."""
+    from matplotlib.patches import Rectangle
+
+    fig, ax = _figure(1, 1, (8, 4.2))
+    a = ax[0, 0]
+    for name, lo, hi in outline:
+        a.add_patch(Rectangle((1e3 * lo[0], 1e3 * lo[1]), 1e3 * (hi[0] - lo[0]), 1e3 * (hi[1] - lo[1]), fill=False,
+                              lw=0.8, color="0.3", zorder=3))
+        a.annotate(name, (1e3 * lo[0], 1e3 * hi[1]), fontsize="x-small", color="0.3", va="bottom")
+    x, y, r = 1e3 * hmap.points[:, 0], 1e3 * hmap.points[:, 1], 100 * hmap.reduction
+    if len(r) >= CONTOUR_POINTS and np.ptp(x) > 0 and np.ptp(y) > 0:
+        art = a.tricontourf(x, y, r, levels=20, cmap="viridis")
+        if required is not None and r.min() < 100 * required < r.max():
+            a.tricontour(x, y, r, levels=[100 * required], colors="w", linewidths=1.2)
+    else:
+        middle = (r.max() + r.min()) / 2  # equal feet differ by rounding: a colour scale of at least 1 % point
+        half = max(np.ptp(r) / 2, 0.5)
+        art = a.scatter(x, y, c=r, s=160, cmap="viridis", edgecolors="k", zorder=4, vmin=middle - half,
+                        vmax=middle + half)
+        for xi, yi, ri in zip(x, y, r):
+            a.annotate(f"{ri:.1f} %", (xi, yi), textcoords="offset points", xytext=(10, -14), fontsize="small")
+    fig.colorbar(art, ax=a, label="friction reduction [%]")
+    a.set(xlabel="x [mm]", ylabel="y [mm]", aspect="equal",
+          title=title or f"{hmap.voltage:g} V, {hmap.frequency / 1e3:.1f} kHz")
     return fig

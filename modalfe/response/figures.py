@@ -58,6 +58,7 @@ class ForcedFigures:
     resolution: str = ""
     antiresonance: float | None = None
     errors: dict[str, tuple[float, str]] = field(default_factory=dict)
+    mode: object = None  # the working mode the figures are of (bound to its model), for fields beyond the outputs
 
     def error(self, name: str) -> float:
         """The stated relative error of the number ``name`` (``device_numbers``' keys), NaN when not estimated."""
@@ -271,7 +272,7 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
                          rom.envelope_time_constant, f, rom.frf(f), rom.admittance(f) if voltage else None, frf_full,
                          notes, amplitude_at, peak, load.describe() if not voltage else
                          "voltage on the driven electrodes", load_source, load.unit, velocity, absolute, peaks, limits,
-                         mode.error_estimate, modes.resolution, fa, errors)
+                         mode.error_estimate, modes.resolution, fa, errors, mode)
 
 
 def device_numbers(rom, fa: float | None, peaks=None) -> dict[str, float]:

@@ -8,9 +8,18 @@ whole device. Written:
 
 - point data ``mode_<i>_<label>_<f>Hz displacement [m]`` (the mass-normalised shape, vector at every node)
   and ``mode_<i>_<label>_<f>Hz potential [V]`` (the electric potential over the poled parts, 0 elsewhere);
+- cell data, per mode, ``<stem> strain [-]`` and ``<stem> stress [Pa]`` (3 x 3 tensors, row-major, 9 components:
+  ParaView reads 9 components as a full tensor, free of any Voigt-order convention), ``<stem> von Mises [Pa]``
+  and ``<stem> electric field [V/m]``: each the mean over the cell of the field recovered from the solution
+  (``modalfe.response.stress``: S = sym grad u, E = -grad phi, sigma = c^E S - e^T E), so exact for a field
+  the cell's interpolation holds and well defined across parts of different materials, where nodal values
+  would be double-valued; on a curved or higher-order mesh the mean uses the cells' own (curved) geometry and
+  the solve's quadrature. Like the displacement, they are per unit modal coordinate of the mass-normalised
+  shape (the modal mass is 1 kg);
 - cell data ``part`` (index into the whole device's parts) and one 0/1 array ``part:<name>`` per part,
   so that ParaView lists the parts by name (meshio cannot read a VTU holding a string array);
-- field data ``frequency [Hz]`` and ``mode index`` (one value per mode, in the point-data order);
+- field data ``frequency [Hz]``, ``mode index`` and ``error estimate [relative]`` (one value per mode, in the
+  point-data order; NaN where the solve made no estimate);
 - a sidecar CSV ``<file>_modes.csv`` with the frequency table, units in every header.
 """
 
@@ -30,8 +39,14 @@ _HEX_EDGES = ((0, 1), (1, 2), (2, 3), (3, 0), (4, 5), (5, 6), (6, 7), (7, 4), (0
 _TET_EDGES = ((0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3))
 # VTK cell type of each (element, quadratic): HEXAHEDRON, QUADRATIC_HEXAHEDRON, TETRA, QUADRATIC_TETRA
 VTK_TYPE = {("hex", False): 12, ("hex", True): 25, ("tet", False): 10, ("tet", True): 24}
+# the cell-data arrays of a mode, after its point-data displacement and potential (module docstring)
+CELL_ARRAYS = ("strain [-]", "stress [Pa]", "von Mises [Pa]", "electric field [V/m]")
 CSV_HEADER = ("mode index", "label", "frequency [Hz]", "error estimate [relative]", "circuit",
-              "displacement array", "potential array")
+              "displacement array", "potential array", "strain array", "stress array", "von Mises array",
+              "electric field array")
+# Voigt component (xx, yy, zz, yz, xz, xy) of each entry of a row-major 3 x 3 tensor, and whether it is a shear
+_VOIGT_OF = np.array([0, 5, 4, 5, 1, 3, 4, 3, 2])
+_SHEAR = _VOIGT_OF >= 3
 
 
 def mode_array_name(mode) -> str:
@@ -125,6 +140,42 @@ def quadratic_device(model, shapes: list[np.ndarray]):
     return points, cells, VTK_TYPE[(kind, quadratic)], displacements, potentials, _part_names(model, points, cells)
 
 
+def cell_fields(model, shapes: list[np.ndarray]) -> list[dict[str, np.ndarray]]:
+    """Per shape, the whole device's cell arrays ``CELL_ARRAYS`` in ``quadratic_device``'s cell order: the mean
+    over each cell (its quadrature, ``modalfe.response.stress.part_fields``) of the strain and stress tensors
+    (n_cells, 9) row-major (tensor strain: half the engineering shears), the von Mises stress of that mean stress
+    (n_cells,) and the electric field (n_cells, 3) (0 where there is no potential). A mirrored cell's tensors
+    are ``S T R`` and its field ``R E``, with S the displacement's image signs and R the reflection (the
+    potential is copied unchanged, as ``quadratic_device`` copies it)."""
+    from modalfe.response.stress import part_fields, von_mises
+
+    scene = model.scene
+    n = model.mesh.mesh.nelements
+    out = []
+    for x in shapes:
+        strain, stress, field = np.full((n, 6), np.nan), np.full((n, 6), np.nan), np.zeros((n, 3))
+        for part in model.mesh.parts:
+            f = part_fields(model, x, part)
+            volume = f.weights.sum(axis=-1)
+            strain[f.elements] = (np.sum(f.strain * f.weights, axis=-1) / volume).T
+            stress[f.elements] = (np.sum(f.stress * f.weights, axis=-1) / volume).T
+            if f.field is not None:
+                field[f.elements] = (np.sum(f.field * f.weights, axis=-1) / volume).T
+        if np.isnan(strain).any():
+            raise SolverError("export: a cell belongs to no part of the mesh")
+        mises = von_mises(stress.T)
+        strain = strain[:, _VOIGT_OF] * np.where(_SHEAR, 0.5, 1.0)
+        stress = stress[:, _VOIGT_OF]
+        for (axis, _), sign in zip(mirror_planes(scene), image_signs(scene)):
+            reflection = np.ones(3)
+            reflection[axis] = -1.0
+            tensor_sign = np.outer(sign, reflection).ravel()
+            strain, stress = np.vstack([strain, strain * tensor_sign]), np.vstack([stress, stress * tensor_sign])
+            mises, field = np.concatenate([mises, mises]), np.vstack([field, field * reflection])
+        out.append(dict(zip(CELL_ARRAYS, (strain, stress, mises, field), strict=True)))
+    return out
+
+
 def _part_names(model, points: np.ndarray, cells: np.ndarray) -> np.ndarray:
     """The full assembly's part of each cell: the mesh's own part sets for a whole model, else the part whose
     bounding box holds the cell's centroid (mirrored cells get the mirrored part's name)."""
@@ -160,14 +211,17 @@ def export_vtu(modes, path: str | Path, *, table: bool = True) -> Path:
     part_id = np.array([index[n] for n in part_of], dtype=np.int32)
     grid = pv.UnstructuredGrid(np.hstack([np.full((len(cells), 1), cells.shape[1]), cells]).ravel(),
                                np.full(len(cells), cell_type, dtype=np.uint8), points)
-    for m, u, phi in zip(mode_list, disp, pot):
+    for m, u, phi, per_cell in zip(mode_list, disp, pot, cell_fields(model, [m.shape for m in mode_list])):
         grid.point_data[f"{mode_array_name(m)} displacement [m]"] = u
         grid.point_data[f"{mode_array_name(m)} potential [V]"] = phi
+        for name, values in per_cell.items():
+            grid.cell_data[f"{mode_array_name(m)} {name}"] = values
     grid.cell_data["part"] = part_id
     for i, name in enumerate(names):
         grid.cell_data[f"part:{name}"] = (part_id == i).astype(np.uint8)
     grid.field_data["frequency [Hz]"] = np.array([m.frequency for m in mode_list])
     grid.field_data["mode index"] = np.array([m.index for m in mode_list], dtype=np.int32)
+    grid.field_data["error estimate [relative]"] = np.array([m.error_estimate for m in mode_list])
     path = Path(path)
     if path.suffix.lower() != ".vtu":
         raise SolverError(f"--vtu: the file name must end in .vtu, got '{path.name}'")
@@ -192,5 +246,6 @@ def write_mode_table(modes, path: str | Path) -> Path:
         for m in modes:
             error = "" if math.isnan(m.error_estimate) else f"{m.error_estimate:.3g}"
             writer.writerow([m.index, m.label, f"{m.frequency:.6f}", error, m.circuit,
-                             f"{mode_array_name(m)} displacement [m]", f"{mode_array_name(m)} potential [V]"])
+                             f"{mode_array_name(m)} displacement [m]", f"{mode_array_name(m)} potential [V]",
+                             *(f"{mode_array_name(m)} {name}" for name in CELL_ARRAYS)])
     return path

@@ -14,7 +14,8 @@ def register(subparsers) -> None:
     p.add_argument("scene", help="built-in scene name or .toml scene file")
     p.add_argument("--mode", help="working-mode label or family, e.g. '(0,6)' or 'bending-z 6'")
     p.add_argument("--near", type=frequency, help="frequency [Hz] the mode is sought near")
-    p.add_argument("--damping", help="zeta=Z, Q=Q or rayleigh=ALPHA,BETA (default: the scene's)")
+    p.add_argument("--damping", help="zeta=Z, Q=Q, rayleigh=ALPHA,BETA or material (default: the scene's; "
+                                     "material: each material's Qm weighted by the mode's strain energy)")
     p.add_argument("--outputs", help="comma-separated face groups, mean:GROUP for the mean over a face group "
                    "(default: the scene's)")
     p.add_argument("--point", action="append", metavar="NAME=X,Y,Z", help="an output point [m] (repeatable)")
@@ -48,7 +49,7 @@ def _forced(args) -> int:
 
     if args.mode is not None:
         check_selector(args.mode, "--mode")
-    damping = Damping.parse(args.damping) if args.damping is not None else None
+    damping = args.damping if args.damping in (None, "material") else Damping.parse(args.damping)
     outputs = None
     if args.outputs is not None:
         outputs = [o.strip() for o in args.outputs.split(",")]

@@ -28,7 +28,8 @@ def register(subparsers) -> None:
     p.set_defaults(func=_show)
 
     p = subparsers.add_parser("export", help="write every computed mode to a VTU file (quadratic cells, part "
-                                             "names, displacement and potential) and its mode table CSV")
+                                             "names, displacement, potential, strain, stress, von Mises, electric "
+                                             "field, stated error) and its mode table CSV")
     p.add_argument("scene")
     p.add_argument("--vtu", required=True, help="output file (.vtu)")
     p.add_argument("--near", type=frequency)
@@ -105,6 +106,7 @@ def _export(args) -> int:
 
     scene, modes = _modes(args, lambda scene: {"near": args.near, "count": args.count})
     path = export_vtu(modes, args.vtu)
-    print(f"{scene.name}: {len(modes)} modes -> {path} (quadratic cells, part names, displacement [m] and "
-          f"potential [V] per mode), frequency table -> {table_path(path)}")
+    print(f"{scene.name}: {len(modes)} modes -> {path} (quadratic cells, part names; per mode displacement [m] and "
+          f"potential [V] at the nodes, strain, stress, von Mises and electric field as cell means; each mode's "
+          f"stated error), frequency table -> {table_path(path)}")
     return 0

@@ -484,11 +484,12 @@ def friction_extra(working, *, volts: float = 10.0, preload: float = 3.0, speed:
     """Foot amplitude per volt (reduced model at the feet, the scene's damping) and the friction
     reduction it gives at ``volts`` [V], preload [N] and sliding speed [m/s] (seed 001's 3 N, 1 cm/s)."""
     from modalfe.contact import simulate_contact
-    from modalfe.response.forced import Damping, reduce
+    from modalfe.response.forced import reduce
+    from modalfe.response.losses import mode_damping, resolve_losses
 
     scene = working.scene
     feet = [g for g in scene.full_assembly().faces if g.startswith("foot_")]
-    rom = reduce(working, outputs=feet, damping=Damping.parse(scene.drive.damping))
+    rom = reduce(working, outputs=feet, damping=mode_damping(working, resolve_losses(scene))[0])
     per_volt = rom.amplitude_per_volt()
     curve = simulate_contact(voltage=[volts], amplitude_per_volt=per_volt, preload=preload, speed=speed)
     return {"amplitude_per_volt_m": per_volt, "friction_reduction": float(np.ravel(curve.friction_reduction)[0]),

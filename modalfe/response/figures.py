@@ -139,6 +139,7 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
     ``resolution`` (``solve_modes``' tol, fidelity, error_estimate) on the 3-D solid."""
     from modalfe.response.forced import Damping, harmonic_response, open_circuit_fa, reduce, resonant_state
     from modalfe.response.loads import Load, check_forcing, check_outputs
+    from modalfe.response.losses import mode_damping, resolve_losses
     from modalfe.response.stress import limit_loads, part_peaks
     from modalfe.results.labels import check_selector
     from modalfe.results.modes import select
@@ -168,18 +169,16 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
         selector = check_selector(selector, "mode")
     question = working_question(scene, selector, near)
     selector, near = question["mode"], sought_near(scene, selector, near)
-    if damping is not None:
-        if not isinstance(damping, Damping):
-            raise SceneError(f"damping: must be a Damping (Damping.parse('Q=150')), got {damping!r}")
-        source = "set by the user"
-    else:
-        damping, source = Damping.parse(scene.drive.damping), scene.drive.damping_source
+    if damping is not None and not (isinstance(damping, Damping) or damping == "material"):
+        raise SceneError(f"damping: must be a Damping (Damping.parse('Q=150')) or 'material', got {damping!r}")
+    losses = None if isinstance(damping, Damping) else resolve_losses(scene, damping=damping)
     outputs = tuple(outputs or scene.drive.outputs)
     if not outputs:
         raise SolverError("forced: no outputs; give --outputs (face groups) or set drive.outputs")
     check_outputs(scene, outputs)
     modes = solid_modes(scene, needs="the forced response", **question, **resolution)
     mode = select(modes, selector, near)
+    damping, source = (damping, "set by the user") if losses is None else mode_damping(mode, losses)
     rom = reduce(mode, outputs=outputs, damping=damping, load=None if voltage else load)
     fa, notes_fa = None, ""
     if voltage:

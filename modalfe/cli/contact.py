@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 
 import numpy as np
 
@@ -58,6 +59,7 @@ def _friction(args) -> int:
     from modalfe.contact.foot import FootParameters, simulate_contact
 
     p = FootParameters().with_(**_overrides(args.set))
+    from_rom = []
     if args.frequency is not None:
         p = p.with_(frequency=args.frequency)
     if args.kt is not None:
@@ -80,6 +82,10 @@ def _friction(args) -> int:
             if args.feet is None and len(feet) > 1:  # the device's feet share the load (the Cu-Be plate has 4); one
                 # foot output alone says nothing of how many there are
                 p = p.with_(n=len(feet))
+                from_rom.append(f"n = {len(feet)} feet (its foot outputs)")
+            if "mass" not in _overrides(args.set) and math.isfinite(rom.device_mass):
+                p = p.with_(mass=rom.device_mass)  # the device the feet carry, from its own model
+                from_rom.append(f"m = {rom.device_mass:.4g} kg (the device's mass)")
 
             def apv(frequency, rom=rom, output=output):
                 return float(abs(rom.frf(frequency, output)))
@@ -95,6 +101,9 @@ def _friction(args) -> int:
         q = curve.parameters
         print(f"foot contact: Fn = {curve.preload:g} N, V = {curve.speed:g} m/s, mu0 = {q.mu0:g}, kt = {q.kt:g} N/m, "
               f"kn = {q.kn:g} N/m, dn = {q.dn:g} N s/m, m = {q.mass:g} kg, n = {q.n}, f = {q.frequency:g} Hz")
+        if from_rom:
+            print(f"from the reduced model {args.rom}: {', '.join(from_rom)}; kn and dn: seed 000 appendix "
+                  f"(the reduced model carries no contact stiffness)")
         print(f"friction without vibration mu0 (Fn + m g) = {curve.static_friction:.4f} N; "
               f"flight from W = {q.onset_amplitude(curve.preload) * 1e6:.4f} um")
         if curve.speed == 0:
@@ -222,7 +231,8 @@ def register(subparsers) -> None:
                    help="amplitude at the feet per volt [m/V] (from the forced response)")
     p.add_argument("--rom", metavar="FILE", help="reduced model JSON (modalfe forced --save-rom) giving the "
                                                  "amplitude per volt |FRF| at the drive frequency (default: "
-                                                 "its resonance)")
+                                                 "its resonance), the number of feet (its foot outputs) and the "
+                                                 "moving mass m (the device's mass); kn and dn stay seed 000's")
     p.add_argument("--rom-output", metavar="NAME", help="output of the reduced model (default: its reference)")
     p.add_argument("--preload", type=float, default=10.0, help="preload Fn [N] (default 10, seed 000 appendix)")
     p.add_argument("--speed", type=float, default=0.01, help="sliding speed [m/s] (default 0.01)")

@@ -113,6 +113,10 @@ def _forced(args) -> int:
     print(f"  BVD: C0 {bvd['C0']:.4g} F{pm('bvd:C0')}, R1 {bvd['R1']:.4g} ohm{pm('bvd:R1')}, L1 {bvd['L1']:.4g} "
           f"H{pm('bvd:L1')}, C1 {bvd['C1']:.4g} F{pm('bvd:C1')}; one-mode fa {rom.antiresonance:.1f} "
           f"Hz{pm('bvd_fa')}, k_eff {rom.k_eff:.4f}{pm('bvd_k_eff')}")
+    cap = fig.capacitances
+    print(f"  capacitance: free {1e9 * cap['free']:.4g} nF{pm('capacitance:free')} (static, the structure free), "
+          f"clamped {1e9 * cap['clamped']:.4g} nF{pm('capacitance:clamped')} (u = 0), C0 of the BVD "
+          f"{1e9 * cap['C0']:.4g} nF{pm('bvd:C0')} (the free one less this mode's C1)")
     if fig.antiresonance is not None:
         print(f"  open circuit (same model): fa {fig.antiresonance:.2f} Hz{pm('fa')}, "
               f"k_eff {k_eff(rom.frequency, fig.antiresonance):.4f}{pm('k_eff')}")

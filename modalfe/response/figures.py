@@ -58,6 +58,17 @@ class ForcedFigures:
     resolution: str = ""
     antiresonance: float | None = None
     errors: dict[str, tuple[float, str]] = field(default_factory=dict)
+    capacitance_clamped: float | None = None
+
+    @property
+    def capacitances(self) -> dict[str, float]:
+        """The three capacitances [F] by their one name each (docs/capacitance.md): ``free`` (static, the structure
+        free to deform: C0 + C1 of the BVD), ``clamped`` (every displacement held at 0) and ``C0`` of the BVD (the
+        free one less this mode's share C1). Empty for a load other than a voltage."""
+        if not self.rom.is_voltage_driven:
+            return {}
+        bvd = self.rom.bvd
+        return {"free": bvd["C0"] + bvd["C1"], "clamped": self.capacitance_clamped, "C0": bvd["C0"]}
 
     def error(self, name: str) -> float:
         """The stated relative error of the number ``name`` (``device_numbers``' keys), NaN when not estimated."""
@@ -73,7 +84,9 @@ class ForcedFigures:
             "reduced_model": {"reference": rom.reference, "modal_mass_kg": rom.modal_mass,
                               "stiffness_n_per_m": rom.stiffness, "damping_n_s_per_m": rom.damping,
                               "force_factor_n_per_v": rom.force_factor},
-            "bvd": rom.bvd, "bvd_antiresonance_hz": rom.antiresonance, "antiresonance_hz": self.antiresonance,
+            "bvd": rom.bvd, "capacitance_free_F": self.capacitances["free"],
+            "capacitance_clamped_F": self.capacitances["clamped"], "bvd_antiresonance_hz": rom.antiresonance,
+            "antiresonance_hz": self.antiresonance,
             "k_eff": None if self.antiresonance is None else k_eff(rom.frequency, self.antiresonance),
             "bvd_k_eff": rom.k_eff,
             "amplitude_per_volt_m": self.amplitude_per_volt, "volts_for": self.volts_for,
@@ -137,6 +150,7 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
     ``stress``: True (every part) or part names for the peak stress and field at resonance. The mode is the one
     ``modes`` gives for the scene's question about it (``modalfe.solve.api.working_question``), solved at
     ``resolution`` (``solve_modes``' tol, fidelity, error_estimate) on the 3-D solid."""
+    from modalfe.response.admittance import clamped_capacitance
     from modalfe.response.forced import Damping, harmonic_response, open_circuit_fa, reduce, resonant_state
     from modalfe.response.loads import Load, check_forcing, check_outputs
     from modalfe.response.losses import mode_damping, resolve_losses
@@ -217,9 +231,6 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
                                      damping=damping, reference_omega=omega, load=None if voltage else load)
         frf_full = response.displacement[rom.reference][:, 2]
     notes = [f"damping {rom.damping_description} ({source})"] + ([notes_fa] if notes_fa else [])
-    if voltage:
-        notes.append("C0 of the BVD: the static capacitance less this mode's share (the blocked capacitance, u = 0, "
-                     "plus every other mode's quasi-static charge per volt); `admittance` prints the blocked one")
     if not voltage and load.kind == "base-acceleration":
         notes.append("displacement, velocity and acceleration are relative to the base; absolute acceleration "
                      "= relative + base")
@@ -247,7 +258,8 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
         if scene.symmetry:
             notes.append(f"stress: solved on the part of the device kept by symmetry ({', '.join(scene.symmetry)}); "
                          f"each peak has a mirror image")
-    fine = device_numbers(rom, fa, peaks)
+    clamped = mode.model.copies * clamped_capacitance(mode.model) if voltage else None
+    fine = device_numbers(rom, fa, peaks, clamped)
 
     def level_fa(m) -> float | None:  # fa of a mode's partner on its level, sought as the answer's is (at the shift
         try:  # the level was solved at: its factorization reused)
@@ -260,7 +272,8 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
         at_level = None if not voltage else level_fa(m)
         level_peaks = None if parts is None else part_peaks(
             m.model, resonant_state(m, damping=damping, load=None if voltage else load), parts)
-        return device_numbers(r, at_level, level_peaks)
+        at_level_clamped = None if not voltage else m.model.copies * clamped_capacitance(m.model)
+        return device_numbers(r, at_level, level_peaks, at_level_clamped)
 
     errors = with_composed_errors(derived_errors(modes, mode, level_numbers, fine, eigenvalues=("fa",)),
                                   mode.error_estimate, voltage)
@@ -270,20 +283,24 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
                          rom.envelope_time_constant, f, rom.frf(f), rom.admittance(f) if voltage else None, frf_full,
                          notes, amplitude_at, peak, load.describe() if not voltage else
                          "voltage on the driven electrodes", load_source, load.unit, velocity, absolute, peaks, limits,
-                         mode.error_estimate, modes.resolution, fa, errors)
+                         mode.error_estimate, modes.resolution, fa, errors, clamped)
 
 
-def device_numbers(rom, fa: float | None, peaks=None) -> dict[str, float]:
+def device_numbers(rom, fa: float | None, peaks=None, clamped: float | None = None) -> dict[str, float]:
     """The numbers ``forced`` estimates on the levels, of a reduced model ``rom`` (``modalfe.response.forced.reduce``),
     by name: the reduced model's mass and force factor, the amplitude per unit load at each output, and for a voltage
-    drive C0, the one-mode circuit's fa and k_eff and the open circuit's ``fa`` and k_eff; with ``peaks``
+    drive C0 of the BVD, the free capacitance (C0 + C1) and the ``clamped`` one, the one-mode circuit's fa and k_eff
+    and the open circuit's ``fa`` and k_eff; with ``peaks``
     (``modalfe.response.stress.part_peaks``) each part's peak von Mises and principal stress and field. The numbers
     made of these and the frequency (stiffness, damping, R1, L1, C1) get their errors composed
     (``with_composed_errors``)."""
     numbers = {"modal_mass": rom.modal_mass, "force_factor": abs(rom.force_factor),
                **{f"amplitude:{o}": rom.amplitude_per_volt(o) for o in rom.shapes}}
     if rom.is_voltage_driven:
-        numbers.update({"bvd:C0": rom.capacitance}, bvd_fa=rom.antiresonance, bvd_k_eff=rom.k_eff)
+        numbers.update({"bvd:C0": rom.capacitance, "capacitance:free": rom.capacitance + rom.bvd["C1"]},
+                       bvd_fa=rom.antiresonance, bvd_k_eff=rom.k_eff)
+        if clamped is not None:
+            numbers["capacitance:clamped"] = clamped
         if fa is not None:
             numbers.update(fa=fa, k_eff=k_eff(rom.frequency, fa))
     for p in peaks or ():

@@ -93,7 +93,7 @@ class Damping:
         if self.zeta is not None:
             return f"modal zeta = {self.zeta:g}"
         if self.Q is not None:
-            return f"quality factor Q = {self.Q:g} (zeta = {1 / (2 * self.Q):.3g})"
+            return f"quality factor Q = {self.Q:.4g} (zeta = {1 / (2 * self.Q):.3g})"
         return f"Rayleigh alpha = {self.alpha:g} 1/s, beta = {self.beta:g} s"
 
 
@@ -107,6 +107,8 @@ class ReducedModel:
     response of all other modes; capacitance C0 [F] (everything but the mode) and theta [C/(m)] =
     charge per unit reference displacement. ``drive_load`` and ``load_unit``: what the model is driven by (a voltage
     unless said otherwise; then the force factor is N per ``load_unit`` and there is no circuit, C0 = 0).
+    ``device_mass`` [kg]: the whole device's mass (its rigid translation's, r^T M r; NaN where the model cannot
+    translate its unknowns rigidly), the mass the feet carry in the contact models.
     """
 
     label: str
@@ -123,6 +125,7 @@ class ReducedModel:
     feedthrough: dict[str, list[float]] = field(default_factory=dict)
     drive_load: str = "voltage on the driven electrodes"
     load_unit: str = "V"
+    device_mass: float = float("nan")
 
     @property
     def is_voltage_driven(self) -> bool:
@@ -310,9 +313,19 @@ def reduce(mode: Mode, *, outputs, damping: Damping, reference: str | None = Non
         reference=reference, modal_mass=m_eff, stiffness=m_eff * omega_r**2, damping=2 * zeta * omega_r * m_eff,
         force_factor=copies * theta / ref, capacitance=copies * capacitance,
         shapes={n: list(map(float, phi[n] / ref)) for n in phi},
-        feedthrough={n: list(map(float, feed[n])) for n in feed},
+        feedthrough={n: list(map(float, feed[n])) for n in feed}, device_mass=_device_mass(model),
         **({} if voltage else {"drive_load": load.describe(), "load_unit": load.unit}),
     )
+
+
+def _device_mass(model) -> float:
+    """The whole device's mass [kg], r^T M r for the unit rigid translation r along z (solid model), else NaN."""
+    from modalfe.response.loads import rigid_translation
+
+    if not hasattr(model, "u_basis"):
+        return float("nan")
+    r = rigid_translation(model, "z")
+    return float(model.copies * (r @ (model.M[: model.n_u, : model.n_u] @ r)))
 
 
 def resonant_state(mode: Mode, *, damping: Damping, load=None) -> np.ndarray:

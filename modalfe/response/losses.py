@@ -36,7 +36,7 @@ class Losses:
             lines[0] = f"mechanical: per material, modal strain-energy weighted 1 / Qm ({self.mechanical_source})"
             lines.append(f"materials without Qm and springs: {self.fallback} ({self.fallback_source})")
         lines += [f"mode {label}: {spec} (set by the user)" for label, spec in self.per_mode.items()]
-        lines.append(f"dielectric: tan delta = {self.tan_delta:g} on the blocked capacitance ({self.tan_delta_source})")
+        lines.append(f"dielectric: tan delta = {self.tan_delta:g} on the clamped capacitance ({self.tan_delta_source})")
         return lines
 
 
@@ -83,8 +83,6 @@ def resolve_losses(scene, *, damping: str | None = None, tan_delta: float | None
     loss_spec("--damping", mechanical)
     if mechanical == "material":
         source = _material_loss_sources(scene, "Qm") or "no material of the scene has a sourced Qm"
-        if damping is None:
-            source = f"{source} ({drive.damping_source})"
     for label, spec in (per_mode or {}).items():
         if loss_spec(f"--mode-damping {label}", spec)[0] == "material":
             raise SceneError(f"--mode-damping {label}: 'material' applies to all modes; give Q, zeta or eta")

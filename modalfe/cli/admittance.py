@@ -85,7 +85,7 @@ def _admittance(args) -> int:
     scene = load_scene(args.scene, **parse_overrides(args.set))
     result = admittance(scene, band, args.points, damping=args.damping, tan_delta=args.tan_delta,
                         per_mode=_mode_damping(args.mode_damping), direct=args.direct, residual=args.residual,
-                        progress=args.direct, **solve_keywords(args))
+                        **solve_keywords(args))
     if args.csv:
         result.write_csv(args.csv)
     if args.s1p:

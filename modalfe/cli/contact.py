@@ -14,6 +14,7 @@ import numpy as np
 
 from modalfe.contact.validation import require
 from modalfe.errors import ContactError
+from modalfe.progress import is_shown
 
 RANGE_HELP = "a number, a list a,b,c or start:stop:count (linspace)"
 
@@ -91,10 +92,10 @@ def _friction(args) -> int:
                 return float(abs(rom.frf(frequency, output)))
         curve = simulate_contact(voltage=parse_values(args.voltage, "--voltage"),
                                  amplitude_per_volt=apv, preload=args.preload,
-                                 speed=args.speed, substrate=args.substrate, parameters=p, progress=not args.json)
+                                 speed=args.speed, substrate=args.substrate, parameters=p, progress=is_shown())
     else:
         curve = simulate_contact(parse_values(args.amplitude, "--amplitude"), preload=args.preload,
-                                 speed=args.speed, substrate=args.substrate, parameters=p, progress=not args.json)
+                                 speed=args.speed, substrate=args.substrate, parameters=p, progress=is_shown())
     if args.json:
         print(json.dumps(curve.to_json(), indent=2))
     else:
@@ -145,7 +146,7 @@ def _finger(args) -> int:
     if args.reading is not None:
         p = p.with_(reading=args.reading)
     frequencies = args.frequency or list(FREQUENCIES)
-    curves = [simulate_finger(a, f, parameters=p, progress=not args.json)
+    curves = [simulate_finger(a, f, parameters=p, progress=is_shown())
               for f, a in zip(frequencies, _finger_amplitudes(args, frequencies))]
     equal, skipped = None, []
     if len(curves) == 2:
@@ -192,7 +193,7 @@ def _texture(args) -> int:
     p = FootParameters().with_(**_overrides(args.set))
     a_on = require("amplitude_on", args.amplitude_on, positive=True)
     curve = simulate_contact(np.linspace(0.0, a_on, 41), preload=args.preload, speed=args.speed,
-                             substrate=args.substrate, parameters=p, progress=not args.json)
+                             substrate=args.substrate, parameters=p, progress=is_shown())
     r = render_texture(texture, curve, amplitude_on=args.amplitude_on, control=args.control,
                        response_time=args.response_time)
     if args.json:

@@ -71,7 +71,9 @@ def _show(args) -> int:
     index = args.mode is not None and args.mode.isdigit()  # --mode N: an index among the modes computed
     selector = None if args.mode is None or index else check_selector(args.mode, "--mode")  # before the solve
 
-    def question(scene) -> dict:  # the working mode's (or the one named), as ``forced`` asks it
+    def question(scene) -> dict:  # the working mode's (or the one named), as ``forced`` asks it; before the solve
+        if not index and selector is None and not scene.working_modes:
+            raise SolverError("show: the scene names no working mode; give --mode")
         if index:
             return {"near": args.near or seek(scene)[1]}
         return working_question(scene, selector, args.near)
@@ -82,8 +84,6 @@ def _show(args) -> int:
             raise SolverError(f"--mode: index {args.mode} out of range (0-{len(modes) - 1})")
         mode = modes[int(args.mode)]
     else:
-        if selector is None and not scene.working_modes:
-            raise SolverError("show: the scene names no working mode; give --mode")
         mode = select(modes, *seek(scene, selector, args.near))
     interactive = args.out is None and bool(os.environ.get("DISPLAY"))
     out = args.out or (None if interactive else f"{scene.name}.png")

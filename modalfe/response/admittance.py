@@ -177,12 +177,12 @@ class Admittance:
 
 def admittance(scene, band: tuple[float, float], points: int, *, damping: str | None = None,
                tan_delta: float | None = None, per_mode: Mapping[str, str] | None = None, direct: bool = False,
-               residual: str = "centre", widen: float = WIDEN, progress: bool = False, **resolution) -> Admittance:
+               residual: str = "centre", widen: float = WIDEN, **resolution) -> Admittance:
     """Y(f) of ``scene``'s driven electrodes at ``points`` frequencies evenly spaced over ``band`` [Hz]: modal
     superposition (every short-circuit mode in the band widened by ``widen``, residual of the others at
-    ``residual``: ``centre`` or ``static``), or the direct damped FE solve (``direct``, a progress bar with
-    ``progress``), both on the 3-D solid's modes of the widened band (``band_modes``, resolved at ``resolution``:
-    ``solve_modes``' tol, fidelity, error_estimate). Losses from ``resolve_losses``."""
+    ``residual``: ``centre`` or ``static``), or the direct damped FE solve (``direct``; its progress shown where
+    ``modalfe.progress.shown``), both on the 3-D solid's modes of the widened band (``band_modes``, resolved at
+    ``resolution``: ``solve_modes``' tol, fidelity, error_estimate). Losses from ``resolve_losses``."""
     frequency = frequency_grid(band, points)
     losses = resolve_losses(scene, damping=damping, tan_delta=tan_delta, per_mode=per_mode)
     if "drive" not in scene.electrodes.values():
@@ -197,7 +197,7 @@ def admittance(scene, band: tuple[float, float], points: int, *, damping: str | 
         if modes is None:  # modes the band solve failed to find: its own error
             raise
     if direct:
-        return direct_admittance(modes.model, frequency, losses, progress=progress)
+        return direct_admittance(modes.model, frequency, losses)
     result = modal_admittance(modes, frequency, losses, residual=residual,
                               note=f"short-circuit modes in [{lo:.6g}, {hi:.6g}] Hz (the band widened {widen:g}x); "
                                    f"resolved: {modes.resolution}")
@@ -279,6 +279,7 @@ def band_modes(scene, band: tuple[float, float], **resolution) -> Modes:
     band's top, and so refined the mesh past the one ``modes`` answers on, which then gave the working mode another
     frequency). Otherwise (none or several working modes in the band, or a scene whose own question is a band) the
     band question itself, every mode estimated."""
+    from modalfe.progress import step
     from modalfe.solve.api import NEAREST, solid_modes, working_question
     from modalfe.solve.levels import modes_of
 
@@ -293,7 +294,8 @@ def band_modes(scene, band: tuple[float, float], **resolution) -> Modes:
         check = tuple((wm.selector, wm.near) for wm in inside) or ((NEAREST, near),)  # else nearest its centre
         return solid_modes(scene, needs="the admittance", band=band, circuit="short", check=check, **resolution)
     answer = solid_modes(scene, needs="the admittance", circuit="short", **question, **resolution)
-    found = modes_of(answer.model, Analysis(band=band, circuit="short"), fidelity=answer.fidelity, known=answer)
+    with step(f"{scene.name}: the band {lo:g}-{hi:g} Hz completed around the answer's modes"):
+        found = modes_of(answer.model, Analysis(band=band, circuit="short"), fidelity=answer.fidelity, known=answer)
     unmatched = list(answer)
     rows = []
     for mode in found:
@@ -466,7 +468,7 @@ def _coarse_grid_notes(f: np.ndarray, rows) -> list[str]:
             for r in rows if f[0] <= r["frequency_hz"] <= f[-1] and spacing > r["width_hz"]]
 
 
-def direct_admittance(model, frequency, losses: Losses, *, progress: bool = False) -> Admittance:
+def direct_admittance(model, frequency, losses: Losses) -> Admittance:
     """Y(f) [S] by the direct damped FE solve at each frequency (one complex sparse LU each)."""
     from modalfe.response.forced import drive_vectors
     from modalfe.solve.linalg import solve_complex
@@ -508,12 +510,9 @@ def direct_admittance(model, frequency, losses: Losses, *, progress: bool = Fals
     B = (T.T @ model.M @ T).tocsc()
     Cf = (T.T @ C @ T).tocsc()
     Y = np.zeros(len(f), dtype=complex)
-    iterator = range(len(f))
-    if progress:
-        from tqdm import tqdm
+    from modalfe.progress import counted
 
-        iterator = tqdm(iterator, desc="direct harmonic FE", unit="freq", leave=False)
-    for i in iterator:
+    for i in counted(range(len(f)), "direct harmonic FE", unit="frequency"):
         x = solve_complex((A - w[i] ** 2 * B + 1j * w[i] * Cf).tocsr(), F)
         if not np.all(np.isfinite(x)):
             raise SolverError(f"harmonic solve at {f[i]:g} Hz returned NaN")

@@ -380,11 +380,9 @@ def harmonic_response(model, frequency, *, outputs, damping: Damping, reference_
     disp = {name: np.zeros((len(freqs), 3), dtype=complex) for name in probes}
     Y = np.zeros(len(freqs), dtype=complex)
     dissipated = np.zeros(len(freqs))
-    from tqdm import tqdm
+    from modalfe.progress import counted
 
-    steps = tqdm(freqs, desc=f"direct harmonic FE ({A.shape[0]} unknowns)", unit="frequency", leave=False,
-                 disable=len(freqs) < 3)  # on stderr: --json output stays clean
-    for i, f in enumerate(steps):
+    for i, f in enumerate(counted(freqs, f"direct harmonic FE ({A.shape[0]} unknowns)", unit="frequency")):
         w = 2 * np.pi * f
         x = solve_complex((A - w**2 * B + 1j * w * C).tocsr(), F)
         if not np.all(np.isfinite(x)):

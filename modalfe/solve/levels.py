@@ -12,6 +12,7 @@ import scipy.sparse as sp
 import modalfe.caches as caches
 from modalfe.models.build import Level, build_model
 from modalfe.models.constraints import free_values
+from modalfe.progress import step
 from modalfe.results.labels import unique_labels
 from modalfe.results.modes import Mode, Modes
 from modalfe.solve.eigen import eigenpairs
@@ -42,8 +43,11 @@ def solve_level(scene, analysis, *, fidelity: str = "solid", size_factor: float 
     """Modes of ``scene`` for ``analysis`` (near/count or band, circuit) at ``fidelity`` on one mesh level
     (element sizes x ``size_factor``): mass-normalised full DOF shapes, labelled (``labels=False``: an estimate
     level whose labels nobody reads, ``UNLABELLED``), no error estimate."""
-    model, timings = build_model(scene, fidelity, size_factor=size_factor, frame=frame, min_layers=min_layers)
-    modes = modes_of(model, analysis, fidelity=fidelity, solver=solver, timings=timings, labels=labels)
+    level = f"{scene.name}, {fidelity} model, element sizes x{size_factor:g}"
+    with step(f"{level}: mesh and assembly"):
+        model, timings = build_model(scene, fidelity, size_factor=size_factor, frame=frame, min_layers=min_layers)
+    with step(f"{level}: eigen solve ({analysis.circuit} circuit)"):
+        modes = modes_of(model, analysis, fidelity=fidelity, solver=solver, timings=timings, labels=labels)
     return modes if frame is not None else replace(modes, level=Level(fidelity, scene.mesh, size_factor, min_layers))
 
 

@@ -30,6 +30,11 @@ def shown(on: bool = True) -> Iterator[None]:
         _SHOWN.reset(token)
 
 
+def hide() -> None:
+    """Show nothing from here on in this context: a worker process whose parent draws the progress."""
+    _SHOWN.set(False)
+
+
 def is_shown() -> bool:
     """Whether steps show their progress here (``shown``)."""
     return _SHOWN.get()

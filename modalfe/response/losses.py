@@ -9,11 +9,16 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.sparse as sp
 
 from modalfe.errors import SceneError, SolverError
+
+if TYPE_CHECKING:
+    from modalfe.response.forced import Damping
+    from modalfe.results.modes import Mode
 
 
 @dataclass(frozen=True)
@@ -103,7 +108,7 @@ def resolve_losses(scene, *, damping: str | None = None, tan_delta: float | None
                   dict(per_mode or {}))
 
 
-def mode_damping(mode, losses: Losses):
+def mode_damping(mode: Mode, losses: Losses) -> tuple[Damping, str]:
     """(``modalfe.response.forced.Damping``, its source) of one mode for a one-mode model: the losses' own spec,
     or for ``material`` the viscous equivalent at resonance, zeta_r = eta_r / 2 (Q = 1 / eta_r), of the modal
     strain-energy loss factor eta_r = sum_m U_m,r / U_r / Qm_m + (the rest) x the fallback's
@@ -113,7 +118,7 @@ def mode_damping(mode, losses: Losses):
 
     kind, v = loss_spec("--damping", losses.mechanical)
     if kind == "eta":
-        return Damping(zeta=v[0] / 2), f"{losses.mechanical_source}; loss factor as its viscous equivalent at resonance"
+        return Damping(zeta=v[0] / 2), f"{losses.mechanical_source}; the loss factor's viscous equivalent at resonance"
     if kind != "material":
         return Damping.parse(losses.mechanical), losses.mechanical_source
     if not hasattr(mode.model, "u_basis"):

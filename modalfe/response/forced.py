@@ -34,6 +34,9 @@ from modalfe.scene.scene import check_underdamped
 # outputs whose normal motion is within this fraction of the largest count as equal when the reference is
 # chosen: symmetric outputs differ by the solver's rounding (~1e-10), real differences are >1e-3
 REFERENCE_TIE = 1e-6
+# the reduced model's JSON: /2 adds device_mass (issue 37); a /1 file reads with device_mass unknown (NaN)
+ROM_FORMAT = "modalfe.ReducedModel/2"
+ROM_FORMATS_READ = ("modalfe.ReducedModel/1", ROM_FORMAT)
 
 
 @dataclass(frozen=True)
@@ -195,13 +198,13 @@ class ReducedModel:
         return A, B, C, D
 
     def to_json(self) -> str:
-        return json.dumps({"format": "modalfe.ReducedModel/1", **asdict(self)}, indent=2)
+        return json.dumps({"format": ROM_FORMAT, **asdict(self)}, indent=2)
 
     @classmethod
     def from_json(cls, text: str) -> ReducedModel:
         data = json.loads(text)
-        if data.pop("format", None) != "modalfe.ReducedModel/1":
-            raise SceneError("reduced model: not a modalfe.ReducedModel/1 JSON document")
+        if data.pop("format", None) not in ROM_FORMATS_READ:
+            raise SceneError(f"reduced model: not a {' or '.join(ROM_FORMATS_READ)} JSON document")
         return cls(**data)
 
     def save(self, path: str | Path) -> None:

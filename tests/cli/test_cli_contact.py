@@ -120,6 +120,11 @@ def test_friction_from_a_saved_reduced_model(tmp_path, capsys):
     assert json.loads(capsys.readouterr().out)["parameters"]["mass_kg"] == 0.05
     assert run(["friction", "--voltage", "1", "--rom", str(path)]) == 0
     assert "m = 0.065 kg (the device's mass)" in capsys.readouterr().out
+    # a model saved before the device's mass was recorded (format /1) still reads, its mass unknown
+    old = json.loads(four.to_json())
+    old["format"] = "modalfe.ReducedModel/1"
+    del old["device_mass"]
+    assert np.isnan(forced.ReducedModel.from_json(json.dumps(old)).device_mass)
 
 
 def test_reduced_model_carries_the_whole_devices_mass():

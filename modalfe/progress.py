@@ -3,8 +3,9 @@ a model, the eigen solve of each refinement level, the completion of an admittan
 sweeps and multi-starts. tqdm bars on stderr, shown only inside ``shown()``: the command line enters it when stderr
 is a terminal and the command prints no JSON; the library called from Python shows nothing unless asked.
 
-A bar appears only once its step has run ``DELAY`` seconds, so quick steps leave no trace, and it is removed when the
-step ends (the command's own output follows)."""
+Bars appear once the command has run ``DELAY`` seconds (a quick command shows none; a long one shows each of its
+steps, short ones included, since a long silence is many steps as often as one long one), and each is removed when
+its step ends (the command's own output follows)."""
 
 from __future__ import annotations
 
@@ -15,15 +16,16 @@ import threading
 import time
 from collections.abc import Iterable, Iterator
 
-_SHOWN: contextvars.ContextVar[bool] = contextvars.ContextVar("modalfe_progress_shown", default=False)
-DELAY = 2.0  # seconds a step runs before its bar appears (DESIGN.md: "anything longer than a couple of seconds")
+# when the steps began to be shown (time.monotonic() [s]), None where they are not
+_SHOWN: contextvars.ContextVar[float | None] = contextvars.ContextVar("modalfe_progress_shown", default=None)
+DELAY = 2.0  # seconds a command runs before its bars appear (DESIGN.md: "anything longer than a couple of seconds")
 TICK = 0.5  # seconds between refreshes of a running step's elapsed time
 
 
 @contextlib.contextmanager
 def shown(on: bool = True) -> Iterator[None]:
     """Within this block, steps show their progress on stderr (``on``) or nothing."""
-    token = _SHOWN.set(bool(on))
+    token = _SHOWN.set(time.monotonic() if on else None)
     try:
         yield
     finally:
@@ -32,12 +34,17 @@ def shown(on: bool = True) -> Iterator[None]:
 
 def hide() -> None:
     """Show nothing from here on in this context: a worker process whose parent draws the progress."""
-    _SHOWN.set(False)
+    _SHOWN.set(None)
 
 
 def is_shown() -> bool:
     """Whether steps show their progress here (``shown``)."""
-    return _SHOWN.get()
+    return _SHOWN.get() is not None
+
+
+def _delay() -> float:
+    """Seconds until bars may appear: what is left of ``DELAY`` since the steps began to be shown."""
+    return max(0.0, DELAY - (time.monotonic() - _SHOWN.get()))
 
 
 def wanted(json_output: bool, stream=None) -> bool:
@@ -54,13 +61,14 @@ def step(description: str) -> Iterator[None]:
         return
     from tqdm import tqdm
 
+    delay = _delay()
     bar = tqdm(total=None, desc=description, bar_format="{desc}: {elapsed}", leave=False, file=sys.stderr,
-               delay=DELAY)
+               delay=delay)
     start, stop = time.monotonic(), threading.Event()
 
     def tick() -> None:
         while not stop.wait(TICK):
-            if time.monotonic() - start >= DELAY:
+            if time.monotonic() - start >= delay:
                 bar.refresh()
 
     ticker = threading.Thread(target=tick, name="modalfe-progress", daemon=True)
@@ -79,4 +87,4 @@ def counted(items: Iterable, description: str, *, unit: str = "step", total: int
         return items
     from tqdm import tqdm
 
-    return tqdm(items, desc=description, unit=unit, total=total, leave=False, file=sys.stderr, delay=DELAY)
+    return tqdm(items, desc=description, unit=unit, total=total, leave=False, file=sys.stderr, delay=_delay())

@@ -110,18 +110,18 @@ def test_sidecar_table_has_units_in_its_headers(plate, written):
     assert [r[1] for r in rows[1:]] == [m.label for m in plate]
 
 
-def _linear_field_modes(plate, a: float, gamma: float):
-    """``plate`` with one shape replaced by the linear field u = (a x + gamma y, 0, 0) (no potential), which
+def _linear_field_modes(modes, a: float, gamma: float):
+    """``modes``' first with its shape replaced by the linear field u = (a x + gamma y, 0, 0) (no potential), which
     the quadratic cells hold exactly."""
     import dataclasses
 
-    model = plate.model
+    model = modes.model
     ub = model.u_basis
-    x = np.zeros_like(plate[0].shape)
+    x = np.zeros_like(modes[0].shape)
     for dofs in (ub.nodal_dofs[0], ub.edge_dofs[0]):
         where = ub.doflocs[:, dofs]
         x[dofs] = a * where[0] + gamma * where[1]
-    return [dataclasses.replace(plate[0], shape=x)]
+    return [dataclasses.replace(modes[0], shape=x)]
 
 
 def test_strain_stress_von_mises_of_a_linear_field_are_hookes_law_in_the_plate(plate, tmp_path):
@@ -201,3 +201,32 @@ def test_mode_stress_and_field_agree_with_the_stress_module_and_errors_are_state
     assert 0 < mises.max() <= peak * (1 + 1e-12)
     np.testing.assert_array_equal(grid.field_data["error estimate [relative]"],
                                   [m.error_estimate for m in plate])
+
+
+def test_curved_quadratic_tetrahedra_carry_exact_cell_fields(tmp_path):
+    # a steel cylinder (E 200 GPa, nu 0.3, given here) meshed with curved 10-node tetrahedra: their mid-edge nodes
+    # lie on the cylinder, and the isoparametric P2 space holds u = (a x, 0, 0) exactly there too, so every cell's
+    # mean stress is Hooke's: sigma_xx = (lambda + 2 mu) a, sigma_yy = sigma_zz = lambda a, no shear (1e-9 for the
+    # quadrature's rounding); mid-edge nodes sit on the curved surface (radius 4 mm to rounding, 1e-9)
+    from modalfe.scene.loading import scene_from_dict
+
+    E, nu = 200e9, 0.3
+    scene = scene_from_dict({
+        "units": "mm", "materials": {"steel": {"E": E, "nu": nu, "rho": 7850.0}},
+        "parts": [{"name": "rod", "shape": "cylinder", "material": "steel", "centre": [0, 0, 0], "axis": "z",
+                   "radius": 4, "height": 3}],
+        "analysis": {"near": 1.0, "count": 1}, "mesh": {"element": "tet", "order": 2, "min_layers": 1}})
+    modes = solve_modes(scene, near=1.0, count=1, error_estimate=False)
+    a = 1e-4
+    linear = _linear_field_modes(modes, a, 0.0)
+    path = export_vtu(type(modes)(tuple(linear), modes.model, modes.circuit, modes.fidelity, modes.dofs),
+                      tmp_path / "rod.vtu", table=False)
+    grid = pv.read(path)
+    assert set(np.unique(grid.celltypes)) == {pv.CellType.QUADRATIC_TETRA}
+    mid_edge = np.unique(grid.cells.reshape(-1, 11)[:, 5:])  # VTK_QUADRATIC_TETRA: 4 corners, then 6 mid-edge nodes
+    radius = np.hypot(grid.points[mid_edge, 0], grid.points[mid_edge, 1])
+    assert radius.max() < 4e-3 * (1 + 1e-9) and np.sum(np.abs(radius - 4e-3) < 4e-12) > 10
+    lam, mu = E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu))
+    stress = grid.cell_data[f"{mode_array_name(linear[0])} stress [Pa]"].reshape(-1, 3, 3)
+    expected = np.diag([lam * a + 2 * mu * a, lam * a, lam * a])
+    np.testing.assert_allclose(stress, np.broadcast_to(expected, stress.shape), atol=1e-9 * expected[0, 0])

@@ -279,7 +279,6 @@ def band_modes(scene, band: tuple[float, float], **resolution) -> Modes:
     band's top, and so refined the mesh past the one ``modes`` answers on, which then gave the working mode another
     frequency). Otherwise (none or several working modes in the band, or a scene whose own question is a band) the
     band question itself, every mode estimated."""
-    from modalfe.progress import step
     from modalfe.solve.api import NEAREST, solid_modes, working_question
     from modalfe.solve.levels import modes_of
 
@@ -294,8 +293,7 @@ def band_modes(scene, band: tuple[float, float], **resolution) -> Modes:
         check = tuple((wm.selector, wm.near) for wm in inside) or ((NEAREST, near),)  # else nearest its centre
         return solid_modes(scene, needs="the admittance", band=band, circuit="short", check=check, **resolution)
     answer = solid_modes(scene, needs="the admittance", circuit="short", **question, **resolution)
-    with step(f"{scene.name}: the band {lo:g}-{hi:g} Hz completed around the answer's modes"):
-        found = modes_of(answer.model, Analysis(band=band, circuit="short"), fidelity=answer.fidelity, known=answer)
+    found = modes_of(answer.model, Analysis(band=band, circuit="short"), fidelity=answer.fidelity, known=answer)
     unmatched = list(answer)
     rows = []
     for mode in found:

@@ -41,7 +41,7 @@ def _run(monkeypatch, stderr, argv) -> tuple[int, str]:
 def test_a_terminal_sees_each_step_of_the_solve(monkeypatch, tiny, capsys):
     status, err = _run(monkeypatch, Terminal(), ("modes", tiny, *SOLVE))
     assert status == 0
-    assert "mesh and assembly" in err and "eigen solve (short circuit)" in err
+    assert "mesh and assembly" in err and "eigen solve, 3 modes near 2000 Hz, short circuit" in err
     assert "mesh and assembly" not in capsys.readouterr().out  # the bars go to stderr, never into the output
 
 

@@ -107,7 +107,8 @@ class ReducedModel:
     frequency [Hz], zeta [-], reference output name; at the reference output: modal_mass [kg],
     stiffness [N/m], damping [N s/m], force_factor [N/V]; shapes: output -> (ux, uy, uz) of the
     mode relative to the reference's normal (z) value; feedthrough: output -> (3,) [m/V] quasi-static
-    response of all other modes; capacitance C0 [F] (everything but the mode) and theta [C/(m)] =
+    response of all other modes; capacitance: C0 of the BVD [F] (the free capacitance less this mode's share,
+    docs/capacitance.md) and theta [C/(m)] =
     charge per unit reference displacement. ``drive_load`` and ``load_unit``: what the model is driven by (a voltage
     unless said otherwise; then the force factor is N per ``load_unit`` and there is no circuit, C0 = 0).
     ``device_mass`` [kg]: the whole device's mass (its rigid translation's, r^T M r; NaN where the model cannot

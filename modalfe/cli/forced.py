@@ -31,6 +31,8 @@ def register(subparsers) -> None:
                    help="drive amplitude [V] of the --plot curve (default 1; a voltage drive only)")
     p.add_argument("--full", action="store_true", help="also solve the full FE harmonic response")
     p.add_argument("--save-rom", metavar="FILE", help="write the reduced model as JSON")
+    p.add_argument("--vtu", metavar="FILE", help="write the response at resonance per unit load (in phase and "
+                   "quadrature: displacement, potential, strain, stress, electric field; von Mises peak) to a VTU")
     p.add_argument("--plot", metavar="FILE", help="write FRF and admittance plots (PNG)")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene parameter")
     p.add_argument("--json", action="store_true")
@@ -84,9 +86,16 @@ def _forced(args) -> int:
     if args.volts is not None:
         _check_volts(args, load or scene.drive.load)
     fig = forced_figures(scene, selector=args.mode, near=args.near, damping=damping, outputs=outputs,
-                         full=args.full, load=load, stress=stress, **solve_keywords(args))
+                         full=args.full, load=load, stress=stress, state=bool(args.vtu), **solve_keywords(args))
     if args.save_rom:
         fig.rom.save(args.save_rom)
+    if args.vtu:
+        from modalfe.report.export import export_forced_vtu
+
+        export_forced_vtu(fig.mode, fig.state, args.vtu, unit=fig.load_unit, error_estimate=fig.error_estimate)
+        if not args.json:
+            print(f"response at resonance per {fig.load_unit} (in phase and quadrature; von Mises peak over the "
+                  f"cycle) -> {args.vtu}")
     if args.plot:
         _plot(fig, args.plot, args.volts or 1.0)
     if args.json:

@@ -21,6 +21,9 @@ whole device. Written:
 - field data ``frequency [Hz]``, ``mode index`` and ``error estimate [relative]`` (one value per mode, in the
   point-data order; NaN where the solve made no estimate);
 - a sidecar CSV ``<file>_modes.csv`` with the frequency table, units in every header.
+
+``export_forced_vtu`` writes a forced response at resonance the same way, per unit load (``[m/V]``, ``[Pa/V]``...):
+its in-phase and quadrature parts and the von Mises stress's peak over the cycle (docs/export.md).
 """
 
 from __future__ import annotations
@@ -196,39 +199,84 @@ def _part_names(model, points: np.ndarray, cells: np.ndarray) -> np.ndarray:
     return names
 
 
-def export_vtu(modes, path: str | Path, *, table: bool = True) -> Path:
-    """Write ``modes`` (a solid model's) to ``path`` (.vtu) as described in the module docstring, and with
-    ``table`` the sidecar ``<stem>_modes.csv``. Returns the VTU path."""
+def _unit(name: str, per: str) -> str:
+    """An array name with its unit per unit load: ``stress [Pa]`` -> ``stress [Pa/V]``, ``strain [-]`` -> ``[1/V]``."""
+    if not per:
+        return name
+    head, _, unit = name.rpartition(" [")
+    unit = unit.rstrip("]")
+    return f"{head} [{'1' if unit == '-' else unit}/{per}]"
+
+
+def device_grid(model, states: list[tuple[str, np.ndarray]], *, per: str = ""):
+    """A pyvista grid of the whole device (``quadratic_device``) with, for each (stem, real full DOF vector) of
+    ``states``, the point arrays ``<stem> displacement [m]`` and ``<stem> potential [V]`` and the cell arrays
+    ``CELL_ARRAYS`` (``cell_fields``), units per unit load ``per`` (e.g. ``V``) where given; and the parts."""
     import pyvista as pv
 
-    model = modes.model
     if not hasattr(model, "u_basis") or not hasattr(getattr(model, "mesh", None), "mesh"):
         raise SolverError("export: VTU export needs the 3-D solid model (--fidelity solid)")
-    mode_list = list(modes)
-    points, cells, cell_type, disp, pot, part_of = quadratic_device(model, [m.shape for m in mode_list])
+    shapes = [x for _, x in states]
+    points, cells, cell_type, disp, pot, part_of = quadratic_device(model, shapes)
     names = [p.name for p in model.scene.full_assembly().parts]
     index = {name: i for i, name in enumerate(names)}
     part_id = np.array([index[n] for n in part_of], dtype=np.int32)
     grid = pv.UnstructuredGrid(np.hstack([np.full((len(cells), 1), cells.shape[1]), cells]).ravel(),
                                np.full(len(cells), cell_type, dtype=np.uint8), points)
-    for m, u, phi, per_cell in zip(mode_list, disp, pot, cell_fields(model, [m.shape for m in mode_list])):
-        grid.point_data[f"{mode_array_name(m)} displacement [m]"] = u
-        grid.point_data[f"{mode_array_name(m)} potential [V]"] = phi
+    for (stem, _), u, phi, per_cell in zip(states, disp, pot, cell_fields(model, shapes), strict=True):
+        grid.point_data[f"{stem} {_unit('displacement [m]', per)}"] = u
+        grid.point_data[f"{stem} {_unit('potential [V]', per)}"] = phi
         for name, values in per_cell.items():
-            grid.cell_data[f"{mode_array_name(m)} {name}"] = values
+            grid.cell_data[f"{stem} {_unit(name, per)}"] = values
     grid.cell_data["part"] = part_id
     for i, name in enumerate(names):
         grid.cell_data[f"part:{name}"] = (part_id == i).astype(np.uint8)
-    grid.field_data["frequency [Hz]"] = np.array([m.frequency for m in mode_list])
-    grid.field_data["mode index"] = np.array([m.index for m in mode_list], dtype=np.int32)
-    grid.field_data["error estimate [relative]"] = np.array([m.error_estimate for m in mode_list])
+    return grid
+
+
+def _save(grid, path: str | Path) -> Path:
     path = Path(path)
     if path.suffix.lower() != ".vtu":
         raise SolverError(f"--vtu: the file name must end in .vtu, got '{path.name}'")
     grid.save(path, binary=True)
+    return path
+
+
+def export_vtu(modes, path: str | Path, *, table: bool = True) -> Path:
+    """Write ``modes`` (a solid model's) to ``path`` (.vtu) as described in the module docstring, and with
+    ``table`` the sidecar ``<stem>_modes.csv``. Returns the VTU path."""
+    mode_list = list(modes)
+    grid = device_grid(modes.model, [(mode_array_name(m), m.shape) for m in mode_list])
+    grid.field_data["frequency [Hz]"] = np.array([m.frequency for m in mode_list])
+    grid.field_data["mode index"] = np.array([m.index for m in mode_list], dtype=np.int32)
+    grid.field_data["error estimate [relative]"] = np.array([m.error_estimate for m in mode_list])
+    path = _save(grid, path)
     if table:
         write_mode_table(mode_list, table_path(path))
     return path
+
+
+def export_forced_vtu(mode, state: np.ndarray, path: str | Path, *, unit: str = "V",
+                      error_estimate: float = float("nan")) -> Path:
+    """Write the forced response ``state`` (full DOF, complex, per unit load ``unit``; x = a + i b varies as
+    a cos(wt) - b sin(wt)) at ``mode``'s resonance to ``path`` (.vtu): the arrays of ``device_grid`` for the
+    in-phase part a (``resonance_<label>_<f>Hz in phase``) and for -b, a quarter period later (``... quadrature``),
+    per unit load, the von Mises stress's peak over the cycle of each cell's mean stress
+    (``modalfe.response.stress``: exact, the largest eigenvalue of a 2 x 2 form), and as field data the
+    frequency and its stated error."""
+    from modalfe.response.stress import von_mises_peak
+
+    stem = f"resonance_{mode.label.replace(' ', '_')}_{mode.frequency:.1f}Hz"
+    state = np.asarray(state, dtype=complex)
+    grid = device_grid(mode.model, [(f"{stem} in phase", state.real), (f"{stem} quadrature", -state.imag)],
+                       per=unit)
+    voigt = [0, 4, 8, 5, 2, 1]  # row-major 3 x 3 entries of xx, yy, zz, yz, xz, xy
+    a = grid.cell_data[f"{stem} in phase {_unit('stress [Pa]', unit)}"][:, voigt].T
+    b = grid.cell_data[f"{stem} quadrature {_unit('stress [Pa]', unit)}"][:, voigt].T
+    grid.cell_data[f"{stem} {_unit('von Mises peak over the cycle [Pa]', unit)}"] = von_mises_peak(a, b)
+    grid.field_data["frequency [Hz]"] = np.array([mode.frequency])
+    grid.field_data["error estimate [relative]"] = np.array([error_estimate])
+    return _save(grid, path)
 
 
 def table_path(vtu: str | Path) -> Path:

@@ -59,6 +59,8 @@ class ForcedFigures:
     antiresonance: float | None = None
     errors: dict[str, tuple[float, str]] = field(default_factory=dict)
     capacitance_clamped: float | None = None
+    mode: object = field(default=None, repr=False)
+    state: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def capacitances(self) -> dict[str, float]:
@@ -144,10 +146,11 @@ class ForcedFigures:
 
 def forced_figures(scene, *, selector: str | None = None, near: float | None = None, damping=None,
                    outputs=None, span: float = 0.02, points: int = 41, full: bool = False, load=None,
-                   stress=None, **resolution) -> ForcedFigures:
+                   stress=None, state: bool = False, **resolution) -> ForcedFigures:
     """Reduce the working mode and derive the device figures; ``full`` adds the direct FE FRF. ``load``
-    (``modalfe.response.loads.Load``; default: the scene's ``drive.load``) is checked before any solve;
-    ``stress``: True (every part) or part names for the peak stress and field at resonance. The mode is the one
+    (``modalfe.response.loads.Load``; default: the scene's ``drive.load``) is checked before any solve; ``stress``:
+    True (every part) or part names for the peak stress and field at resonance; ``state``: keep the mode and the
+    full response at resonance per unit load (for ``modalfe.report.export.export_forced_vtu``). The mode is the one
     ``modes`` gives for the scene's question about it (``modalfe.solve.api.working_question``), solved at
     ``resolution`` (``solve_modes``' tol, fidelity, error_estimate) on the 3-D solid."""
     from modalfe.response.admittance import clamped_capacitance
@@ -251,9 +254,10 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
     notes.append(f"largest normal amplitude on the top face: {1e9 * peak:.3g} nm/{load.unit} (0-peak) at x = "
                  f"{1e3 * where[0]:.1f} mm, y = {1e3 * where[1]:.1f} mm")
     peaks = limits = None
+    resonant = resonant_state(mode, damping=damping, load=None if voltage else load) \
+        if parts is not None or state else None
     if parts is not None:
-        state = resonant_state(mode, damping=damping, load=None if voltage else load)
-        peaks = part_peaks(mode.model, state, parts)
+        peaks = part_peaks(mode.model, resonant, parts)
         limits = limit_loads(peaks, scene)
         if scene.symmetry:
             notes.append(f"stress: solved on the part of the device kept by symmetry ({', '.join(scene.symmetry)}); "
@@ -283,7 +287,8 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
                          rom.envelope_time_constant, f, rom.frf(f), rom.admittance(f) if voltage else None, frf_full,
                          notes, amplitude_at, peak, load.describe() if not voltage else
                          "voltage on the driven electrodes", load_source, load.unit, velocity, absolute, peaks, limits,
-                         mode.error_estimate, modes.resolution, fa, errors, clamped)
+                         mode.error_estimate, modes.resolution, fa, errors, clamped,
+                         mode if state else None, resonant if state else None)
 
 
 def device_numbers(rom, fa: float | None, peaks=None, clamped: float | None = None) -> dict[str, float]:

@@ -105,6 +105,12 @@ def von_mises(stress: np.ndarray) -> np.ndarray:
     return np.sqrt(np.maximum(np.einsum("...k,kl,...l->...", s, _VM, s), 0.0))
 
 
+def von_mises_peak(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Peak over a cycle [Pa] of the von Mises stress of the harmonic Voigt stress a cos(wt) - b sin(wt), a and b
+    (6, n) [Pa]: exact (module docstring)."""
+    return _cycle_peak(np.asarray(a, dtype=float), np.asarray(b, dtype=float), _VM)
+
+
 def _cycle_peak(a: np.ndarray, b: np.ndarray, Q: np.ndarray | None) -> np.ndarray:
     """Peak over a cycle of sqrt(s^T Q s) with s(t) = a cos t - b sin t; a, b (k, n)."""
     if Q is None:

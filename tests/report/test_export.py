@@ -230,3 +230,38 @@ def test_curved_quadratic_tetrahedra_carry_exact_cell_fields(tmp_path):
     stress = grid.cell_data[f"{mode_array_name(linear[0])} stress [Pa]"].reshape(-1, 3, 3)
     expected = np.diag([lam * a + 2 * mu * a, lam * a, lam * a])
     np.testing.assert_allclose(stress, np.broadcast_to(expected, stress.shape), atol=1e-9 * expected[0, 0])
+
+
+def test_forced_response_per_volt_written_by_forced_vtu(tmp_path):
+    # `modalfe forced BIMORPH --vtu`: the response at resonance per volt, in phase (a) and in quadrature (-b) of
+    # x = a + i b. Read back with meshio: every array per volt; at the node that moves most the file's values are
+    # the state's own (probed at that node, rounding 1e-9); each cell's von Mises peak over the cycle lies between
+    # the larger of its two phases' (t = 0 and a quarter period later are in the cycle) and their sum (von Mises is
+    # a norm), 1e-9 for rounding
+    from modalfe.cli.main import main
+    from modalfe.response.figures import forced_figures
+    from tests.hostile.cases import BIMORPH
+
+    path = tmp_path / "bimorph.toml"
+    path.write_text(BIMORPH)
+    vtu = tmp_path / "forced.vtu"
+    assert main(["forced", str(path), "--outputs", "tip", "--fidelity", "solid", "--no-error-estimate",
+                 "--vtu", str(vtu)]) == 0
+    mesh = meshio.read(vtu)
+    fig = forced_figures(load_scene(str(path)), outputs=["tip"], fidelity="solid", error_estimate=False, state=True)
+    stem = f"resonance_{fig.mode.label.replace(' ', '_')}_{fig.mode.frequency:.1f}Hz"
+    for phase in ("in phase", "quadrature"):
+        for name in ("displacement [m/V]", "potential [V/V]"):
+            assert mesh.point_data[f"{stem} {phase} {name}"].shape[0] == len(mesh.points)
+        for name, width in (("strain [1/V]", 9), ("stress [Pa/V]", 9), ("electric field [V/m/V]", 3)):
+            assert mesh.cell_data[f"{stem} {phase} {name}"][0].shape[1] == width
+    a = mesh.point_data[f"{stem} in phase displacement [m/V]"]
+    b = -mesh.point_data[f"{stem} quadrature displacement [m/V]"]
+    node = int(np.argmax(np.hypot(a[:, 2], b[:, 2])))
+    probe = np.asarray(fig.mode.model.displacement_probes(mesh.points[node:node + 1]) @ fig.state).reshape(3)
+    np.testing.assert_allclose(a[node] + 1j * b[node], probe, rtol=1e-9)
+    peak = mesh.cell_data[f"{stem} von Mises peak over the cycle [Pa/V]"][0]
+    phases = [mesh.cell_data[f"{stem} {p} von Mises [Pa/V]"][0] for p in ("in phase", "quadrature")]
+    assert np.all(peak >= np.maximum(*phases) * (1 - 1e-9)) and np.all(peak <= (phases[0] + phases[1]) * (1 + 1e-9))
+    assert peak.max() > 0
+    assert mesh.field_data["frequency [Hz]"][0] == pytest.approx(fig.mode.frequency, rel=1e-12)

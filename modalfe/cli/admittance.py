@@ -85,7 +85,7 @@ def _admittance(args) -> int:
     scene = load_scene(args.scene, **parse_overrides(args.set))
     result = admittance(scene, band, args.points, damping=args.damping, tan_delta=args.tan_delta,
                         per_mode=_mode_damping(args.mode_damping), direct=args.direct, residual=args.residual,
-                        progress=args.direct, **solve_keywords(args))
+                        **solve_keywords(args))
     if args.csv:
         result.write_csv(args.csv)
     if args.s1p:
@@ -104,7 +104,7 @@ def _admittance(args) -> int:
         print(f"  loss {line}")
     for note in result.notes:
         print(f"  note: {note}")
-    print(f"  blocked capacitance C0 (u = 0) {1e9 * result.capacitance_blocked:.4g} nF "
+    print(f"  clamped capacitance C_S (u = 0) {1e9 * result.capacitance_clamped:.4g} nF "
           f"[{stated(result.capacitance_error)}]; "
           f"|Y| at {band[0]:g} Hz {abs(result.Y[0]):.4g} S")
     ext = result.extrema()

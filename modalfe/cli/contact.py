@@ -8,12 +8,14 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 
 import numpy as np
 
 from modalfe.cli import haptics
 from modalfe.contact.validation import require
 from modalfe.errors import ContactError
+from modalfe.progress import is_shown
 
 RANGE_HELP = "a number, a list a,b,c or start:stop:count (linspace)"
 
@@ -73,6 +75,7 @@ def _friction(args) -> int:
     from modalfe.contact.foot import FootParameters, simulate_contact
 
     p = FootParameters().with_(**_overrides(args.set))
+    from_rom = []
     if args.kt is not None:
         p = p.with_(kt=args.kt)
     if args.feet is not None:
@@ -89,27 +92,36 @@ def _friction(args) -> int:
         if args.amplitude_per_volt is not None:
             raise ContactError("--amplitude-per-volt: give it or --rom, not both")
         p = p.on(args.substrate) if args.substrate else p
+        rom = _load_rom(args.rom)
+        if "mass" not in _overrides(args.set) and math.isfinite(rom.device_mass):
+            p = p.with_(mass=rom.device_mass)  # the device the feet carry, from its own model
+            from_rom.append(f"m = {rom.device_mass:.4g} kg (the device's mass)")
         try:
-            chain = chain_from_rom(_load_rom(args.rom), FootContact(p, args.preload, args.speed),
+            chain = chain_from_rom(rom, FootContact(p, args.preload, args.speed),
                                    output=args.rom_output, frequency=args.frequency, feet=args.feet)
         except ContactError as exc:  # the library names its field, the CLI its flag
             if not str(exc).startswith("output:"):
                 raise
             raise ContactError(f"--rom-output{str(exc)[len('output'):]}") from None
         curve = chain.foot_curve(parse_values(args.voltage, "--voltage"))
+        if args.feet is None:
+            from_rom.append(f"n = {curve.parameters.n} feet (its foot outputs)")
     elif args.voltage is not None:
         curve = simulate_contact(voltage=parse_values(args.voltage, "--voltage"),
                                  amplitude_per_volt=args.amplitude_per_volt, preload=args.preload,
-                                 speed=args.speed, substrate=args.substrate, parameters=p, progress=not args.json)
+                                 speed=args.speed, substrate=args.substrate, parameters=p, progress=is_shown())
     else:
         curve = simulate_contact(parse_values(args.amplitude, "--amplitude"), preload=args.preload,
-                                 speed=args.speed, substrate=args.substrate, parameters=p, progress=not args.json)
+                                 speed=args.speed, substrate=args.substrate, parameters=p, progress=is_shown())
     if args.json:
         print(json.dumps(curve.to_json(), indent=2))
     else:
         q = curve.parameters
         print(f"foot contact: Fn = {curve.preload:g} N, V = {curve.speed:g} m/s, mu0 = {q.mu0:g}, kt = {q.kt:g} N/m, "
               f"kn = {q.kn:g} N/m, dn = {q.dn:g} N s/m, m = {q.mass:g} kg, n = {q.n}, f = {q.frequency:g} Hz")
+        if from_rom:
+            print(f"from the reduced model {args.rom}: {', '.join(from_rom)}; kn and dn: seed 000 appendix "
+                  f"(the reduced model carries no contact stiffness)")
         print(f"friction without vibration mu0 (Fn + m g) = {curve.static_friction:.4f} N; "
               f"flight from W = {q.onset_amplitude(curve.preload) * 1e6:.4f} um")
         if curve.speed == 0:
@@ -159,7 +171,7 @@ def _finger(args) -> int:
     if args.voltage is not None:
         raise ContactError("--voltage: needs a SCENE (the amplitude per volt comes from its working mode)")
     frequencies = args.frequency or list(FREQUENCIES)
-    curves = [simulate_finger(a, f, parameters=p, progress=not args.json)
+    curves = [simulate_finger(a, f, parameters=p, progress=is_shown())
               for f, a in zip(frequencies, _finger_amplitudes(args, frequencies))]
     equal, skipped = None, []
     if len(curves) == 2:
@@ -206,7 +218,7 @@ def _texture(args) -> int:
     p = FootParameters().with_(**_overrides(args.set))
     a_on = require("amplitude_on", args.amplitude_on, positive=True)
     curve = simulate_contact(np.linspace(0.0, a_on, 41), preload=args.preload, speed=args.speed,
-                             substrate=args.substrate, parameters=p, progress=not args.json)
+                             substrate=args.substrate, parameters=p, progress=is_shown())
     r = render_texture(texture, curve, amplitude_on=args.amplitude_on, control=args.control,
                        response_time=args.response_time)
     if args.json:
@@ -248,7 +260,8 @@ def register(subparsers) -> None:
                    help="amplitude at the feet per volt [m/V] (from the forced response)")
     p.add_argument("--rom", metavar="FILE", help="reduced model JSON (modalfe forced --save-rom) giving the "
                                                  "amplitude per volt |FRF| at the drive frequency (default: "
-                                                 "its resonance)")
+                                                 "its resonance), the number of feet (its foot outputs) and the "
+                                                 "moving mass m (the device's mass); kn and dn stay seed 000's")
     p.add_argument("--rom-output", metavar="NAME", help="output of the reduced model (default: its reference)")
     p.add_argument("--preload", type=float, default=10.0, help="preload Fn [N] (default 10, seed 000 appendix)")
     p.add_argument("--speed", type=float, default=0.01, help="sliding speed [m/s] (default 0.01)")

@@ -14,7 +14,8 @@ def register(subparsers) -> None:
     p.add_argument("scene", help="built-in scene name or .toml scene file")
     p.add_argument("--mode", help="working-mode label or family, e.g. '(0,6)' or 'bending-z 6'")
     p.add_argument("--near", type=frequency, help="frequency [Hz] the mode is sought near")
-    p.add_argument("--damping", help="zeta=Z, Q=Q or rayleigh=ALPHA,BETA (default: the scene's)")
+    p.add_argument("--damping", help="zeta=Z, Q=Q, rayleigh=ALPHA,BETA or material (default: the scene's; "
+                                     "material: each material's Qm weighted by the mode's strain energy)")
     p.add_argument("--outputs", help="comma-separated face groups, mean:GROUP for the mean over a face group "
                    "(default: the scene's)")
     p.add_argument("--point", action="append", metavar="NAME=X,Y,Z", help="an output point [m] (repeatable)")
@@ -30,6 +31,8 @@ def register(subparsers) -> None:
                    help="drive amplitude [V] of the --plot curve (default 1; a voltage drive only)")
     p.add_argument("--full", action="store_true", help="also solve the full FE harmonic response")
     p.add_argument("--save-rom", metavar="FILE", help="write the reduced model as JSON")
+    p.add_argument("--vtu", metavar="FILE", help="write the response at resonance per unit load (in phase and "
+                   "quadrature: displacement, potential, strain, stress, electric field; von Mises peak) to a VTU")
     p.add_argument("--plot", metavar="FILE", help="write FRF and admittance plots (PNG)")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene parameter")
     p.add_argument("--json", action="store_true")
@@ -48,7 +51,7 @@ def _forced(args) -> int:
 
     if args.mode is not None:
         check_selector(args.mode, "--mode")
-    damping = Damping.parse(args.damping) if args.damping is not None else None
+    damping = args.damping if args.damping in (None, "material") else Damping.parse(args.damping)
     outputs = None
     if args.outputs is not None:
         outputs = [o.strip() for o in args.outputs.split(",")]
@@ -83,9 +86,16 @@ def _forced(args) -> int:
     if args.volts is not None:
         _check_volts(args, load or scene.drive.load)
     fig = forced_figures(scene, selector=args.mode, near=args.near, damping=damping, outputs=outputs,
-                         full=args.full, load=load, stress=stress, **solve_keywords(args))
+                         full=args.full, load=load, stress=stress, state=bool(args.vtu), **solve_keywords(args))
     if args.save_rom:
         fig.rom.save(args.save_rom)
+    if args.vtu:
+        from modalfe.report.export import export_forced_vtu
+
+        export_forced_vtu(fig.mode, fig.state, args.vtu, unit=fig.load_unit, error_estimate=fig.error_estimate)
+        if not args.json:
+            print(f"response at resonance per {fig.load_unit} (in phase and quadrature; von Mises peak over the "
+                  f"cycle) -> {args.vtu}")
     if args.plot:
         _plot(fig, args.plot, args.volts or 1.0)
     if args.json:
@@ -112,6 +122,10 @@ def _forced(args) -> int:
     print(f"  BVD: C0 {bvd['C0']:.4g} F{pm('bvd:C0')}, R1 {bvd['R1']:.4g} ohm{pm('bvd:R1')}, L1 {bvd['L1']:.4g} "
           f"H{pm('bvd:L1')}, C1 {bvd['C1']:.4g} F{pm('bvd:C1')}; one-mode fa {rom.antiresonance:.1f} "
           f"Hz{pm('bvd_fa')}, k_eff {rom.k_eff:.4f}{pm('bvd_k_eff')}")
+    cap = fig.capacitances
+    print(f"  capacitance: free {1e9 * cap['free']:.4g} nF{pm('capacitance:free')} (static, the structure free), "
+          f"clamped {1e9 * cap['clamped']:.4g} nF{pm('capacitance:clamped')} (u = 0), C0 of the BVD "
+          f"{1e9 * cap['C0']:.4g} nF{pm('bvd:C0')} (the free one less this mode's C1)")
     if fig.antiresonance is not None:
         print(f"  open circuit (same model): fa {fig.antiresonance:.2f} Hz{pm('fa')}, "
               f"k_eff {k_eff(rom.frequency, fig.antiresonance):.4f}{pm('k_eff')}")

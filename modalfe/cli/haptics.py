@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from modalfe.errors import ContactError
+from modalfe.progress import is_shown
 
 MAP_LEVELS = (0.1, 0.25, 0.5)  # reductions whose area fractions a map prints beside --required
 
@@ -66,7 +67,7 @@ def run(args, contact, volts: np.ndarray | None, *, feet_map: bool) -> int:
             points, weights = np.array(list(output_points(scene, feet).values())), None
         else:
             points, weights = surface_points(scene, count=args.points)
-        hmap = haptic_map(chain, points, float(volts[0]), weights=weights, progress=not args.json)
+        hmap = haptic_map(chain, points, float(volts[0]), weights=weights, progress=is_shown())
     required = args.required if args.required is not None else args.reduction
     written = _write_map(hmap, scene, chain, required, args.map_dir) if hmap is not None and args.map_dir else []
     if args.json:

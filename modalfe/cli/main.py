@@ -17,6 +17,7 @@ import traceback
 from modalfe.cli import admittance, calibrate, contact, forced, info, modes, place, sensitivity, sweep, tune, view
 from modalfe.cli.options import check_output_paths
 from modalfe.errors import ModalfeError, SceneError
+from modalfe.progress import shown, wanted
 
 COMMAND_GROUPS = (modes, forced, contact, view, sweep, info, place, admittance, sensitivity, tune, calibrate)
 EXIT_INPUT, EXIT_FAILED, EXIT_INTERNAL, EXIT_INTERRUPTED = 2, 1, 70, 130
@@ -57,7 +58,8 @@ def main(argv: list[str] | None = None) -> int:
     status = EXIT_INTERNAL
     try:
         check_output_paths(args)  # a missing folder or an unwritable file fails now, before any work
-        with contextlib.redirect_stdout(captured) if captured is not None else contextlib.nullcontext():
+        with (contextlib.redirect_stdout(captured) if captured is not None else contextlib.nullcontext(),
+              shown(wanted(captured is not None))):  # bars on a terminal's stderr, none with --json or piped
             status = args.func(args)
     except KeyboardInterrupt:
         status = _fail("interrupted", EXIT_INTERRUPTED, prefix="modalfe: ")

@@ -16,6 +16,7 @@ from modalfe.cli.options import (
     solve_options,
 )
 from modalfe.errors import SceneError
+from modalfe.progress import is_shown
 
 
 def register(sub) -> None:
@@ -45,7 +46,7 @@ def register(sub) -> None:
 def _report(args) -> int:
     from modalfe.report.report import format_rows, run_report
 
-    rows = run_report(args.scene, progress=not args.json, overrides=parse_overrides(args.set), jobs=args.jobs,
+    rows = run_report(args.scene, progress=is_shown(), overrides=parse_overrides(args.set), jobs=args.jobs,
                       **solve_keywords(args))
     if args.json:
         print(json.dumps([r.to_json() for r in rows], indent=2))

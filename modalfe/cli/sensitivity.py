@@ -32,7 +32,8 @@ def register(sub) -> None:
     p.add_argument("--amplitude", action="store_true",
                    help="also d ln A / d ln p of the working mode's amplitude per volt at resonance at its outputs")
     p.add_argument("--mode", help="with --amplitude: working-mode label or family (default: the scene's)")
-    p.add_argument("--damping", help="with --amplitude: zeta=Z, Q=Q or rayleigh=ALPHA,BETA (default: the scene's)")
+    p.add_argument("--damping", help="with --amplitude: zeta=Z, Q=Q, eta=ETA, rayleigh=ALPHA,BETA or material "
+                                     "(default: the scene's, material: each material's Qm)")
     p.add_argument("--outputs", help="with --amplitude: comma-separated face groups or mean:GROUP (default: the "
                    "scene's)")
     solve_options(p)
@@ -40,6 +41,7 @@ def register(sub) -> None:
 
 
 def _sensitivity(args) -> int:
+    from modalfe.response.losses import mode_damping
     from modalfe.response.sensitivity import amplitude_sensitivities, check_parameters, frequency_sensitivities
     from modalfe.results.modes import select
     from modalfe.scene import load_scene
@@ -61,9 +63,10 @@ def _sensitivity(args) -> int:
     if working is None:
         found = frequency_sensitivities(modes, names, open_modes=open_modes)
     else:
-        selector, near, damping, outputs = working
-        amplitude = amplitude_sensitivities(modes, names, mode=select(modes, selector, near), outputs=outputs,
-                                            damping=damping, open_modes=open_modes)
+        selector, near, losses, outputs = working
+        mode = select(modes, selector, near)
+        amplitude = amplitude_sensitivities(modes, names, mode=mode, outputs=outputs,
+                                            damping=mode_damping(mode, losses)[0], open_modes=open_modes)
         found = amplitude.modal
     rows = [{"index": mode.index, "frequency_hz": mode.frequency, "label": mode.label,
              "error_estimate": _number(mode.error_estimate),
@@ -99,17 +102,17 @@ def _sensitivity(args) -> int:
 
 
 def _working(scene, args) -> tuple:
-    """(selector, near [Hz], Damping, outputs) of the mode whose amplitude is differentiated, checked before any
+    """(selector, near [Hz], Losses, outputs) of the mode whose amplitude is differentiated, checked before any
     solve: the options given, else the scene's working mode and drive."""
-    from modalfe.response.forced import Damping
     from modalfe.response.loads import check_outputs
+    from modalfe.response.losses import resolve_losses
     from modalfe.results.labels import check_selector
     from modalfe.solve.api import seek
 
     if not scene.working_modes and (args.mode is None or args.near is None):
         raise SceneError("--amplitude: the scene names no working mode; give --mode and --near")
     selector = None if args.mode is None else check_selector(args.mode, "--mode")
-    damping = Damping.parse(args.damping if args.damping is not None else scene.drive.damping)
+    losses = resolve_losses(scene, damping=args.damping)
     if args.outputs is not None:
         outputs = tuple(o.strip() for o in args.outputs.split(","))
         if not all(outputs):
@@ -119,7 +122,7 @@ def _working(scene, args) -> tuple:
     if not outputs:
         raise SceneError("--amplitude: no outputs; give --outputs (face groups) or set drive.outputs")
     check_outputs(scene, outputs)  # every face group known, every name once
-    return (*seek(scene, selector, args.near), damping, outputs)
+    return (*seek(scene, selector, args.near), losses, outputs)
 
 
 def _amplitude_json(found) -> dict:

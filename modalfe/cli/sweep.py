@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from modalfe.cli.options import frequency, parse_params, positive_int, solve_keywords, solve_options
 from modalfe.errors import SceneError
+from modalfe.progress import is_shown
 
 
 def register(subparsers) -> None:
@@ -42,7 +43,7 @@ def _sweep(args) -> int:
         raise SceneError("--mode/--near: the scene names no working mode")
     rows = sweep(args.scene, params, out=args.out, selector=selector, near=near, base=base,
                  scheduler=args.scheduler, workers=args.workers, count=args.count,
-                 progress=not args.json, resolution=solve_keywords(args))
+                 progress=is_shown(), resolution=solve_keywords(args))
     if args.json:
         print(json.dumps([{k: r[k] for k in ("params", "status", "label", "frequency_hz", "error_estimate",
                                              "tracked_label",

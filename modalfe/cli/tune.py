@@ -22,6 +22,7 @@ from modalfe.cli.options import (
     solve_options,
 )
 from modalfe.errors import SceneError
+from modalfe.progress import is_shown
 
 
 def register(sub) -> None:
@@ -113,7 +114,7 @@ def _tune(args) -> int:
 
         starts = latin_hypercube({n: bounds[n] for n in names}, args.starts, seed=args.seed)
         results = run_starts(TuneTask(scene, goals, tuple(names), options), starts, scheduler=args.scheduler,
-                             workers=args.workers, progress=not args.json)
+                             workers=args.workers, progress=is_shown())
         table = list(zip(starts, results))
         chosen = best_result(results)
         if not args.json:

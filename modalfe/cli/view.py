@@ -30,7 +30,8 @@ def register(subparsers) -> None:
     p.set_defaults(func=_show)
 
     p = subparsers.add_parser("export", help="write every computed mode to a VTU file (quadratic cells, part "
-                                             "names, displacement and potential) and its mode table CSV")
+                                             "names, displacement, potential, strain, stress, von Mises, electric "
+                                             "field, stated error) and its mode table CSV")
     p.add_argument("scene")
     p.add_argument("--vtu", required=True, help="output file (.vtu)")
     p.add_argument("--near", type=frequency)
@@ -90,7 +91,9 @@ def _show(args) -> int:
     index = args.mode is not None and args.mode.isdigit()  # --mode N: an index among the modes computed
     selector = None if args.mode is None or index else check_selector(args.mode, "--mode")  # before the solve
 
-    def question(scene) -> dict:  # the working mode's (or the one named), as ``forced`` asks it
+    def question(scene) -> dict:  # the working mode's (or the one named), as ``forced`` asks it; before the solve
+        if not index and selector is None and not scene.working_modes:
+            raise SolverError("show: the scene names no working mode; give --mode")
         if index:
             return {"near": args.near or seek(scene)[1]}
         return working_question(scene, selector, args.near)
@@ -102,8 +105,6 @@ def _show(args) -> int:
             raise SolverError(f"--mode: index {args.mode} out of range (0-{len(modes) - 1})")
         mode = modes[int(args.mode)]
     else:
-        if selector is None and not scene.working_modes:
-            raise SolverError("show: the scene names no working mode; give --mode")
         mode = select(modes, *seek(scene, selector, args.near))
     interactive = args.out is None and bool(os.environ.get("DISPLAY"))
     out = args.out or (None if interactive else f"{scene.name}.png")
@@ -126,6 +127,7 @@ def _export(args) -> int:
 
     scene, modes = _modes(args, lambda scene: {"near": args.near, "count": args.count})
     path = export_vtu(modes, args.vtu)
-    print(f"{scene.name}: {len(modes)} modes -> {path} (quadratic cells, part names, displacement [m] and "
-          f"potential [V] per mode), frequency table -> {table_path(path)}")
+    print(f"{scene.name}: {len(modes)} modes -> {path} (quadratic cells, part names; per mode displacement [m] and "
+          f"potential [V] at the nodes, strain, stress, von Mises and electric field as cell means; each mode's "
+          f"stated error), frequency table -> {table_path(path)}")
     return 0

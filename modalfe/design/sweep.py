@@ -486,11 +486,12 @@ def friction_extra(working, *, volts: float = 10.0, preload: float = 3.0, speed:
     foot model driven at the mode's frequency, its feet sharing the load) and seed 000's foot: the amplitude per
     volt, the friction reduction, the flight ratio, the current and power drawn and the amplitude's rise time."""
     from modalfe.contact.chain import FootContact, chain_from_rom
-    from modalfe.response.forced import Damping, reduce
+    from modalfe.response.forced import reduce
+    from modalfe.response.losses import mode_damping, resolve_losses
 
     scene = working.scene
     feet = [g for g in scene.full_assembly().faces if g.startswith("foot_")]
-    rom = reduce(working, outputs=feet, damping=Damping.parse(scene.drive.damping))
+    rom = reduce(working, outputs=feet, damping=mode_damping(working, resolve_losses(scene))[0])
     chain = chain_from_rom(rom, FootContact(preload=preload, speed=speed), mode=working)
     o = chain.outcome(volts)
     return {"amplitude_per_volt_m": chain.amplitude_per_volt(), "friction_reduction": o.reduction,

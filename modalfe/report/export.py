@@ -8,10 +8,22 @@ whole device. Written:
 
 - point data ``mode_<i>_<label>_<f>Hz displacement [m]`` (the mass-normalised shape, vector at every node)
   and ``mode_<i>_<label>_<f>Hz potential [V]`` (the electric potential over the poled parts, 0 elsewhere);
+- cell data, per mode, ``<stem> strain [-]`` and ``<stem> stress [Pa]`` (3 x 3 tensors, row-major, 9 components:
+  ParaView reads 9 components as a full tensor, free of any Voigt-order convention), ``<stem> von Mises [Pa]``
+  and ``<stem> electric field [V/m]``: each the mean over the cell of the field recovered from the solution
+  (``modalfe.response.stress``: S = sym grad u, E = -grad phi, sigma = c^E S - e^T E), so exact for a field
+  the cell's interpolation holds and well defined across parts of different materials, where nodal values
+  would be double-valued; on a curved or higher-order mesh the mean uses the cells' own (curved) geometry and
+  the solve's quadrature. Like the displacement, they are per unit modal coordinate of the mass-normalised
+  shape (the modal mass is 1 kg);
 - cell data ``part`` (index into the whole device's parts) and one 0/1 array ``part:<name>`` per part,
   so that ParaView lists the parts by name (meshio cannot read a VTU holding a string array);
-- field data ``frequency [Hz]`` and ``mode index`` (one value per mode, in the point-data order);
+- field data ``frequency [Hz]``, ``mode index`` and ``error estimate [relative]`` (one value per mode, in the
+  point-data order; NaN where the solve made no estimate);
 - a sidecar CSV ``<file>_modes.csv`` with the frequency table, units in every header.
+
+``export_forced_vtu`` writes a forced response at resonance the same way, per unit load (``[m/V]``, ``[Pa/V]``...):
+its in-phase and quadrature parts and the von Mises stress's peak over the cycle (docs/export.md).
 """
 
 from __future__ import annotations
@@ -30,8 +42,14 @@ _HEX_EDGES = ((0, 1), (1, 2), (2, 3), (3, 0), (4, 5), (5, 6), (6, 7), (7, 4), (0
 _TET_EDGES = ((0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3))
 # VTK cell type of each (element, quadratic): HEXAHEDRON, QUADRATIC_HEXAHEDRON, TETRA, QUADRATIC_TETRA
 VTK_TYPE = {("hex", False): 12, ("hex", True): 25, ("tet", False): 10, ("tet", True): 24}
+# the cell-data arrays of a mode, after its point-data displacement and potential (module docstring)
+CELL_ARRAYS = ("strain [-]", "stress [Pa]", "von Mises [Pa]", "electric field [V/m]")
 CSV_HEADER = ("mode index", "label", "frequency [Hz]", "error estimate [relative]", "circuit",
-              "displacement array", "potential array")
+              "displacement array", "potential array", "strain array", "stress array", "von Mises array",
+              "electric field array")
+# Voigt component (xx, yy, zz, yz, xz, xy) of each entry of a row-major 3 x 3 tensor, and whether it is a shear
+_VOIGT_OF = np.array([0, 5, 4, 5, 1, 3, 4, 3, 2])
+_SHEAR = _VOIGT_OF >= 3
 
 
 def mode_array_name(mode) -> str:
@@ -125,6 +143,42 @@ def quadratic_device(model, shapes: list[np.ndarray]):
     return points, cells, VTK_TYPE[(kind, quadratic)], displacements, potentials, _part_names(model, points, cells)
 
 
+def cell_fields(model, shapes: list[np.ndarray]) -> list[dict[str, np.ndarray]]:
+    """Per shape, the whole device's cell arrays ``CELL_ARRAYS`` in ``quadratic_device``'s cell order: the mean
+    over each cell (its quadrature, ``modalfe.response.stress.part_fields``) of the strain and stress tensors
+    (n_cells, 9) row-major (tensor strain: half the engineering shears), the von Mises stress of that mean stress
+    (n_cells,) and the electric field (n_cells, 3) (0 where there is no potential). A mirrored cell's tensors
+    are ``S T R`` and its field ``R E``, with S the displacement's image signs and R the reflection (the
+    potential is copied unchanged, as ``quadratic_device`` copies it)."""
+    from modalfe.response.stress import part_fields, von_mises
+
+    scene = model.scene
+    n = model.mesh.mesh.nelements
+    out = []
+    for x in shapes:
+        strain, stress, field = np.full((n, 6), np.nan), np.full((n, 6), np.nan), np.zeros((n, 3))
+        for part in model.mesh.parts:
+            f = part_fields(model, x, part)
+            volume = f.weights.sum(axis=-1)
+            strain[f.elements] = (np.sum(f.strain * f.weights, axis=-1) / volume).T
+            stress[f.elements] = (np.sum(f.stress * f.weights, axis=-1) / volume).T
+            if f.field is not None:
+                field[f.elements] = (np.sum(f.field * f.weights, axis=-1) / volume).T
+        if np.isnan(strain).any():
+            raise SolverError("export: a cell belongs to no part of the mesh")
+        mises = von_mises(stress.T)
+        strain = strain[:, _VOIGT_OF] * np.where(_SHEAR, 0.5, 1.0)
+        stress = stress[:, _VOIGT_OF]
+        for (axis, _), sign in zip(mirror_planes(scene), image_signs(scene)):
+            reflection = np.ones(3)
+            reflection[axis] = -1.0
+            tensor_sign = np.outer(sign, reflection).ravel()
+            strain, stress = np.vstack([strain, strain * tensor_sign]), np.vstack([stress, stress * tensor_sign])
+            mises, field = np.concatenate([mises, mises]), np.vstack([field, field * reflection])
+        out.append(dict(zip(CELL_ARRAYS, (strain, stress, mises, field), strict=True)))
+    return out
+
+
 def _part_names(model, points: np.ndarray, cells: np.ndarray) -> np.ndarray:
     """The full assembly's part of each cell: the mesh's own part sets for a whole model, else the part whose
     bounding box holds the cell's centroid (mirrored cells get the mirrored part's name)."""
@@ -145,36 +199,84 @@ def _part_names(model, points: np.ndarray, cells: np.ndarray) -> np.ndarray:
     return names
 
 
-def export_vtu(modes, path: str | Path, *, table: bool = True) -> Path:
-    """Write ``modes`` (a solid model's) to ``path`` (.vtu) as described in the module docstring, and with
-    ``table`` the sidecar ``<stem>_modes.csv``. Returns the VTU path."""
+def _unit(name: str, per: str) -> str:
+    """An array name with its unit per unit load: ``stress [Pa]`` -> ``stress [Pa/V]``, ``strain [-]`` -> ``[1/V]``."""
+    if not per:
+        return name
+    head, _, unit = name.rpartition(" [")
+    unit = unit.rstrip("]")
+    return f"{head} [{'1' if unit == '-' else unit}/{per}]"
+
+
+def device_grid(model, states: list[tuple[str, np.ndarray]], *, per: str = ""):
+    """A pyvista grid of the whole device (``quadratic_device``) with, for each (stem, real full DOF vector) of
+    ``states``, the point arrays ``<stem> displacement [m]`` and ``<stem> potential [V]`` and the cell arrays
+    ``CELL_ARRAYS`` (``cell_fields``), units per unit load ``per`` (e.g. ``V``) where given; and the parts."""
     import pyvista as pv
 
-    model = modes.model
     if not hasattr(model, "u_basis") or not hasattr(getattr(model, "mesh", None), "mesh"):
         raise SolverError("export: VTU export needs the 3-D solid model (--fidelity solid)")
-    mode_list = list(modes)
-    points, cells, cell_type, disp, pot, part_of = quadratic_device(model, [m.shape for m in mode_list])
+    shapes = [x for _, x in states]
+    points, cells, cell_type, disp, pot, part_of = quadratic_device(model, shapes)
     names = [p.name for p in model.scene.full_assembly().parts]
     index = {name: i for i, name in enumerate(names)}
     part_id = np.array([index[n] for n in part_of], dtype=np.int32)
     grid = pv.UnstructuredGrid(np.hstack([np.full((len(cells), 1), cells.shape[1]), cells]).ravel(),
                                np.full(len(cells), cell_type, dtype=np.uint8), points)
-    for m, u, phi in zip(mode_list, disp, pot):
-        grid.point_data[f"{mode_array_name(m)} displacement [m]"] = u
-        grid.point_data[f"{mode_array_name(m)} potential [V]"] = phi
+    for (stem, _), u, phi, per_cell in zip(states, disp, pot, cell_fields(model, shapes), strict=True):
+        grid.point_data[f"{stem} {_unit('displacement [m]', per)}"] = u
+        grid.point_data[f"{stem} {_unit('potential [V]', per)}"] = phi
+        for name, values in per_cell.items():
+            grid.cell_data[f"{stem} {_unit(name, per)}"] = values
     grid.cell_data["part"] = part_id
     for i, name in enumerate(names):
         grid.cell_data[f"part:{name}"] = (part_id == i).astype(np.uint8)
-    grid.field_data["frequency [Hz]"] = np.array([m.frequency for m in mode_list])
-    grid.field_data["mode index"] = np.array([m.index for m in mode_list], dtype=np.int32)
+    return grid
+
+
+def _save(grid, path: str | Path) -> Path:
     path = Path(path)
     if path.suffix.lower() != ".vtu":
         raise SolverError(f"--vtu: the file name must end in .vtu, got '{path.name}'")
     grid.save(path, binary=True)
+    return path
+
+
+def export_vtu(modes, path: str | Path, *, table: bool = True) -> Path:
+    """Write ``modes`` (a solid model's) to ``path`` (.vtu) as described in the module docstring, and with
+    ``table`` the sidecar ``<stem>_modes.csv``. Returns the VTU path."""
+    mode_list = list(modes)
+    grid = device_grid(modes.model, [(mode_array_name(m), m.shape) for m in mode_list])
+    grid.field_data["frequency [Hz]"] = np.array([m.frequency for m in mode_list])
+    grid.field_data["mode index"] = np.array([m.index for m in mode_list], dtype=np.int32)
+    grid.field_data["error estimate [relative]"] = np.array([m.error_estimate for m in mode_list])
+    path = _save(grid, path)
     if table:
         write_mode_table(mode_list, table_path(path))
     return path
+
+
+def export_forced_vtu(mode, state: np.ndarray, path: str | Path, *, unit: str = "V",
+                      error_estimate: float = float("nan")) -> Path:
+    """Write the forced response ``state`` (full DOF, complex, per unit load ``unit``; x = a + i b varies as
+    a cos(wt) - b sin(wt)) at ``mode``'s resonance to ``path`` (.vtu): the arrays of ``device_grid`` for the
+    in-phase part a (``resonance_<label>_<f>Hz in phase``) and for -b, a quarter period later (``... quadrature``),
+    per unit load, the von Mises stress's peak over the cycle of each cell's mean stress
+    (``modalfe.response.stress``: exact, the largest eigenvalue of a 2 x 2 form), and as field data the
+    frequency and its stated error."""
+    from modalfe.response.stress import von_mises_peak
+
+    stem = f"resonance_{mode.label.replace(' ', '_')}_{mode.frequency:.1f}Hz"
+    state = np.asarray(state, dtype=complex)
+    grid = device_grid(mode.model, [(f"{stem} in phase", state.real), (f"{stem} quadrature", -state.imag)],
+                       per=unit)
+    voigt = [0, 4, 8, 5, 2, 1]  # row-major 3 x 3 entries of xx, yy, zz, yz, xz, xy
+    a = grid.cell_data[f"{stem} in phase {_unit('stress [Pa]', unit)}"][:, voigt].T
+    b = grid.cell_data[f"{stem} quadrature {_unit('stress [Pa]', unit)}"][:, voigt].T
+    grid.cell_data[f"{stem} {_unit('von Mises peak over the cycle [Pa]', unit)}"] = von_mises_peak(a, b)
+    grid.field_data["frequency [Hz]"] = np.array([mode.frequency])
+    grid.field_data["error estimate [relative]"] = np.array([error_estimate])
+    return _save(grid, path)
 
 
 def table_path(vtu: str | Path) -> Path:
@@ -192,5 +294,6 @@ def write_mode_table(modes, path: str | Path) -> Path:
         for m in modes:
             error = "" if math.isnan(m.error_estimate) else f"{m.error_estimate:.3g}"
             writer.writerow([m.index, m.label, f"{m.frequency:.6f}", error, m.circuit,
-                             f"{mode_array_name(m)} displacement [m]", f"{mode_array_name(m)} potential [V]"])
+                             f"{mode_array_name(m)} displacement [m]", f"{mode_array_name(m)} potential [V]",
+                             *(f"{mode_array_name(m)} {name}" for name in CELL_ARRAYS)])
     return path

@@ -310,8 +310,12 @@ def _start_method() -> str:
 
 
 def _ignore_sigint() -> None:
-    """Workers leave Ctrl-C to the parent, which stops them (no traceback from every worker)."""
+    """Workers leave Ctrl-C to the parent, which stops them (no traceback from every worker), and their progress to
+    the parent's bar (a forked worker would otherwise draw its steps over it)."""
+    from modalfe.progress import hide
+
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    hide()
 
 
 def window_rows(name_window: tuple[str, int], *, overrides: dict, error_estimate: bool, fidelity: str,

@@ -21,8 +21,8 @@ which carry no charge, are allowed).
 
 Losses: mechanical viscous (modal zeta, Q = 1 / 2 zeta, Rayleigh alpha + beta omega_r^2 = 2 zeta_r omega_r) or
 hysteretic (loss factor eta, and per material eta_r = sum_m U_m,r / U_r / Qm_m, the modal strain-energy method,
-Johnson & Kienholz, AIAA J. 20 (1982) 1284); dielectric: eps^S (1 - i tan delta), so the blocked capacitance
-(u = 0) becomes C_0 (1 - i tan delta) (exact: it is linear in eps^S). A half or quarter model's charge is
+Johnson & Kienholz, AIAA J. 20 (1982) 1284); dielectric: eps^S (1 - i tan delta), so the clamped capacitance
+(u = 0) becomes C_S (1 - i tan delta) (exact: it is linear in eps^S). A half or quarter model's charge is
 doubled per mirror plane (its modes are the symmetric ones).
 """
 
@@ -76,19 +76,19 @@ def _grid_extrema(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 @dataclass(frozen=True)
 class Admittance:
-    """Admittance of the driven electrodes (whole device): frequency [Hz], Y [S] complex; method; losses (each
-    with its source); capacitance_blocked C_0 [F] (u = 0, lossless); modes: per mode used, label, frequency_hz,
-    error_estimate (relative, None: not estimated), theta (modal force per volt [N/(V kg^0.5)]) and its loss, and
-    where the answer states errors (``with_stated_errors``) the |Y| maximum nearest the mode (``peak_hz``, ``peak_S``)
-    and the minimum above it (``dip_hz``) with their stated errors (``*_error``, as ``theta_error``);
-    ``capacitance_error``: C_0's stated error; notes."""
+    """Admittance of the driven electrodes (whole device): frequency [Hz], Y [S] complex; method; losses (each with its
+    source); capacitance_clamped C_S [F] (the clamped capacitance, u = 0, lossless); modes: per mode used, label,
+    frequency_hz, error_estimate (relative, None: not estimated), theta (modal force per volt [N/(V kg^0.5)]) and
+    its loss, and where the answer states errors (``with_stated_errors``) the |Y| maximum nearest the mode
+    (``peak_hz``, ``peak_S``) and the minimum above it (``dip_hz``) with their stated errors (``*_error``, as
+    ``theta_error``); ``capacitance_error``: C_S's stated error; notes."""
 
     scene: str
     frequency: np.ndarray
     Y: np.ndarray
     method: str
     losses: tuple[str, ...]
-    capacitance_blocked: float
+    capacitance_clamped: float
     dofs: int
     modes: tuple[dict, ...] = ()
     notes: tuple[str, ...] = ()
@@ -153,7 +153,7 @@ class Admittance:
         Z = self.Z
         return {
             "scene": self.scene, "method": self.method, "losses": list(self.losses), "dofs": self.dofs,
-            "capacitance_blocked_F": self.capacitance_blocked, "modes": list(self.modes), "notes": list(self.notes),
+            "capacitance_clamped_F": self.capacitance_clamped, "modes": list(self.modes), "notes": list(self.notes),
             **self.extrema(),
             "frequency_Hz": self.frequency.tolist(), "Y_real_S": self.Y.real.tolist(), "Y_imag_S": self.Y.imag.tolist(),
             "abs_Z_ohm": np.abs(Z).tolist(), "phase_Z_deg": np.degrees(np.angle(Z)).tolist(),
@@ -177,12 +177,12 @@ class Admittance:
 
 def admittance(scene, band: tuple[float, float], points: int, *, damping: str | None = None,
                tan_delta: float | None = None, per_mode: Mapping[str, str] | None = None, direct: bool = False,
-               residual: str = "centre", widen: float = WIDEN, progress: bool = False, **resolution) -> Admittance:
+               residual: str = "centre", widen: float = WIDEN, **resolution) -> Admittance:
     """Y(f) of ``scene``'s driven electrodes at ``points`` frequencies evenly spaced over ``band`` [Hz]: modal
     superposition (every short-circuit mode in the band widened by ``widen``, residual of the others at
-    ``residual``: ``centre`` or ``static``), or the direct damped FE solve (``direct``, a progress bar with
-    ``progress``), both on the 3-D solid's modes of the widened band (``band_modes``, resolved at ``resolution``:
-    ``solve_modes``' tol, fidelity, error_estimate). Losses from ``resolve_losses``."""
+    ``residual``: ``centre`` or ``static``), or the direct damped FE solve (``direct``; its progress shown where
+    ``modalfe.progress.shown``), both on the 3-D solid's modes of the widened band (``band_modes``, resolved at
+    ``resolution``: ``solve_modes``' tol, fidelity, error_estimate). Losses from ``resolve_losses``."""
     frequency = frequency_grid(band, points)
     losses = resolve_losses(scene, damping=damping, tan_delta=tan_delta, per_mode=per_mode)
     if "drive" not in scene.electrodes.values():
@@ -197,7 +197,7 @@ def admittance(scene, band: tuple[float, float], points: int, *, damping: str | 
         if modes is None:  # modes the band solve failed to find: its own error
             raise
     if direct:
-        return direct_admittance(modes.model, frequency, losses, progress=progress)
+        return direct_admittance(modes.model, frequency, losses)
     result = modal_admittance(modes, frequency, losses, residual=residual,
                               note=f"short-circuit modes in [{lo:.6g}, {hi:.6g}] Hz (the band widened {widen:g}x); "
                                    f"resolved: {modes.resolution}")
@@ -206,7 +206,7 @@ def admittance(scene, band: tuple[float, float], points: int, *, damping: str | 
 
 def with_stated_errors(result: Admittance, modes, losses: Losses, residual: str) -> Admittance:
     """``result`` (``modal_admittance`` of ``modes``) with the stated errors of what a designer reads off it: each
-    mode's theta, the |Y| maximum nearest it (frequency and value) and the minimum above it, and C_0, from the
+    mode's theta, the |Y| maximum nearest it (frequency and value) and the minimum above it, and C_S, from the
     same estimate levels as the frequencies (``modalfe.solve.api.derived_errors``): the admittance of each level's
     modes over the same grid, read at the partner of each mode. A mode whose frequency states no error gets none
     either; the extrema only where every mode of the band states one (a band solved on the working mode's answer,
@@ -222,7 +222,7 @@ def with_stated_errors(result: Admittance, modes, losses: Losses, residual: str)
             level = modal_admittance(modes.estimate.level_holding(m), result.frequency, losses, residual=residual)
             curves[id(m.model)] = (level, level.extrema() if every else None)
         curve, ext = curves[id(m.model)]
-        out = {"C0": curve.capacitance_blocked}
+        out = {"C_S": curve.capacitance_clamped}
         theta = abs(float(m.shape @ m.model.voltage_load(1.0)))
         if theta > UNDRIVEN * strongest:
             out["theta"] = theta
@@ -245,11 +245,11 @@ def with_stated_errors(result: Admittance, modes, losses: Losses, residual: str)
             continue
         fine = numbers(m)
         errors = derived_errors(modes, m, numbers, fine)
-        c0_error = errors["C0"][0] if math.isnan(c0_error) else max(c0_error, errors["C0"][0])
+        c0_error = errors["C_S"][0] if math.isnan(c0_error) else max(c0_error, errors["C_S"][0])
         rows.append({**row, **{k: v for k, v in fine.items() if k in ("peak_hz", "peak_S", "dip_hz")},
-                     **{f"{k}_error": _finite_or_none(e) for k, (e, _) in errors.items() if k != "C0"}})
-    note = "stated errors of theta, the |Y| extrema and C0: from the frequencies' estimate levels (the admittance of " \
-           "each level's modes)"
+                     **{f"{k}_error": _finite_or_none(e) for k, (e, _) in errors.items() if k != "C_S"}})
+    note = "stated errors of theta, the |Y| extrema and the clamped capacitance: from the frequencies' estimate " \
+           "levels (the admittance of each level's modes)"
     if not every:
         note += "; the extrema's not estimated: the band's other modes state no error (solved on the working mode's " \
                 "answer only)"
@@ -337,8 +337,8 @@ def frequency_grid(band, points: int) -> np.ndarray:
     return np.linspace(f1, f2, int(points))
 
 
-def blocked_capacitance(model) -> float:
-    """C_0 [F] of the solved part with every displacement held at zero (the dielectric alone)."""
+def clamped_capacitance(model) -> float:
+    """The clamped capacitance C_S [F] of the solved part: every displacement held at zero (the dielectric alone)."""
     from scipy.sparse.linalg import splu
 
     from modalfe.response.forced import drive_vectors
@@ -355,7 +355,7 @@ def blocked_capacitance(model) -> float:
 
 def modal_admittance(modes, frequency, losses: Losses, *, residual: str = "centre", note: str = "") -> Admittance:
     """Y(f) [S] by modal superposition of ``modes`` (short circuit, one model; none for a band without a resonance:
-    the blocked capacitance and the residual) with the residual of the modes left out at ``residual`` (module
+    the clamped capacitance and the residual) with the residual of the modes left out at ``residual`` (module
     docstring). The result can evaluate the same Y anywhere (``Admittance.model_Y``), so its fr and fa are refined
     between the grid's points."""
     from modalfe.response.forced import drive_vectors
@@ -403,18 +403,18 @@ def modal_admittance(modes, frequency, losses: Losses, *, residual: str = "centr
     c, h, text = modal_losses(used, model, losses)
     q_res0 = C_b + float(F @ x_s) - float(np.sum(theta**2 / (omega_r**2 - sigma)))
     q_res1 = float(F @ z_s) - float(np.sum(theta**2 / (omega_r**2 - sigma) ** 2))
-    C0 = blocked_capacitance(model)
+    C_S = clamped_capacitance(model)
     factor = model.copies
 
     def model_Y(frequency) -> np.ndarray:  # noqa: N802 (the admittance's own symbol)
         wf = 2 * np.pi * np.atleast_1d(np.asarray(frequency, dtype=float))
         d = omega_r[None, :] ** 2 - wf[:, None] ** 2 + 1j * (c[None, :] * wf[:, None] + h[None, :])
-        q = q_res0 + (wf**2 - sigma) * q_res1 + (theta[None, :] ** 2 / d).sum(axis=1) - 1j * losses.tan_delta * C0
+        q = q_res0 + (wf**2 - sigma) * q_res1 + (theta[None, :] ** 2 / d).sum(axis=1) - 1j * losses.tan_delta * C_S
         return 1j * wf * factor * q
 
     notes = [note] if note else []
     if not used:
-        notes.append("no resonance in the band: the device is a capacitor, the blocked capacitance and the residual "
+        notes.append("no resonance in the band: the device is a capacitor, the clamped capacitance and the residual "
                      "of the modes outside")
     if rigid:
         notes.append(f"{rigid} rigid-body modes (no charge) left to the residual")
@@ -434,7 +434,7 @@ def modal_admittance(modes, frequency, losses: Losses, *, residual: str = "centr
                   "theta_N_per_V_sqrtkg": float(t), "loss": s, "width_hz": float(b)}
                  for m, t, s, b in zip(used, theta, text, widths))
     notes += _coarse_grid_notes(f, rows)
-    return Admittance(model.scene.name, f, model_Y(f), method, tuple(losses.describe()), factor * C0,
+    return Admittance(model.scene.name, f, model_Y(f), method, tuple(losses.describe()), factor * C_S,
                       modes.dofs, rows, tuple(notes), model_Y)
 
 
@@ -466,7 +466,7 @@ def _coarse_grid_notes(f: np.ndarray, rows) -> list[str]:
             for r in rows if f[0] <= r["frequency_hz"] <= f[-1] and spacing > r["width_hz"]]
 
 
-def direct_admittance(model, frequency, losses: Losses, *, progress: bool = False) -> Admittance:
+def direct_admittance(model, frequency, losses: Losses) -> Admittance:
     """Y(f) [S] by the direct damped FE solve at each frequency (one complex sparse LU each)."""
     from modalfe.response.forced import drive_vectors
     from modalfe.solve.linalg import solve_complex
@@ -508,12 +508,9 @@ def direct_admittance(model, frequency, losses: Losses, *, progress: bool = Fals
     B = (T.T @ model.M @ T).tocsc()
     Cf = (T.T @ C @ T).tocsc()
     Y = np.zeros(len(f), dtype=complex)
-    iterator = range(len(f))
-    if progress:
-        from tqdm import tqdm
+    from modalfe.progress import counted
 
-        iterator = tqdm(iterator, desc="direct harmonic FE", unit="freq", leave=False)
-    for i in iterator:
+    for i in counted(range(len(f)), "direct harmonic FE", unit="frequency"):
         x = solve_complex((A - w[i] ** 2 * B + 1j * w[i] * Cf).tocsr(), F)
         if not np.all(np.isfinite(x)):
             raise SolverError(f"harmonic solve at {f[i]:g} Hz returned NaN")
@@ -523,4 +520,4 @@ def direct_admittance(model, frequency, losses: Losses, *, progress: bool = Fals
         notes.append(f"solved on 1/{factor} of the device (symmetry); charge scaled by {factor}")
     dofs = T.shape[1]
     return Admittance(model.scene.name, f, factor * Y, f"direct harmonic FE, {dofs} DOFs", tuple(losses.describe()),
-                      factor * blocked_capacitance(model), dofs, (), tuple(notes))
+                      factor * clamped_capacitance(model), dofs, (), tuple(notes))

@@ -58,7 +58,19 @@ class ForcedFigures:
     resolution: str = ""
     antiresonance: float | None = None
     errors: dict[str, tuple[float, str]] = field(default_factory=dict)
-    mode: object = None  # the working mode the figures are of (bound to its model), for fields beyond the outputs
+    capacitance_clamped: float | None = None
+    mode: object = field(default=None, repr=False)  # the working mode (bound to its model), for fields beyond outputs
+    state: np.ndarray | None = field(default=None, repr=False)
+
+    @property
+    def capacitances(self) -> dict[str, float]:
+        """The three capacitances [F] by their one name each (docs/capacitance.md): ``free`` (static, the structure
+        free to deform: C0 + C1 of the BVD), ``clamped`` (every displacement held at 0) and ``C0`` of the BVD (the
+        free one less this mode's share C1). Empty for a load other than a voltage."""
+        if not self.rom.is_voltage_driven:
+            return {}
+        bvd = self.rom.bvd
+        return {"free": bvd["C0"] + bvd["C1"], "clamped": self.capacitance_clamped, "C0": bvd["C0"]}
 
     def error(self, name: str) -> float:
         """The stated relative error of the number ``name`` (``device_numbers``' keys), NaN when not estimated."""
@@ -74,7 +86,9 @@ class ForcedFigures:
             "reduced_model": {"reference": rom.reference, "modal_mass_kg": rom.modal_mass,
                               "stiffness_n_per_m": rom.stiffness, "damping_n_s_per_m": rom.damping,
                               "force_factor_n_per_v": rom.force_factor},
-            "bvd": rom.bvd, "bvd_antiresonance_hz": rom.antiresonance, "antiresonance_hz": self.antiresonance,
+            "bvd": rom.bvd, "capacitance_free_F": self.capacitances["free"],
+            "capacitance_clamped_F": self.capacitances["clamped"], "bvd_antiresonance_hz": rom.antiresonance,
+            "antiresonance_hz": self.antiresonance,
             "k_eff": None if self.antiresonance is None else k_eff(rom.frequency, self.antiresonance),
             "bvd_k_eff": rom.k_eff,
             "amplitude_per_volt_m": self.amplitude_per_volt, "volts_for": self.volts_for,
@@ -132,14 +146,17 @@ class ForcedFigures:
 
 def forced_figures(scene, *, selector: str | None = None, near: float | None = None, damping=None,
                    outputs=None, span: float = 0.02, points: int = 41, full: bool = False, load=None,
-                   stress=None, **resolution) -> ForcedFigures:
+                   stress=None, state: bool = False, **resolution) -> ForcedFigures:
     """Reduce the working mode and derive the device figures; ``full`` adds the direct FE FRF. ``load``
-    (``modalfe.response.loads.Load``; default: the scene's ``drive.load``) is checked before any solve;
-    ``stress``: True (every part) or part names for the peak stress and field at resonance. The mode is the one
+    (``modalfe.response.loads.Load``; default: the scene's ``drive.load``) is checked before any solve; ``stress``:
+    True (every part) or part names for the peak stress and field at resonance; ``state``: keep the mode and the
+    full response at resonance per unit load (for ``modalfe.report.export.export_forced_vtu``). The mode is the one
     ``modes`` gives for the scene's question about it (``modalfe.solve.api.working_question``), solved at
     ``resolution`` (``solve_modes``' tol, fidelity, error_estimate) on the 3-D solid."""
+    from modalfe.response.admittance import clamped_capacitance
     from modalfe.response.forced import Damping, harmonic_response, open_circuit_fa, reduce, resonant_state
     from modalfe.response.loads import Load, check_forcing, check_outputs
+    from modalfe.response.losses import mode_damping, resolve_losses
     from modalfe.response.stress import limit_loads, part_peaks
     from modalfe.results.labels import check_selector
     from modalfe.results.modes import select
@@ -169,18 +186,16 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
         selector = check_selector(selector, "mode")
     question = working_question(scene, selector, near)
     selector, near = question["mode"], sought_near(scene, selector, near)
-    if damping is not None:
-        if not isinstance(damping, Damping):
-            raise SceneError(f"damping: must be a Damping (Damping.parse('Q=150')), got {damping!r}")
-        source = "set by the user"
-    else:
-        damping, source = Damping.parse(scene.drive.damping), scene.drive.damping_source
+    if damping is not None and not (isinstance(damping, Damping) or damping == "material"):
+        raise SceneError(f"damping: must be a Damping (Damping.parse('Q=150')) or 'material', got {damping!r}")
+    losses = None if isinstance(damping, Damping) else resolve_losses(scene, damping=damping)
     outputs = tuple(outputs or scene.drive.outputs)
     if not outputs:
         raise SolverError("forced: no outputs; give --outputs (face groups) or set drive.outputs")
     check_outputs(scene, outputs)
     modes = solid_modes(scene, needs="the forced response", **question, **resolution)
     mode = select(modes, selector, near)
+    damping, source = (damping, "set by the user") if losses is None else mode_damping(mode, losses)
     rom = reduce(mode, outputs=outputs, damping=damping, load=None if voltage else load)
     fa, notes_fa = None, ""
     if voltage:
@@ -219,9 +234,6 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
                                      damping=damping, reference_omega=omega, load=None if voltage else load)
         frf_full = response.displacement[rom.reference][:, 2]
     notes = [f"damping {rom.damping_description} ({source})"] + ([notes_fa] if notes_fa else [])
-    if voltage:
-        notes.append("C0 of the BVD: the static capacitance less this mode's share (the blocked capacitance, u = 0, "
-                     "plus every other mode's quasi-static charge per volt); `admittance` prints the blocked one")
     if not voltage and load.kind == "base-acceleration":
         notes.append("displacement, velocity and acceleration are relative to the base; absolute acceleration "
                      "= relative + base")
@@ -242,14 +254,16 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
     notes.append(f"largest normal amplitude on the top face: {1e9 * peak:.3g} nm/{load.unit} (0-peak) at x = "
                  f"{1e3 * where[0]:.1f} mm, y = {1e3 * where[1]:.1f} mm")
     peaks = limits = None
+    resonant = resonant_state(mode, damping=damping, load=None if voltage else load) \
+        if parts is not None or state else None
     if parts is not None:
-        state = resonant_state(mode, damping=damping, load=None if voltage else load)
-        peaks = part_peaks(mode.model, state, parts)
+        peaks = part_peaks(mode.model, resonant, parts)
         limits = limit_loads(peaks, scene)
         if scene.symmetry:
             notes.append(f"stress: solved on the part of the device kept by symmetry ({', '.join(scene.symmetry)}); "
                          f"each peak has a mirror image")
-    fine = device_numbers(rom, fa, peaks)
+    clamped = mode.model.copies * clamped_capacitance(mode.model) if voltage else None
+    fine = device_numbers(rom, fa, peaks, clamped)
 
     def level_fa(m) -> float | None:  # fa of a mode's partner on its level, sought as the answer's is (at the shift
         try:  # the level was solved at: its factorization reused)
@@ -262,7 +276,8 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
         at_level = None if not voltage else level_fa(m)
         level_peaks = None if parts is None else part_peaks(
             m.model, resonant_state(m, damping=damping, load=None if voltage else load), parts)
-        return device_numbers(r, at_level, level_peaks)
+        at_level_clamped = None if not voltage else m.model.copies * clamped_capacitance(m.model)
+        return device_numbers(r, at_level, level_peaks, at_level_clamped)
 
     errors = with_composed_errors(derived_errors(modes, mode, level_numbers, fine, eigenvalues=("fa",)),
                                   mode.error_estimate, voltage)
@@ -272,20 +287,25 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
                          rom.envelope_time_constant, f, rom.frf(f), rom.admittance(f) if voltage else None, frf_full,
                          notes, amplitude_at, peak, load.describe() if not voltage else
                          "voltage on the driven electrodes", load_source, load.unit, velocity, absolute, peaks, limits,
-                         mode.error_estimate, modes.resolution, fa, errors, mode)
+                         mode.error_estimate, modes.resolution, fa, errors, clamped, mode,
+                         resonant if state else None)
 
 
-def device_numbers(rom, fa: float | None, peaks=None) -> dict[str, float]:
+def device_numbers(rom, fa: float | None, peaks=None, clamped: float | None = None) -> dict[str, float]:
     """The numbers ``forced`` estimates on the levels, of a reduced model ``rom`` (``modalfe.response.forced.reduce``),
     by name: the reduced model's mass and force factor, the amplitude per unit load at each output, and for a voltage
-    drive C0, the one-mode circuit's fa and k_eff and the open circuit's ``fa`` and k_eff; with ``peaks``
+    drive C0 of the BVD, the free capacitance (C0 + C1) and the ``clamped`` one, the one-mode circuit's fa and k_eff
+    and the open circuit's ``fa`` and k_eff; with ``peaks``
     (``modalfe.response.stress.part_peaks``) each part's peak von Mises and principal stress and field. The numbers
     made of these and the frequency (stiffness, damping, R1, L1, C1) get their errors composed
     (``with_composed_errors``)."""
     numbers = {"modal_mass": rom.modal_mass, "force_factor": abs(rom.force_factor),
                **{f"amplitude:{o}": rom.amplitude_per_volt(o) for o in rom.shapes}}
     if rom.is_voltage_driven:
-        numbers.update({"bvd:C0": rom.capacitance}, bvd_fa=rom.antiresonance, bvd_k_eff=rom.k_eff)
+        numbers.update({"bvd:C0": rom.capacitance, "capacitance:free": rom.capacitance + rom.bvd["C1"]},
+                       bvd_fa=rom.antiresonance, bvd_k_eff=rom.k_eff)
+        if clamped is not None:
+            numbers["capacitance:clamped"] = clamped
         if fa is not None:
             numbers.update(fa=fa, k_eff=k_eff(rom.frequency, fa))
     for p in peaks or ():

@@ -34,6 +34,9 @@ from modalfe.scene.scene import check_underdamped
 # outputs whose normal motion is within this fraction of the largest count as equal when the reference is
 # chosen: symmetric outputs differ by the solver's rounding (~1e-10), real differences are >1e-3
 REFERENCE_TIE = 1e-6
+# the reduced model's JSON: /2 adds device_mass (issue 37); a /1 file reads with device_mass unknown (NaN)
+ROM_FORMAT = "modalfe.ReducedModel/2"
+ROM_FORMATS_READ = ("modalfe.ReducedModel/1", ROM_FORMAT)
 
 
 @dataclass(frozen=True)
@@ -93,7 +96,7 @@ class Damping:
         if self.zeta is not None:
             return f"modal zeta = {self.zeta:g}"
         if self.Q is not None:
-            return f"quality factor Q = {self.Q:g} (zeta = {1 / (2 * self.Q):.3g})"
+            return f"quality factor Q = {self.Q:.4g} (zeta = {1 / (2 * self.Q):.3g})"
         return f"Rayleigh alpha = {self.alpha:g} 1/s, beta = {self.beta:g} s"
 
 
@@ -104,9 +107,12 @@ class ReducedModel:
     frequency [Hz], zeta [-], reference output name; at the reference output: modal_mass [kg],
     stiffness [N/m], damping [N s/m], force_factor [N/V]; shapes: output -> (ux, uy, uz) of the
     mode relative to the reference's normal (z) value; feedthrough: output -> (3,) [m/V] quasi-static
-    response of all other modes; capacitance C0 [F] (everything but the mode) and theta [C/(m)] =
+    response of all other modes; capacitance: C0 of the BVD [F] (the free capacitance less this mode's share,
+    docs/capacitance.md) and theta [C/(m)] =
     charge per unit reference displacement. ``drive_load`` and ``load_unit``: what the model is driven by (a voltage
     unless said otherwise; then the force factor is N per ``load_unit`` and there is no circuit, C0 = 0).
+    ``device_mass`` [kg]: the whole device's mass (its rigid translation's, r^T M r; NaN where the model cannot
+    translate its unknowns rigidly), the mass the feet carry in the contact models.
     """
 
     label: str
@@ -123,6 +129,7 @@ class ReducedModel:
     feedthrough: dict[str, list[float]] = field(default_factory=dict)
     drive_load: str = "voltage on the driven electrodes"
     load_unit: str = "V"
+    device_mass: float = float("nan")
 
     @property
     def is_voltage_driven(self) -> bool:
@@ -192,13 +199,13 @@ class ReducedModel:
         return A, B, C, D
 
     def to_json(self) -> str:
-        return json.dumps({"format": "modalfe.ReducedModel/1", **asdict(self)}, indent=2)
+        return json.dumps({"format": ROM_FORMAT, **asdict(self)}, indent=2)
 
     @classmethod
     def from_json(cls, text: str) -> ReducedModel:
         data = json.loads(text)
-        if data.pop("format", None) != "modalfe.ReducedModel/1":
-            raise SceneError("reduced model: not a modalfe.ReducedModel/1 JSON document")
+        if data.pop("format", None) not in ROM_FORMATS_READ:
+            raise SceneError(f"reduced model: not a {' or '.join(ROM_FORMATS_READ)} JSON document")
         return cls(**data)
 
     def save(self, path: str | Path) -> None:
@@ -310,9 +317,19 @@ def reduce(mode: Mode, *, outputs, damping: Damping, reference: str | None = Non
         reference=reference, modal_mass=m_eff, stiffness=m_eff * omega_r**2, damping=2 * zeta * omega_r * m_eff,
         force_factor=copies * theta / ref, capacitance=copies * capacitance,
         shapes={n: list(map(float, phi[n] / ref)) for n in phi},
-        feedthrough={n: list(map(float, feed[n])) for n in feed},
+        feedthrough={n: list(map(float, feed[n])) for n in feed}, device_mass=_device_mass(model),
         **({} if voltage else {"drive_load": load.describe(), "load_unit": load.unit}),
     )
+
+
+def _device_mass(model) -> float:
+    """The whole device's mass [kg], r^T M r for the unit rigid translation r along z (solid model), else NaN."""
+    from modalfe.response.loads import rigid_translation
+
+    if not hasattr(model, "u_basis"):
+        return float("nan")
+    r = rigid_translation(model, "z")
+    return float(model.copies * (r @ (model.M[: model.n_u, : model.n_u] @ r)))
 
 
 def resonant_state(mode: Mode, *, damping: Damping, load=None) -> np.ndarray:
@@ -367,11 +384,9 @@ def harmonic_response(model, frequency, *, outputs, damping: Damping, reference_
     disp = {name: np.zeros((len(freqs), 3), dtype=complex) for name in probes}
     Y = np.zeros(len(freqs), dtype=complex)
     dissipated = np.zeros(len(freqs))
-    from tqdm import tqdm
+    from modalfe.progress import counted
 
-    steps = tqdm(freqs, desc=f"direct harmonic FE ({A.shape[0]} unknowns)", unit="frequency", leave=False,
-                 disable=len(freqs) < 3)  # on stderr: --json output stays clean
-    for i, f in enumerate(steps):
+    for i, f in enumerate(counted(freqs, f"direct harmonic FE ({A.shape[0]} unknowns)", unit="frequency")):
         w = 2 * np.pi * f
         x = solve_complex((A - w**2 * B + 1j * w * C).tocsr(), F)
         if not np.all(np.isfinite(x)):

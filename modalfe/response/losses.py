@@ -9,11 +9,16 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.sparse as sp
 
 from modalfe.errors import SceneError, SolverError
+
+if TYPE_CHECKING:
+    from modalfe.response.forced import Damping
+    from modalfe.results.modes import Mode
 
 
 @dataclass(frozen=True)
@@ -36,7 +41,7 @@ class Losses:
             lines[0] = f"mechanical: per material, modal strain-energy weighted 1 / Qm ({self.mechanical_source})"
             lines.append(f"materials without Qm and springs: {self.fallback} ({self.fallback_source})")
         lines += [f"mode {label}: {spec} (set by the user)" for label, spec in self.per_mode.items()]
-        lines.append(f"dielectric: tan delta = {self.tan_delta:g} on the blocked capacitance ({self.tan_delta_source})")
+        lines.append(f"dielectric: tan delta = {self.tan_delta:g} on the clamped capacitance ({self.tan_delta_source})")
         return lines
 
 
@@ -74,10 +79,12 @@ def loss_spec(field_name: str, text: str) -> tuple[str, tuple[float, ...]]:
 
 def resolve_losses(scene, *, damping: str | None = None, tan_delta: float | None = None,
                    per_mode: Mapping[str, str] | None = None) -> Losses:
-    """The losses of ``scene``: ``damping`` (default: the scene's ``drive.damping``), ``tan_delta`` (default: the
-    material table's value of the scene's piezoelectric materials, 0 when it has none)."""
-    default, default_source = scene.drive.damping, scene.drive.damping_source
-    mechanical, source = (default, default_source) if damping is None else (str(damping), "set by the user")
+    """The losses of ``scene``: ``damping`` (default: the scene's ``drive.damping``, ``material`` unless the scene
+    says otherwise; ``drive.damping_fallback`` where a material has no Qm), ``tan_delta`` (default: the material
+    table's value of the scene's piezoelectric materials, 0 when it has none)."""
+    drive = scene.drive
+    mechanical, source = (drive.damping, drive.damping_source) if damping is None else (str(damping),
+                                                                                        "set by the user")
     loss_spec("--damping", mechanical)
     if mechanical == "material":
         source = _material_loss_sources(scene, "Qm") or "no material of the scene has a sourced Qm"
@@ -97,7 +104,33 @@ def resolve_losses(scene, *, damping: str | None = None, tan_delta: float | None
             td_source = _material_loss_sources(scene, "tan_delta")
             if len(set(values.values())) > 1:
                 td_source += f"; materials differ ({values}), the largest is applied to the whole capacitance"
-    return Losses(mechanical, source, td, td_source, default, default_source, dict(per_mode or {}))
+    return Losses(mechanical, source, td, td_source, drive.damping_fallback, drive.damping_fallback_source,
+                  dict(per_mode or {}))
+
+
+def mode_damping(mode: Mode, losses: Losses) -> tuple[Damping, str]:
+    """(``modalfe.response.forced.Damping``, its source) of one mode for a one-mode model: the losses' own spec,
+    or for ``material`` the viscous equivalent at resonance, zeta_r = eta_r / 2 (Q = 1 / eta_r), of the modal
+    strain-energy loss factor eta_r = sum_m U_m,r / U_r / Qm_m + (the rest) x the fallback's
+    (Johnson & Kienholz, AIAA J. 20 (1982) 1284). A model without per-material stiffness (not the 3-D solid)
+    takes the fallback, and says so."""
+    from modalfe.response.forced import Damping
+
+    kind, v = loss_spec("--damping", losses.mechanical)
+    if kind == "eta":
+        return Damping(zeta=v[0] / 2), f"{losses.mechanical_source}; the loss factor's viscous equivalent at resonance"
+    if kind != "material":
+        return Damping.parse(losses.mechanical), losses.mechanical_source
+    if not hasattr(mode.model, "u_basis"):
+        return Damping.parse(losses.fallback), (f"{losses.fallback_source}; this model (not the 3-D solid) "
+                                                "has no per-material strain energy for the materials' Qm")
+    if not qm_table(mode.model):
+        return Damping.parse(losses.fallback), (f"{losses.fallback_source}; no material of the scene has a "
+                                                "sourced Qm")
+    c, h, text = modal_losses([mode], mode.model, losses)
+    zeta = float(c[0] / (2 * mode.omega) + h[0] / (2 * mode.omega**2))
+    return Damping(Q=1 / (2 * zeta)), (f"{text[0]}: {losses.mechanical_source}; the rest at {losses.fallback} "
+                                       f"({losses.fallback_source})")
 
 
 def _piezo_tan_deltas(scene) -> dict[str, float]:

@@ -48,9 +48,24 @@ class PartStress:
     field: Peak | None
 
 
-def part_fields(model, x: np.ndarray, part: str) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
-    """(points (3, nel, nq) [m], stress (6, nel, nq) [Pa], field (3, nel, nq) [V/m] or None) of one part from
-    a full DOF vector ``x`` (real or complex)."""
+@dataclass(frozen=True)
+class PartFields:
+    """Fields of one part at the quadrature points of its cells (``elements``, indices into the mesh):
+    ``points`` (3, nel, nq) [m], ``weights`` (nel, nq) [m^3] (the quadrature's dx), ``strain`` (6, nel, nq)
+    Voigt with engineering shears [-], ``stress`` (6, nel, nq) [Pa], ``field`` (3, nel, nq) [V/m] or None where
+    the part carries no potential."""
+
+    elements: np.ndarray
+    points: np.ndarray
+    weights: np.ndarray
+    strain: np.ndarray
+    stress: np.ndarray
+    field: np.ndarray | None
+
+
+def part_fields(model, x: np.ndarray, part: str) -> PartFields:
+    """Strain, stress and electric field of one part from a full DOF vector ``x`` (real or complex), by the
+    module docstring's relations."""
     from skfem import Basis, ElementVector
 
     from modalfe.models.solid import element_for, material_of
@@ -81,8 +96,19 @@ def part_fields(model, x: np.ndarray, part: str) -> tuple[np.ndarray, np.ndarray
         phi[model.phi_dofs] = x[model.n_u:]
         field = -grads(pb, phi)
         stress = stress - np.einsum("...ia,...i->a...", e, np.moveaxis(field, 0, -1))
-    points = np.asarray(ub.global_coordinates())
-    return points, stress, field
+    return PartFields(np.asarray(elements), np.asarray(ub.global_coordinates()), np.asarray(ub.dx), S, stress, field)
+
+
+def von_mises(stress: np.ndarray) -> np.ndarray:
+    """Von Mises stress [Pa] of a real Voigt stress (6, ...) [Pa]: sqrt(s^T Q s) with the module's form Q."""
+    s = np.moveaxis(np.asarray(stress, dtype=float), 0, -1)
+    return np.sqrt(np.maximum(np.einsum("...k,kl,...l->...", s, _VM, s), 0.0))
+
+
+def von_mises_peak(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Peak over a cycle [Pa] of the von Mises stress of the harmonic Voigt stress a cos(wt) - b sin(wt), a and b
+    (6, n) [Pa]: exact (module docstring)."""
+    return _cycle_peak(np.asarray(a, dtype=float), np.asarray(b, dtype=float), _VM)
 
 
 def _cycle_peak(a: np.ndarray, b: np.ndarray, Q: np.ndarray | None) -> np.ndarray:
@@ -124,9 +150,10 @@ def part_peaks(model, x: np.ndarray, parts=None) -> list[PartStress]:
     names = list(parts) if parts else list(model.mesh.parts)
     out = []
     for name in names:
-        points, stress, field = part_fields(model, np.asarray(x, dtype=complex), name)
-        p = points.reshape(3, -1)
-        s = stress.reshape(6, -1)
+        fields = part_fields(model, np.asarray(x, dtype=complex), name)
+        field = fields.field
+        p = fields.points.reshape(3, -1)
+        s = fields.stress.reshape(6, -1)
         vm = _cycle_peak(s.real, s.imag, _VM)
         i = int(np.argmax(vm))
         principal, j = _principal_peak(s)

@@ -38,8 +38,9 @@ def cube_plate() -> Scene:
         electrodes={"electrode_top": "drive", "electrode_bottom": "ground"},
         analysis=Analysis(near=40.7e3, count=8),
         drive=Drive(
-            damping="Q=150",
-            damping_source="assumption: the seeds give no Q for the plate (docs/assumptions.md, Damping: default ~150)",
+            damping_fallback="Q=150",
+            damping_fallback_source="assumption: the seeds give no Q for the plate (docs/assumptions.md, Damping: "
+                                    "default ~150)",
             outputs=("foot_1", "foot_2", "foot_3", "foot_4"),
             targets=(
                 Target("amplitude_available", 1.7e-6, "m", "measured", "seed 001, 0-peak at the feet"),
@@ -71,8 +72,9 @@ def glass_plate() -> Scene:
         electrodes={"electrode_outer": "drive", "electrode_inner": "ground"},
         analysis=Analysis(near=66e3, count=8),
         drive=Drive(
-            damping="Q=150",
-            damping_source="docs/assumptions.md, Damping: Q ~ pi f tau from seed 004's response times, default 150",
+            damping_fallback="Q=150",
+            damping_fallback_source="docs/assumptions.md, Damping: Q ~ pi f tau from seed 004's response times, "
+                                    "default 150",
             outputs=(("centre_top", (0.03, 0.01, 1.9e-3)), ("quarter_top", (0.015, 0.01, 1.9e-3))),
             targets=(
                 Target("amplitude_pp_66kHz", 2.8e-6, "m", "measured", "seed 004, peak-to-peak"),
@@ -108,8 +110,8 @@ def honeycomb_tile() -> Scene:
         masses={"actuator": 2.3},
         analysis=Analysis(band=(1.0, 1500.0)),
         drive=Drive(
-            damping="Q=150",
-            damping_source="assumption: seed 002 gives no damping for the tile (docs/assumptions.md, Damping: "
+            damping_fallback="Q=150",
+            damping_fallback_source="assumption: seed 002 gives no damping for the tile (docs/assumptions.md, Damping: "
                            "default ~150)",
             load="force actuator=0,0,1",
             load_source="seed 002: an inertial actuator at the centre drives the tile (1 N along z on its "

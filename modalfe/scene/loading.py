@@ -64,7 +64,8 @@ def scene_from_toml(path: str | Path) -> Scene:
 
 _TOP_KEYS = ("name", "units", "geometry", "parts", "faces", "materials", "electrodes", "clamps", "springs",
              "masses", "analysis", "mesh", "working_modes", "kind", "symmetry", "antisymmetry", "drive")
-_DRIVE_KEYS = ("damping", "damping_source", "outputs", "load", "load_source")
+_DRIVE_KEYS = ("damping", "damping_source", "damping_fallback", "damping_fallback_source", "outputs", "load",
+               "load_source")
 _UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "um": 1e-6}
 _TARGET_KEYS = ("name", "value", "unit", "kind", "source")
 
@@ -177,16 +178,12 @@ def _drive(value, scale: float) -> Drive:
     data = v.table("drive", value)
     v.known_keys("drive", data, _DRIVE_KEYS)
     settings: dict[str, Any] = {}
-    if "damping" in data:
-        settings["damping"] = data["damping"]
-        settings["damping_source"] = f"{USER_DAMPING_SOURCE} (scene file)"
-    if "damping_source" in data:
-        settings["damping_source"] = v.string("drive.damping_source", data["damping_source"])
-    if "load" in data:
-        settings["load"] = data["load"]
-        settings["load_source"] = f"{USER_DAMPING_SOURCE} (scene file)"
-    if "load_source" in data:
-        settings["load_source"] = v.string("drive.load_source", data["load_source"])
+    for what in ("damping", "damping_fallback", "load"):
+        if what in data:
+            settings[what] = data[what]
+            settings[f"{what}_source"] = f"{USER_DAMPING_SOURCE} (scene file)"
+        if f"{what}_source" in data:
+            settings[f"{what}_source"] = v.string(f"drive.{what}_source", data[f"{what}_source"])
     outputs = []
     for i, item in enumerate(v.array("drive.outputs", data.get("outputs", []))):
         where = f"drive.outputs[{i}]"

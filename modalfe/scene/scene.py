@@ -19,14 +19,18 @@ from modalfe.scene.frozen import FrozenMap, freeze
 from modalfe.scene.loads import Load, check_load
 
 DEFAULT_DAMPING_SOURCE = "assumption (docs/assumptions.md, Damping: default Q ~ 150)"
+MATERIAL_DAMPING_SOURCE = "default: each material's Qm from the material table (modalfe.scene.materials)"
 USER_DAMPING_SOURCE = "set by the user"
 KINDS = ("plate", "beam", "solid")  # solid: no reduced model (a device with cylinders, rings or outlines)
 MAX_HARMONIC = 64  # highest circumferential harmonic ``mesh.harmonics`` takes (64 nodal diameters)
 _DAMPING = re.compile(r"^(zeta|Q)=([^,]+)$|^rayleigh=([^,]+),([^,]+)$")
 
 
-def check_damping(field: str, text: Any) -> str:
-    """``zeta=Z``, ``Q=Q`` or ``rayleigh=ALPHA,BETA``: finite numbers >= 0 (Q > 0), light (``check_underdamped``)."""
+def check_damping(field: str, text: Any, *, material: bool = False) -> str:
+    """``zeta=Z``, ``Q=Q`` or ``rayleigh=ALPHA,BETA``: finite numbers >= 0 (Q > 0), light (``check_underdamped``);
+    with ``material`` also ``material`` (each material's Qm, ``modalfe.response.losses``)."""
+    if material and text == "material":
+        return text
     match = _DAMPING.match(text) if isinstance(text, str) else None
     if match is None:
         raise SceneError(f"{field}: expected 'zeta=Z', 'Q=Q' or 'rayleigh=ALPHA,BETA', got {text!r}")
@@ -97,21 +101,26 @@ class WorkingMode:
 
 @dataclass(frozen=True)
 class Drive:
-    """Forced-response defaults: ``damping`` (``Q=150``, ``zeta=0.025`` or ``rayleigh=a,b``, with its
-    source in ``damping_source``), ``outputs`` (face groups, ``mean:GROUP`` or (name, (x, y, z)) [m]),
+    """Forced-response defaults: ``damping`` (``material``: each material's Qm weighted by the mode's strain
+    energy, ``damping_fallback`` for the materials without one; or ``Q=150``, ``zeta=0.025``, ``rayleigh=a,b`` for
+    every mode), each with its source; ``outputs`` (face groups, ``mean:GROUP`` or (name, (x, y, z)) [m]),
     the ``load`` (``modalfe.response.loads.Load``, a text such as ``force actuator=0,0,1`` or a table;
     default: the driven electrodes' voltage) with its source, and amplitude or time targets from the seeds."""
 
-    damping: str = "Q=150"
-    damping_source: str = DEFAULT_DAMPING_SOURCE
+    damping: str = "material"
+    damping_source: str = MATERIAL_DAMPING_SOURCE
+    damping_fallback: str = "Q=150"
+    damping_fallback_source: str = DEFAULT_DAMPING_SOURCE
     outputs: tuple = ()
     targets: tuple[Target, ...] = ()
     load: Any = "voltage"
     load_source: str = "default: the driven electrodes' voltage"
 
     def __post_init__(self) -> None:
-        check_damping("drive.damping", self.damping)
+        check_damping("drive.damping", self.damping, material=True)
         v.string("drive.damping_source", self.damping_source)
+        check_damping("drive.damping_fallback", self.damping_fallback)
+        v.string("drive.damping_fallback_source", self.damping_fallback_source)
         for i, item in enumerate(v.array("drive.outputs", self.outputs)):
             if isinstance(item, str):
                 v.string(f"drive.outputs[{i}]", item)
@@ -317,10 +326,9 @@ class Scene:
                 if rest not in names:
                     raise SceneError(f"{key}: unknown setting; known: {sorted(names)}")
                 change = {rest: value}
-                if key == "drive.damping" and "drive.damping_source" not in overrides:
-                    change["damping_source"] = f"{USER_DAMPING_SOURCE} (drive.damping)"
-                if key == "drive.load" and "drive.load_source" not in overrides:
-                    change["load_source"] = f"{USER_DAMPING_SOURCE} (drive.load)"
+                for what in ("damping", "damping_fallback", "load"):
+                    if key == f"drive.{what}" and f"drive.{what}_source" not in overrides:
+                        change[f"{what}_source"] = f"{USER_DAMPING_SOURCE} (drive.{what})"
                 scene = replace(scene, **{head: replace(sub, **change)})
             elif head in ("springs", "masses", "electrodes", "clamps") and rest:
                 table = dict(getattr(scene, head))

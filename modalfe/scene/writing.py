@@ -54,7 +54,9 @@ def scene_to_toml(scene: Scene) -> str:
     load = {k: x for k, x in (("kind", drive.load.kind), ("group", drive.load.group),
                               ("value", list(drive.load.value)), ("axis", drive.load.axis)) if x not in (None, [])}
     outputs = [o if isinstance(o, str) else {"name": o[0], "point": list(o[1])} for o in drive.outputs]
-    out += _table("drive", {"damping": drive.damping, "damping_source": drive.damping_source, "load": load,
+    out += _table("drive", {"damping": drive.damping, "damping_source": drive.damping_source,
+                            "damping_fallback": drive.damping_fallback,
+                            "damping_fallback_source": drive.damping_fallback_source, "load": load,
                             "load_source": drive.load_source, "outputs": outputs})
     out += [f"# drive target: {t.name} = {t.value!r} {t.unit} ({t.kind}; {t.source})" for t in drive.targets]
     for wm in scene.working_modes:

@@ -12,6 +12,7 @@ import scipy.sparse as sp
 import modalfe.caches as caches
 from modalfe.models.build import Level, build_model
 from modalfe.models.constraints import free_values
+from modalfe.progress import step
 from modalfe.results.labels import unique_labels
 from modalfe.results.modes import Mode, Modes
 from modalfe.solve.eigen import eigenpairs
@@ -42,7 +43,9 @@ def solve_level(scene, analysis, *, fidelity: str = "solid", size_factor: float 
     """Modes of ``scene`` for ``analysis`` (near/count or band, circuit) at ``fidelity`` on one mesh level
     (element sizes x ``size_factor``): mass-normalised full DOF shapes, labelled (``labels=False``: an estimate
     level whose labels nobody reads, ``UNLABELLED``), no error estimate."""
-    model, timings = build_model(scene, fidelity, size_factor=size_factor, frame=frame, min_layers=min_layers)
+    with step(f"{scene.name}, {fidelity} model, order {scene.mesh.order}, element sizes x{size_factor:g}: mesh and "
+              f"assembly"):
+        model, timings = build_model(scene, fidelity, size_factor=size_factor, frame=frame, min_layers=min_layers)
     modes = modes_of(model, analysis, fidelity=fidelity, solver=solver, timings=timings, labels=labels)
     return modes if frame is not None else replace(modes, level=Level(fidelity, scene.mesh, size_factor, min_layers))
 
@@ -68,7 +71,11 @@ def modes_of(model, analysis, *, fidelity: str, solver: str = "auto", timings: d
     if known is not None and analysis.band is not None and analysis.circuit == "short" and kept is not None:
         seed = (kept.factor, np.array([m.omega**2 for m in known]),
                 free_values(constraints.T, np.column_stack([m.shape for m in known])))
-    solution = eigenpairs(A, B, analysis, solver, factor, seed)
+    asked = f"{analysis.band[0]:g}-{analysis.band[1]:g} Hz" if analysis.band is not None else \
+        f"{analysis.count} modes near {analysis.near or 0:g} Hz"
+    with step(f"{model.scene.name}, {fidelity} model, order {model.scene.mesh.order}: eigen solve, {asked}, "
+              f"{analysis.circuit} circuit, {A.shape[0]} unknowns"):
+        solution = eigenpairs(A, B, analysis, solver, factor, seed)
     driven = "drive" in model.scene.electrodes.values()  # else the open circuit is the short one: nothing to reuse
     if analysis.circuit == "short" and driven and solution.factor is not None:
         _SHORT_SOLVES.insert(0, _ShortSolve(weakref.ref(model), A, B, solution.factor))

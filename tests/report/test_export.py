@@ -108,3 +108,160 @@ def test_sidecar_table_has_units_in_its_headers(plate, written):
     assert "frequency [Hz]" in rows[0]
     assert [float(r[2]) for r in rows[1:]] == pytest.approx(list(plate.frequencies), rel=1e-9)
     assert [r[1] for r in rows[1:]] == [m.label for m in plate]
+
+
+def _linear_field_modes(modes, a: float, gamma: float):
+    """``modes``' first with its shape replaced by the linear field u = (a x + gamma y, 0, 0) (no potential), which
+    the quadratic cells hold exactly."""
+    import dataclasses
+
+    model = modes.model
+    ub = model.u_basis
+    x = np.zeros_like(modes[0].shape)
+    for dofs in (ub.nodal_dofs[0], ub.edge_dofs[0]):
+        where = ub.doflocs[:, dofs]
+        x[dofs] = a * where[0] + gamma * where[1]
+    return [dataclasses.replace(modes[0], shape=x)]
+
+
+def test_strain_stress_von_mises_of_a_linear_field_are_hookes_law_in_the_plate(plate, tmp_path):
+    # u = (a x + gamma y, 0, 0): strain xx = a and xy = gamma / 2 everywhere; in the isotropic Cu-Be plate
+    # (E = 123 GPa, nu = 0.30, modalfe.scene.materials) Hooke's law gives sigma_xx = (lambda + 2 mu) a,
+    # sigma_yy = sigma_zz = lambda a, sigma_xy = mu gamma. The half model is mirrored about y = 19 mm (a plane
+    # of symmetry): the image field is (a x - gamma y', ...) up to a constant, so the mirrored cells carry -gamma.
+    a, gamma = 1e-4, 4e-5
+    modes = _linear_field_modes(plate, a, gamma)
+    path = export_vtu(type(plate)(tuple(modes), plate.model, plate.circuit, plate.fidelity, plate.dofs),
+                      tmp_path / "linear.vtu", table=False)
+    mesh = meshio.read(path)
+    stem = mode_array_name(modes[0])
+    in_plate = mesh.cell_data["part:plate"][0].astype(bool)
+    cells = mesh.cells[0].data
+    solved = mesh.points[cells[:, 0], 1] < 19e-3  # corner 0's side of the plane y = 19 mm
+    E, nu = 123e9, 0.30
+    lam, mu = E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu))
+    strain = mesh.cell_data[f"{stem} strain [-]"][0].reshape(-1, 3, 3)
+    stress = mesh.cell_data[f"{stem} stress [Pa]"][0].reshape(-1, 3, 3)
+    mises = mesh.cell_data[f"{stem} von Mises [Pa]"][0]
+    assert strain.shape == stress.shape == (len(cells), 3, 3) and mises.shape == (len(cells),)
+    assert solved.any() and (~solved).any()
+    for side, g in ((solved, gamma), (~solved, -gamma)):
+        cells_here = in_plate & side
+        s_xx, s_yy, s_xy = lam * a + 2 * mu * a, lam * a, mu * g
+        expected = np.array([[s_xx, s_xy, 0], [s_xy, s_yy, 0], [0, 0, s_yy]])
+        # exact up to rounding of the quadrature sums and the mesh coordinates: 1e-9 of the largest entry
+        np.testing.assert_allclose(stress[cells_here], np.broadcast_to(expected, stress[cells_here].shape),
+                                   atol=1e-9 * s_xx)
+        np.testing.assert_allclose(strain[cells_here][:, 0, 1], g / 2, rtol=1e-9)
+        np.testing.assert_allclose(strain[cells_here][:, 0, 0], a, rtol=1e-9)
+        vm = np.sqrt(0.5 * ((s_xx - s_yy) ** 2 + (s_yy - s_yy) ** 2 + (s_yy - s_xx) ** 2) + 3 * s_xy**2)
+        np.testing.assert_allclose(mises[cells_here], vm, rtol=1e-9)
+    # no potential in this shape: no field anywhere
+    assert np.all(mesh.cell_data[f"{stem} electric field [V/m]"][0] == 0)
+
+
+# VTK_QUADRATIC_HEXAHEDRON's three pairs of opposite faces, each face as (corners, mid-side nodes)
+_OPPOSITE_FACES = ((([0, 1, 2, 3], [8, 9, 10, 11]), ([4, 5, 6, 7], [12, 13, 14, 15])),
+                   (([0, 1, 5, 4], [8, 17, 12, 16]), ([3, 2, 6, 7], [10, 18, 14, 19])),
+                   (([1, 2, 6, 5], [9, 18, 13, 17]), ([0, 3, 7, 4], [11, 19, 15, 16])))
+
+
+def test_mode_stress_and_field_agree_with_the_stress_module_and_errors_are_stated(plate, written):
+    # the working mode's cell arrays read back with pyvista. (1) In a ceramic's box cells the cell mean of E_x is
+    # -(mean potential on the face x = x1 - on the face x = x0) / (x1 - x0) (divergence theorem; E_y and E_z
+    # likewise; E_z's is 0 in short circuit, both electrodes grounded), the face means taken
+    # from the exported point data with the 8-node serendipity face weights (corners -1/12, mid-sides 1/3): an
+    # independent route from nodes to field, exact up to rounding (1e-9 of the largest component). (2) Von Mises is
+    # convex, so a cell's von Mises of the mean stress cannot exceed the pointwise peak modalfe.response.stress
+    # finds over the same quadrature points (1e-12 relative for rounding).
+    from modalfe.response.stress import part_peaks
+
+    grid = pv.read(written)
+    working = plate.labelled("(0,6)")
+    stem = mode_array_name(working)
+    for name in ("stress [Pa]", "strain [-]"):
+        assert grid.cell_data[f"{stem} {name}"].shape == (grid.n_cells, 9)
+    field = grid.cell_data[f"{stem} electric field [V/m]"]
+    assert field.shape == (grid.n_cells, 3)
+    phi = grid.point_data[f"{stem} potential [V]"]
+    cells = grid.cells.reshape(-1, 21)[:, 1:]
+    ceramic = np.flatnonzero(grid.cell_data["part:ceramic_1"].astype(bool))
+    expected = np.zeros((len(ceramic), 3))
+    for row, c in enumerate(cells[ceramic]):
+        for axis in range(3):
+            x = grid.points[:, axis]
+            high, low = next(pair for pair in _OPPOSITE_FACES  # the pair of faces each at one x[axis]
+                             if all(np.ptp(x[c[face[0]]]) < 1e-12 for face in pair))
+            mean = [-phi[c[corners]].sum() / 12 + phi[c[mids]].sum() / 3 for corners, mids in (high, low)]
+            expected[row, axis] = -(mean[0] - mean[1]) / (x[c[high[0][0]]] - x[c[low[0][0]]])
+    assert np.abs(expected).max() > 0
+    np.testing.assert_allclose(field[ceramic], expected, atol=1e-9 * np.abs(expected).max())
+    peak = part_peaks(plate.model, working.shape, parts=["plate"])[0].von_mises.value
+    mises = grid.cell_data[f"{stem} von Mises [Pa]"][grid.cell_data["part:plate"].astype(bool)]
+    assert 0 < mises.max() <= peak * (1 + 1e-12)
+    np.testing.assert_array_equal(grid.field_data["error estimate [relative]"],
+                                  [m.error_estimate for m in plate])
+
+
+def test_curved_quadratic_tetrahedra_carry_exact_cell_fields(tmp_path):
+    # a steel cylinder (E 200 GPa, nu 0.3, given here) meshed with curved 10-node tetrahedra: their mid-edge nodes
+    # lie on the cylinder, and the isoparametric P2 space holds u = (a x, 0, 0) exactly there too, so every cell's
+    # mean stress is Hooke's: sigma_xx = (lambda + 2 mu) a, sigma_yy = sigma_zz = lambda a, no shear (1e-9 for the
+    # quadrature's rounding); mid-edge nodes sit on the curved surface (radius 4 mm to rounding, 1e-9)
+    from modalfe.scene.loading import scene_from_dict
+
+    E, nu = 200e9, 0.3
+    scene = scene_from_dict({
+        "units": "mm", "materials": {"steel": {"E": E, "nu": nu, "rho": 7850.0}},
+        "parts": [{"name": "rod", "shape": "cylinder", "material": "steel", "centre": [0, 0, 0], "axis": "z",
+                   "radius": 4, "height": 3}],
+        "analysis": {"near": 1.0, "count": 1}, "mesh": {"element": "tet", "order": 2, "min_layers": 1}})
+    modes = solve_modes(scene, near=1.0, count=1, error_estimate=False)
+    a = 1e-4
+    linear = _linear_field_modes(modes, a, 0.0)
+    path = export_vtu(type(modes)(tuple(linear), modes.model, modes.circuit, modes.fidelity, modes.dofs),
+                      tmp_path / "rod.vtu", table=False)
+    grid = pv.read(path)
+    assert set(np.unique(grid.celltypes)) == {pv.CellType.QUADRATIC_TETRA}
+    mid_edge = np.unique(grid.cells.reshape(-1, 11)[:, 5:])  # VTK_QUADRATIC_TETRA: 4 corners, then 6 mid-edge nodes
+    radius = np.hypot(grid.points[mid_edge, 0], grid.points[mid_edge, 1])
+    assert radius.max() < 4e-3 * (1 + 1e-9) and np.sum(np.abs(radius - 4e-3) < 4e-12) > 10
+    lam, mu = E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu))
+    stress = grid.cell_data[f"{mode_array_name(linear[0])} stress [Pa]"].reshape(-1, 3, 3)
+    expected = np.diag([lam * a + 2 * mu * a, lam * a, lam * a])
+    np.testing.assert_allclose(stress, np.broadcast_to(expected, stress.shape), atol=1e-9 * expected[0, 0])
+
+
+def test_forced_response_per_volt_written_by_forced_vtu(tmp_path):
+    # `modalfe forced BIMORPH --vtu`: the response at resonance per volt, in phase (a) and in quadrature (-b) of
+    # x = a + i b. Read back with meshio: every array per volt; at the node that moves most the file's values are
+    # the state's own (probed at that node, rounding 1e-9); each cell's von Mises peak over the cycle lies between
+    # the larger of its two phases' (t = 0 and a quarter period later are in the cycle) and their sum (von Mises is
+    # a norm), 1e-9 for rounding
+    from modalfe.cli.main import main
+    from modalfe.response.figures import forced_figures
+    from tests.hostile.cases import BIMORPH
+
+    path = tmp_path / "bimorph.toml"
+    path.write_text(BIMORPH)
+    vtu = tmp_path / "forced.vtu"
+    assert main(["forced", str(path), "--outputs", "tip", "--fidelity", "solid", "--no-error-estimate",
+                 "--vtu", str(vtu)]) == 0
+    mesh = meshio.read(vtu)
+    fig = forced_figures(load_scene(str(path)), outputs=["tip"], fidelity="solid", error_estimate=False, state=True)
+    stem = f"resonance_{fig.mode.label.replace(' ', '_')}_{fig.mode.frequency:.1f}Hz"
+    for phase in ("in phase", "quadrature"):
+        for name in ("displacement [m/V]", "potential [V/V]"):
+            assert mesh.point_data[f"{stem} {phase} {name}"].shape[0] == len(mesh.points)
+        for name, width in (("strain [1/V]", 9), ("stress [Pa/V]", 9), ("electric field [V/m/V]", 3)):
+            assert mesh.cell_data[f"{stem} {phase} {name}"][0].shape[1] == width
+    a = mesh.point_data[f"{stem} in phase displacement [m/V]"]
+    b = -mesh.point_data[f"{stem} quadrature displacement [m/V]"]
+    node = int(np.argmax(np.hypot(a[:, 2], b[:, 2])))
+    probe = np.asarray(fig.mode.model.displacement_probes(mesh.points[node:node + 1]) @ fig.state).reshape(3)
+    np.testing.assert_allclose(a[node] + 1j * b[node], probe, rtol=1e-9)
+    peak = mesh.cell_data[f"{stem} von Mises peak over the cycle [Pa/V]"][0]
+    phases = [mesh.cell_data[f"{stem} {p} von Mises [Pa/V]"][0] for p in ("in phase", "quadrature")]
+    assert np.all(peak >= np.maximum(*phases) * (1 - 1e-9)) and np.all(peak <= (phases[0] + phases[1]) * (1 + 1e-9))
+    assert peak.max() > 0
+    assert mesh.field_data["frequency [Hz]"][0] == pytest.approx(fig.mode.frequency, rel=1e-12)

@@ -26,6 +26,7 @@ import scipy.sparse as sp
 
 from modalfe.errors import SceneError, SolverError
 from modalfe.response.forced import Damping, reduce
+from modalfe.response.losses import mode_damping, resolve_losses
 from modalfe.response.sensitivity import amplitude_derivatives, amplitude_sensitivities, perturbed_model
 from modalfe.scene import scene_from_dict
 from modalfe.solve.estimates import shape_partners
@@ -170,7 +171,7 @@ def test_cube_plate_against_full_solves():
     wm = scene.working_modes[0]
     modes = solve_modes(scene, near=wm.near, fidelity="solid", error_estimate=False)
     mode = select(modes, wm.selector, wm.near)
-    damping, outputs = Damping.parse(scene.drive.damping), scene.drive.outputs
+    damping, outputs = mode_damping(mode, resolve_losses(scene))[0], scene.drive.outputs
     names = ["length", "ceramic_thickness", "materials.PZT-4.d31"]
     found = amplitude_sensitivities(modes, names, mode=mode, outputs=outputs, damping=damping)
     wider = replace(scene.analysis, count=len(modes) + 2)

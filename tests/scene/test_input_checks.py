@@ -50,7 +50,7 @@ def test_assumption_lines_follow_the_parameters():
 def test_user_damping_is_said_to_be_the_users():
     scene = load_scene("cube_plate", **{"drive.damping": "Q=80"})
     assert scene.drive.damping_source.startswith("set by the user")
-    assert "assumption" in load_scene("cube_plate").drive.damping_source
+    assert "assumption" in load_scene("cube_plate").drive.damping_fallback_source
 
 
 def test_size_estimate_bounds_the_real_mesh_and_refuses_absurd_requests(monkeypatch):

@@ -127,7 +127,8 @@ def test_every_concrete_documented_command_is_accepted_up_to_its_solve(path, com
     if isinstance(scene, str):
         assert scene in BUILTIN or (ROOT / scene).is_file() or (tmp_path / scene).is_file(), (
             f"{path.name}: `{command}`: no scene '{scene}'")
-    (tmp_path / "studies").symlink_to(ROOT / "studies")  # the repository's scene files, as from its root
+    for folder in ("studies", "examples"):  # the repository's scene files, as from its root
+        (tmp_path / folder).symlink_to(ROOT / folder)
     for word in argv:  # the folders of the files it writes (docs/img/...), so that it may write them
         if "/" in word and not word.startswith("-"):
             (tmp_path / word).parent.mkdir(parents=True, exist_ok=True)

@@ -96,7 +96,7 @@ def test_every_documented_subcommand_and_flag_exists(path, command):
 
 def _doc_files(folder: Path) -> None:
     """The files the documents' commands read, written where they run: each `cat > FILE <<'END'` of the documents,
-    README's scene-file example as bimorph.toml, and docs/studies.md's disc.toml (the .geo scene of
+    user guide's scene-file example as bimorph.toml, and docs/studies.md's disc.toml (the .geo scene of
     tests/cli/test_cli_imported.py)."""
     from tests.cli.test_cli_imported import SCENE
     from tests.scene.test_imported_scene import GEO
@@ -104,8 +104,8 @@ def _doc_files(folder: Path) -> None:
     for path in DOCUMENTS:
         for match in HEREDOC.finditer(path.read_text()):
             (folder / match.group(1)).write_text(match.group(3))
-    readme = (ROOT / "README.md").read_text()
-    (folder / "bimorph.toml").write_text(readme.split("```toml\n", 1)[1].split("```", 1)[0])
+    guide = (ROOT / "docs" / "guide.md").read_text()
+    (folder / "bimorph.toml").write_text(guide.split("```toml\n", 1)[1].split("```", 1)[0])
     (folder / "disc.toml").write_text(SCENE)
     shutil.copy(GEO, folder / "plate.geo")
 

@@ -142,3 +142,16 @@ def test_every_concrete_documented_command_is_accepted_up_to_its_solve(path, com
     out, err = capsys.readouterr()
     # `report` prints a FAILED row per stand-in solve and exits 1
     assert status == 0 or (status == 1 and STAND_IN in out + err), f"{path.name}: `{command}` refused: {err.strip()}"
+
+
+def test_the_readme_sets_up_in_two_commands_and_ci_runs_its_tests():
+    """README's set-up is two commands, one installing and running `modalfe report`, one installing the test extras
+    and running the tests; .ci/run installs the same extras and runs the same test command."""
+    readme = (ROOT / "README.md").read_text()
+    setup = readme.split("## Set-up (two commands)\n", 1)[1].split("\n## ", 1)[0]
+    commands = [line.strip() for line in setup.splitlines() if line.startswith("    ")]
+    assert commands == ['python -m pip install -e . && modalfe report',
+                        'python -m pip install -e ".[test]" && python -m pytest -q']
+    ci = (ROOT / ".ci" / "run").read_text().splitlines()
+    assert 'python -m pip install -q -e ".[test]"' in ci and "python -m pytest -q" in ci
+    assert len(readme.splitlines()) <= 200  # issue 37: a README a newcomer reads; the reference is docs/guide.md

@@ -7,7 +7,6 @@ from pathlib import Path
 import pytest
 
 STUDIES = Path(__file__).resolve().parents[1] / "studies"
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"  # the scene files and scripts a user starts from
 
 
 def load_study(name: str):

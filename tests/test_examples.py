@@ -10,7 +10,7 @@ import sys
 
 import pytest
 
-from tests.helpers import EXAMPLES
+from tests.oracles.cases import EXAMPLES
 
 DOCS = EXAMPLES.parent / "docs" / "examples.md"
 # (script, arguments after --quick, slow): the seed devices one at a time, the two heaviest on demand

@@ -4,8 +4,11 @@ never binds), so refinement by ``size_factor`` is uniform and element counts are
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from modalfe.scene import load_scene, scene_from_dict
-from tests.helpers import EXAMPLES
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"  # the scene files and scripts a user starts from
 
 
 def reference_mesh(max_size: float, min_layers: int) -> dict:

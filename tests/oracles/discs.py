@@ -27,8 +27,8 @@ from scipy.special import ive, jv, jvp
 
 from modalfe.results.modes import Modes
 from modalfe.scene.materials import material
-from tests.helpers import EXAMPLES
 from tests.oracles.analytic import _bracketed_roots
+from tests.oracles.cases import EXAMPLES
 
 # the 3-D solid's 20 x 1 mm PZT-5A disc (examples/pzt5a_disc.toml; docs/studies.md "Curved parts", "Mesh error
 # of the disc"): R1 short circuit 99,365 Hz stated to 0.001 % (P2, 17,940 DOFs; two layers 99,364.8 Hz), open 117,317 Hz

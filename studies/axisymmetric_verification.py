@@ -2,7 +2,7 @@
 solid: the verification table, and a convergence study of the 20 x 1 mm PZT-5A disc's thickness mode.
 
 Rows (each: the model's frequency with its stated error, DOFs, seconds, the reference and the deviation):
-- the 20 x 1 mm PZT-5A disc (studies/scenes/pzt5a_disc.toml): R1 short circuit (fr) against the 3-D solid's
+- the 20 x 1 mm PZT-5A disc (examples/pzt5a_disc.toml): R1 short circuit (fr) against the 3-D solid's
   99,365 Hz (0.001 % stated; docs/studies.md) and IEEE Std 176-1987 thin-disc theory; open circuit (fa) against the
   solid's 117,317 Hz and the theory; k_p through the IEEE 176 planar relation;
 - a free 20 x 0.1 mm Al-5052 disc's R1 against the plane-stress frequency equation eta J0 = (1 - nu) J1;
@@ -59,7 +59,7 @@ from tests.oracles.discs import (
     thin_ring_breathing,
 )
 
-DISC = "studies/scenes/pzt5a_disc.toml"
+DISC = "examples/pzt5a_disc.toml"
 TOL = 1e-5  # the tolerance every row is solved to (the 3-D solid's stated error on the disc's R1)
 THICKNESS = 1e-3  # m, the disc's
 THICKNESS_MESH = {"mesh.order": 4, "mesh.max_frequency": 2.3e6, "mesh.elements_per_wavelength": 2.0,

@@ -23,7 +23,7 @@ import modalfe
 from modalfe.cli.main import main
 from modalfe.solve import resolved
 
-DISC = str(Path(__file__).resolve().parent / "scenes" / "pzt5a_disc.toml")
+DISC = str(Path(__file__).resolve().parents[1] / "examples" / "pzt5a_disc.toml")
 # (scene, mode, the frequency it is sought near, the commands' extra arguments: a band around it for admittance)
 CASES = {
     "cube_plate": ("(0,6)", None, ["--band", "38e3", "41e3"]),

@@ -158,7 +158,7 @@ def check_groups(source: str, volumes: Mapping[str, object] | Sequence[str], fac
         if len(owners) != 1:
             box = ", ".join(f"{v:.4g}" for v in gmsh.model.getBoundingBox(3, tag))
             how = ("belongs to no physical volume (an unnamed piece; STEP and BREP files carry no physical groups: "
-                   "name the pieces in a .geo file that Merges it, README 'Scene files')") if len(owners) == 0 else (
+                   "name the pieces in a .geo file that Merges it, docs/guide.md)") if len(owners) == 0 else (
                 "belongs to several physical volumes: " + ", ".join(
                     f"'{gmsh.model.getPhysicalName(3, int(g))}'" for g in owners))
             raise MeshError(f"{source}: volume {tag} (bounding box {box} m) {how}")

@@ -28,7 +28,7 @@ from modalfe.errors import SceneError
 MEMORY_BYTES_PER_DOF = 5000.0
 MEMORY_EXPONENT = 1.2
 # the block count of ``estimate_size`` over the real DOFs of gmsh's tetrahedral meshes: 0.40 (tile_eq5, one
-# coarse layer, 3.9k DOFs), 0.63 (the holed plate of tests/geometry/data, 19.8k), 1.05 (cube_plate on tetrahedra,
+# coarse layer, 3.9k DOFs), 0.63 (the holed plate of examples/, 19.8k), 1.05 (cube_plate on tetrahedra,
 # 139k). Not scaled to an upper bound: the memory model is already the envelope of the measured peaks (of
 # hexahedral solves; cube_plate with round feet peaked at 2.5 GB against its 7 GB estimate), and a 2.5x DOF
 # envelope on top would refuse that 2.5 GB run on a 16 GB machine. Checked on other meshes in

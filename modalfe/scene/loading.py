@@ -39,7 +39,7 @@ def load_scene(name_or_path: str | Path, **overrides: Any) -> Scene:
 
 
 def scene_from_toml(path: str | Path) -> Scene:
-    """Read a box-built device (see README, 'Scene files')."""
+    """Read a box-built device (see docs/guide.md, 'Scene files')."""
     path = Path(path)
     try:
         raw = path.read_bytes()

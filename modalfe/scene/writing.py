@@ -1,4 +1,4 @@
-"""Writing a scene as a scene file (README, 'Scene files'), so that ``load_scene`` reads back the same device.
+"""Writing a scene as a scene file (docs/guide.md, 'Scene files'), so that ``load_scene`` reads back the same device.
 
 A box scene is written as it is; a built-in builder's device (``cube_plate``...) as the boxes and face groups its
 builder makes (``Scene.full_assembly``), lengths in metres. Every value that defines the device and its analysis

@@ -1,5 +1,5 @@
 """A scene from a gmsh .geo file through the CLI (issue 20, items 2 and 3): `info`, `modes`, `show`, `export` and
-`forced` on tests/geometry/data/plate_holes_disc.geo (a Cu-Be plate 40 x 30 x 2 mm clamped at x = 0, two 3 mm
+`forced` on examples/plate_holes_disc.geo (a Cu-Be plate 40 x 30 x 2 mm clamped at x = 0, two 3 mm
 holes, a PZT-5A disc of radius 6 mm and 0.5 mm on top), meshed coarse: curved quadratic tetrahedra of 2 mm (one
 layer through the plate, ~19k DOFs)."""
 

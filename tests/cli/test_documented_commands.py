@@ -96,7 +96,7 @@ def test_every_documented_subcommand_and_flag_exists(path, command):
 
 def _doc_files(folder: Path) -> None:
     """The files the documents' commands read, written where they run: each `cat > FILE <<'END'` of the documents,
-    README's scene-file example as bimorph.toml, and docs/studies.md's disc.toml (the .geo scene of
+    user guide's scene-file example as bimorph.toml, and docs/studies.md's disc.toml (the .geo scene of
     tests/cli/test_cli_imported.py)."""
     from tests.cli.test_cli_imported import SCENE
     from tests.scene.test_imported_scene import GEO
@@ -104,8 +104,8 @@ def _doc_files(folder: Path) -> None:
     for path in DOCUMENTS:
         for match in HEREDOC.finditer(path.read_text()):
             (folder / match.group(1)).write_text(match.group(3))
-    readme = (ROOT / "README.md").read_text()
-    (folder / "bimorph.toml").write_text(readme.split("```toml\n", 1)[1].split("```", 1)[0])
+    guide = (ROOT / "docs" / "guide.md").read_text()
+    (folder / "bimorph.toml").write_text(guide.split("```toml\n", 1)[1].split("```", 1)[0])
     (folder / "disc.toml").write_text(SCENE)
     shutil.copy(GEO, folder / "plate.geo")
 
@@ -127,7 +127,8 @@ def test_every_concrete_documented_command_is_accepted_up_to_its_solve(path, com
     if isinstance(scene, str):
         assert scene in BUILTIN or (ROOT / scene).is_file() or (tmp_path / scene).is_file(), (
             f"{path.name}: `{command}`: no scene '{scene}'")
-    (tmp_path / "studies").symlink_to(ROOT / "studies")  # the repository's scene files, as from its root
+    for folder in ("studies", "examples"):  # the repository's scene files, as from its root
+        (tmp_path / folder).symlink_to(ROOT / folder)
     for word in argv:  # the folders of the files it writes (docs/img/...), so that it may write them
         if "/" in word and not word.startswith("-"):
             (tmp_path / word).parent.mkdir(parents=True, exist_ok=True)
@@ -141,3 +142,16 @@ def test_every_concrete_documented_command_is_accepted_up_to_its_solve(path, com
     out, err = capsys.readouterr()
     # `report` prints a FAILED row per stand-in solve and exits 1
     assert status == 0 or (status == 1 and STAND_IN in out + err), f"{path.name}: `{command}` refused: {err.strip()}"
+
+
+def test_the_readme_sets_up_in_two_commands_and_ci_runs_its_tests():
+    """README's set-up is two commands, one installing and running `modalfe report`, one installing the test extras
+    and running the tests; .ci/run installs the same extras and runs the same test command."""
+    readme = (ROOT / "README.md").read_text()
+    setup = readme.split("## Set-up (two commands)\n", 1)[1].split("\n## ", 1)[0]
+    commands = [line.strip() for line in setup.splitlines() if line.startswith("    ")]
+    assert commands == ['python -m pip install -e . && modalfe report',
+                        'python -m pip install -e ".[test]" && python -m pytest -q']
+    ci = (ROOT / ".ci" / "run").read_text().splitlines()
+    assert 'python -m pip install -q -e ".[test]"' in ci and "python -m pytest -q" in ci
+    assert len(readme.splitlines()) <= 200  # issue 37: a README a newcomer reads; the reference is docs/guide.md

@@ -78,7 +78,7 @@ def test_a_scene_without_working_modes_gets_the_same_answer_in_admittance(capsys
     holding that frequency resolves the same question (it was 7.8e-7 apart on a band question's mesh)."""
     from pathlib import Path
 
-    disc = str(Path(__file__).resolve().parents[2] / "studies" / "scenes" / "pzt5a_disc.toml")
+    disc = str(Path(__file__).resolve().parents[2] / "examples" / "pzt5a_disc.toml")
     modes = _json(capsys, ["modes", disc, "--json"])
     r1 = next(m for m in modes["modes"] if m["label"] == "R1")
     band = _json(capsys, ["admittance", disc, "--band", "95e3", "105e3", "--points", "50", "--json"])

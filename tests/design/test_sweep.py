@@ -77,7 +77,7 @@ def test_mac_and_grid_values():
             grid_values(bad)
 
 
-DISC = Path(__file__).resolve().parents[2] / "studies" / "scenes" / "pzt5a_disc.toml"  # a free 20 x 1 mm disc
+DISC = Path(__file__).resolve().parents[2] / "examples" / "pzt5a_disc.toml"  # a free 20 x 1 mm disc
 
 
 def test_a_sweep_point_of_a_disc_samples_its_shapes_inside_it():

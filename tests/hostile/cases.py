@@ -39,7 +39,7 @@ tip = ["beam.xmax"]
 clamp = "xyz"
 """
 
-# the README's bimorph: a clamped steel beam with a PZT-5A patch, driven; a working mode for `forced`
+# the user guide's bimorph: a clamped steel beam with a PZT-5A patch, driven; a working mode for `forced`
 BIMORPH = TINY.replace('name = "tiny"', 'name = "bimorph"').replace(
     "[faces]\nclamp", '[faces]\nelectrode_top = ["patch.zmax"]\nelectrode_bottom = ["patch.zmin"]\nclamp') + """
 [[parts]]
@@ -839,7 +839,7 @@ DESIGN = [
 
 
 def _bimorph(id: str, argv: tuple[str, ...], field: str, **kw) -> Case:
-    """A case of issue 35 on the README's bimorph: refused before the solve, or answered."""
+    """A case of issue 35 on the user guide's bimorph: refused before the solve, or answered."""
     return _cli(id, "issue 35", argv, field, files={"bimorph.toml": BIMORPH, **kw.pop("files", {})}, **kw)
 
 

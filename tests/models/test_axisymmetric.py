@@ -31,7 +31,7 @@ from tests.oracles.discs import (
     thin_ring_breathing,
 )
 
-DISC = "studies/scenes/pzt5a_disc.toml"
+DISC = "examples/pzt5a_disc.toml"
 
 
 def _disc(radius_mm: float, height_mm: float, material_name: str, near: float, poling: int = 0):

@@ -4,7 +4,11 @@ never binds), so refinement by ``size_factor`` is uniform and element counts are
 
 from __future__ import annotations
 
-from modalfe.scene import scene_from_dict
+from pathlib import Path
+
+from modalfe.scene import load_scene, scene_from_dict
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"  # the scene files and scripts a user starts from
 
 
 def reference_mesh(max_size: float, min_layers: int) -> dict:
@@ -90,23 +94,11 @@ def two_patch_bar_scene(**extra):
 
 
 def stack_scene(max_size: float = 0.75e-3, near: float = 191.8e3, count: int = 6):
-    """A free aluminium disc (12 x 1.5 mm) with a PZT-5A disc (8 x 1.2 mm) bonded by 50 um of epoxy, on elements of
-    ``max_size`` [m] (studies/level_coverage.py): at 0.75 mm the ceramic is 2 layers on the scene's grid and on the x1.5
-    estimate level, 1 on the x2.25 one; its torsion mode T2 near 192 kHz."""
-    return scene_from_dict({
-        "name": "disc-stack", "units": "mm",
-        "parts": [
-            {"name": "plate", "shape": "cylinder", "material": "Al-5052", "centre": [0, 0, 0], "axis": "z",
-             "radius": 6, "height": 1.5},
-            {"name": "glue", "shape": "cylinder", "material": "epoxy", "centre": [0, 0, 1.5], "axis": "z",
-             "radius": 4, "height": 0.05},
-            {"name": "ceramic", "shape": "cylinder", "material": "PZT-5A", "centre": [0, 0, 1.55], "axis": "z",
-             "radius": 4, "height": 1.2, "poling": 1},
-        ],
-        "faces": {"top": ["ceramic.top"], "bottom": ["ceramic.bottom"]},
-        "electrodes": {"top": "drive", "bottom": "ground"},
-        "analysis": {"near": near, "count": count}, "mesh": {"max_size": max_size},
-    })
+    """examples/disc_stack.toml: a free aluminium disc (12 x 1.5 mm) with a PZT-5A disc (8 x 1.2 mm) bonded by 50 um of
+    epoxy, on elements of ``max_size`` [m] (studies/level_coverage.py): at 0.75 mm the ceramic is 2 layers on the
+    scene's grid and on the x1.5 estimate level, 1 on the x2.25 one; its torsion mode T2 near 192 kHz."""
+    return load_scene(EXAMPLES / "disc_stack.toml",
+                      **{"mesh.max_size": max_size, "analysis.near": near, "analysis.count": count})
 
 
 def strip_scene(max_size: float = 1.2e-3, near: float = 20e3, count: int = 4):

@@ -28,8 +28,9 @@ from scipy.special import ive, jv, jvp
 from modalfe.results.modes import Modes
 from modalfe.scene.materials import material
 from tests.oracles.analytic import _bracketed_roots
+from tests.oracles.cases import EXAMPLES
 
-# the 3-D solid's 20 x 1 mm PZT-5A disc (studies/scenes/pzt5a_disc.toml; docs/studies.md "Curved parts", "Mesh error
+# the 3-D solid's 20 x 1 mm PZT-5A disc (examples/pzt5a_disc.toml; docs/studies.md "Curved parts", "Mesh error
 # of the disc"): R1 short circuit 99,365 Hz stated to 0.001 % (P2, 17,940 DOFs; two layers 99,364.8 Hz), open 117,317 Hz
 SOLID_FR, SOLID_FR_ERROR, SOLID_FA = 99_365.0, 1e-5, 117_317.0
 
@@ -214,14 +215,11 @@ STEEL_RING = {"E": 200e9, "nu": 0.3, "rho": 7850.0, "radius": 0.02, "wall": 0.00
 
 
 def steel_ring_scene():
-    """A free steel ring (``STEEL_RING``: mean radius 20 mm, wall 1 mm, height 2 mm), its in-plane modes near 3 kHz."""
-    from modalfe.scene.loading import scene_from_dict
+    """examples/steel_ring.toml: a free steel ring (``STEEL_RING``: mean radius 20 mm, wall 1 mm, height 2 mm), its
+    in-plane modes near 3 kHz."""
+    from modalfe.scene.loading import load_scene
 
-    r = STEEL_RING
-    return scene_from_dict({
-        "units": "mm", "materials": {"steel": {"E": r["E"], "nu": r["nu"], "rho": r["rho"]}},
-        "parts": [{"name": "ring", "shape": "ring", "material": "steel", "centre": [0, 0, 0], "axis": "z",
-                   "inner": 19.5, "outer": 20.5, "height": 2}], "analysis": {"near": 3e3, "count": 6}})
+    return load_scene(EXAMPLES / "steel_ring.toml")
 
 
 def radial_ring_scene(near: float):

@@ -177,7 +177,7 @@ def test_cli_admittance_errors_are_one_line(tmp_path, capsys):
 
 @pytest.fixture(scope="module")
 def bimorph(tmp_path_factory):
-    """The README's bimorph (clamped steel beam, PZT-5A patch; bending-z 1 at 545 Hz, 926 DOFs) and its modes."""
+    """The user guide's bimorph (clamped steel beam, PZT-5A patch; bending-z 1 at 545 Hz, 926 DOFs) and its modes."""
     from modalfe.scene import load_scene
     from tests.hostile.cases import BIMORPH
 

@@ -178,7 +178,7 @@ def test_base_acceleration_needs_a_support_along_its_axis():
 
 @pytest.fixture(scope="module")
 def bimorph_mode(tmp_path_factory):
-    """bending-z 1 of the README's bimorph (545 Hz, 926 DOFs), for the reduced model under other loads."""
+    """bending-z 1 of the user guide's bimorph (545 Hz, 926 DOFs), for the reduced model under other loads."""
     from modalfe.solve.api import solve_modes
     from tests.hostile.cases import BIMORPH
 

@@ -1,6 +1,6 @@
 """Scene files naming a geometry file (issue 20, item 2): ``[geometry] file`` with ``[[parts]] group = ...``, the
 parts and face groups read from the file's physical groups, and the one-line errors naming the TOML field.
-Geometry: tests/geometry/data/plate_holes_disc.geo, a 40 x 30 x 2 mm plate with two 3 mm-radius holes and a
+Geometry: examples/plate_holes_disc.geo, a 40 x 30 x 2 mm plate with two 3 mm-radius holes and a
 6 mm-radius, 0.5 mm disc on top (exact volumes and areas below)."""
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from modalfe.errors import MeshError, SceneError
 from modalfe.geometry.imported import ImportedAssembly, file_digest
 from modalfe.scene.loading import load_scene
 
-GEO = Path(__file__).parents[1] / "geometry" / "data" / "plate_holes_disc.geo"
+GEO = Path(__file__).parents[2] / "examples" / "plate_holes_disc.geo"
 PLATE = 0.04 * 0.03 * 0.002 - 2 * math.pi * 0.003**2 * 0.002  # [m^3]
 DISC = math.pi * 0.006**2 * 0.0005
 ELECTRODE = math.pi * 0.006**2  # [m^2]

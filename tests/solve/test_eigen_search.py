@@ -12,7 +12,7 @@ from modalfe.solve.eigen import band_eigenpairs, eigenpairs, sturm_count
 from modalfe.solve.linalg import available_solvers, negative_eigenvalue_count
 from tests.oracles.cases import free_plate_scene, k31_bar_scene
 
-BIMORPH = {  # the README's scene file
+BIMORPH = {  # the user guide's scene file (docs/guide.md)
     "name": "bimorph", "units": "mm", "kind": "beam",
     "analysis": {"near": 2000.0, "count": 6}, "mesh": {"elements_per_wavelength": 6},
     "materials": {"steel": {"E": 200e9, "nu": 0.3, "rho": 7850.0}},

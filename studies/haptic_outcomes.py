@@ -9,8 +9,9 @@ Seed figures used (copied here with their sources):
   66 kHz and 194 nm pp at 225 kHz; amplitude response times 1.3 ms and 0.5 ms; the model's amplitude ratio
   A(225 kHz) / A(66 kHz) for equal friction about 0.12 (Fig. 7; 0.08 perceived).
 - not given by the seeds: the feet's tangential contact stiffness kt (identified from the 61.41 % at an assumed
-  0.65 um by studies/identify_kt.py, n = 3 feet), the plate's Q (assumed 150, docs/assumptions.md); seed 004's finger
-  parameters (Table I) are for a 0.5 N normal force and one finger, and its K_Tsc is printed as 98120 N/mm.
+  0.65 um by studies/identify_kt.py, n = 3 feet), the plate's Q (the default damping: the materials' Qm where they
+  give one, Q = 150 for the rest, docs/damping.md); seed 004's finger parameters (Table I) are for a 0.5 N normal
+  force and one finger, and its K_Tsc is printed as 98120 N/mm.
 
 Run:  python studies/haptic_outcomes.py [--quick] [--out studies/out/haptics]
 (--quick: the Cu-Be plate only.) Solves (or reads from the cache) the two devices' working modes.
@@ -84,7 +85,7 @@ def cube_plate(out: Path) -> None:
     print(outcome_line("voltage for 61.41 %, n = 3 (kt's fit)", three.outcome(needed3.voltage),
                        "kt identified at 0.65 um, n = 3"))
     print(f"\nrise time {1e3 * chain.rom.envelope_time_constant:.3f} ms (+-{pm(chain.error('time_constant'))}, "
-          f"Q = 150 assumed) vs seed 001's ~{1e3 * RESPONSE_TIME_001:g} ms\n")
+          f"Q {1 / (2 * chain.rom.zeta):.4g}, the default damping) vs seed 001's ~{1e3 * RESPONSE_TIME_001:g} ms\n")
     print("Sensitivity of the voltage for 61.41 % and of the reduction at the voltage above to the parameters the "
           "seeds do not give:\n")
     print("| parameter | value | voltage for 61.41 % [V] | reduction at "

@@ -69,7 +69,7 @@ def _mode_damping(items: list[str] | None) -> dict[str, str]:
 
 
 def _admittance(args) -> int:
-    from modalfe.response.admittance import MAX_POINTS, admittance
+    from modalfe.response.admittance import MAX_POINTS, UNDRIVEN, admittance
     from modalfe.scene import load_scene
 
     band = check_band(args.band)
@@ -111,6 +111,9 @@ def _admittance(args) -> int:
     print("  |Y| maxima (near fr) [Hz]: " + (", ".join(f"{f:.1f}" for f in ext["max_abs_Y_hz"]) or "none"))
     print("  |Y| minima (near fa) [Hz]: " + (", ".join(f"{f:.1f}" for f in ext["min_abs_Y_hz"]) or "none"))
     strong = sorted(result.modes, key=lambda r: -abs(r["theta_N_per_V_sqrtkg"]))[:8]
+    if strong:  # modes the drive does not reach (theta at round-off) are not among the strongest, whatever their rank
+        floor = UNDRIVEN * abs(strong[0]["theta_N_per_V_sqrtkg"])
+        strong = [r for r in strong if abs(r["theta_N_per_V_sqrtkg"]) > floor]
     if strong:
         print("  strongest modes (modal force per volt, loss):")
         for r in sorted(strong, key=lambda r: r["frequency_hz"]):

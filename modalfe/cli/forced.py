@@ -87,7 +87,7 @@ def _forced(args) -> int:
     if args.save_rom:
         fig.rom.save(args.save_rom)
     if args.plot:
-        _plot(fig, args.plot, args.volts or 1.0)
+        write_forced_plots(fig, args.plot, args.volts or 1.0)
     if args.json:
         print(json.dumps(fig.to_json(), indent=2))
         return 0
@@ -187,8 +187,10 @@ def _print_stress(fig, pm) -> None:
         print(f"    limits: {source}")
 
 
-def _plot(fig, path: str, volts: float) -> None:
-    """FRF (reduced model, and full FE when computed) and admittance, one PNG."""
+def write_forced_plots(fig, path: str, volts: float) -> list[str]:
+    """FRF (reduced model, and full FE when computed) at ``path``, and for a voltage drive the admittance beside it
+    (``<stem>_admittance.<ext>``), fr and fa marked (fa: the open-circuit mode's, else the reduced model's BVD);
+    returns the paths written."""
     from modalfe.plot.figures import plot_admittance, plot_frf
 
     curves = {"reduced model": volts * fig.frf}
@@ -198,11 +200,15 @@ def _plot(fig, path: str, volts: float) -> None:
     unit = fig.load_unit
     if unit != "V":  # per unit force, pressure or base acceleration: no circuit to plot
         title = f"{fig.scene}: {fig.rom.label} driven by a {fig.load_description}, {fig.rom.damping_description}"
-        plot_frf(fig.frequency, {k: c / volts for k, c in curves.items()},
+        plot_frf(fig.frequency, {k: c / volts for k, c in curves.items()}, marks={"fr": fig.rom.frequency},
                  ylabel=f"amplitude at {fig.rom.reference} [m/{unit}]", title=title).savefig(path, dpi=110)
-        return
-    frf = plot_frf(fig.frequency, curves, ylabel=f"amplitude at {fig.rom.reference} [m] at {volts:g} V", title=title)
+        return [path]
+    frf = plot_frf(fig.frequency, curves, ylabel=f"amplitude at {fig.rom.reference} [m] at {volts:g} V", title=title,
+                   marks={"fr": fig.rom.frequency})
     stem, dot, ext = path.rpartition(".")
     frf.savefig(path, dpi=110)
-    plot_admittance(fig.frequency, fig.admittance, title=title).savefig(f"{stem}_admittance.{ext}" if dot else
-                                                                        f"{path}_admittance", dpi=110)
+    fa = fig.antiresonance or fig.rom.antiresonance
+    admittance = f"{stem}_admittance.{ext}" if dot else f"{path}_admittance"
+    plot_admittance(fig.frequency, fig.admittance, title=title, label="reduced model (the working mode's BVD)",
+                    marks={"fr": fig.rom.frequency, "fa": fa}).savefig(admittance, dpi=110)
+    return [path, admittance]

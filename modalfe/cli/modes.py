@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import sys
 
 from modalfe.cli.options import (
     _float,
@@ -27,6 +28,9 @@ def register(sub) -> None:
                    help="also how each row was resolved, its notes and the assumptions (and log progress)")
     p.add_argument("--jobs", type=positive_int,
                    help="devices solved at once, one process each (default: one per core)")
+    p.add_argument("--html", metavar="DIR", help="also write a design page, DIR/index.html with its pictures: each "
+                                                 "scene's parts, materials, supports and electrodes, the table, the "
+                                                 "working modes drawn, forced response and admittance, assumptions")
     solve_options(p)
     p.set_defaults(func=_report)
 
@@ -43,14 +47,21 @@ def register(sub) -> None:
 
 
 def _report(args) -> int:
+    from modalfe.cli.page import check_html_dir, write_design_page
     from modalfe.report.report import format_rows, run_report
 
-    rows = run_report(args.scene, progress=not args.json, overrides=parse_overrides(args.set), jobs=args.jobs,
-                      **solve_keywords(args))
+    if args.html:
+        check_html_dir(args.html)
+    overrides = parse_overrides(args.set)
+    rows = run_report(args.scene, progress=not args.json, overrides=overrides, jobs=args.jobs, **solve_keywords(args))
     if args.json:
         print(json.dumps([r.to_json() for r in rows], indent=2))
     else:
         print(format_rows(rows, detail=args.verbose))
+    if args.html:
+        page = write_design_page(args.html, rows, overrides=overrides, keywords=solve_keywords(args),
+                                 command=args.command_line)
+        print(f"design page: {page}", file=sys.stderr if args.json else sys.stdout)
     return 1 if any(r.mode == "FAILED" for r in rows) else 0
 
 

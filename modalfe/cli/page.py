@@ -1,0 +1,87 @@
+"""``--html DIR``: the design page (``modalfe.report.page``) of the scenes a command solved: each scene's description
+(as ``modalfe info`` gives it), pictures of its working modes rendered from the answers the command just resolved
+(read back from the answer cache, ``modalfe.solve.resolved``: no new eigen solve), and its forced-response and
+admittance plots (the working mode's reduced model) where the scene names drive outputs."""
+
+from __future__ import annotations
+
+import logging
+import re
+from pathlib import Path
+
+log = logging.getLogger(__name__)
+
+PICTURE_SIZE = (1400, 520)  # two panels (iso and bottom) and the colour bar, as `show` draws them
+
+
+def check_html_dir(directory: str) -> None:
+    """A one-line SceneError, before any solve, when ``--html`` names an existing file."""
+    from modalfe.errors import SceneError
+
+    if Path(directory).exists() and not Path(directory).is_dir():
+        raise SceneError(f"--html: '{directory}' is a file; give a folder (it is made if missing)")
+
+
+def write_design_page(directory: str, rows: list, *, overrides: dict, keywords: dict, command: str) -> Path:
+    """Write the page of the report ``rows`` (``modalfe.report.report.ReportRow``, solved with ``overrides`` and the
+    ``solve_modes`` ``keywords`` by ``command``, the command line) and its pictures into ``directory``; returns the
+    page's path."""
+    import modalfe
+    from modalfe.cli.info import scene_info
+    from modalfe.errors import ModalfeError
+    from modalfe.plot.render import mode_title, render_mode
+    from modalfe.report.page import Picture, SceneSection, write_page
+    from modalfe.report.report import window_modes, working_windows
+    from modalfe.results.modes import select
+    from modalfe.scene import load_scene
+
+    folder = Path(directory)
+    folder.mkdir(parents=True, exist_ok=True)
+    sections = []
+    for name in dict.fromkeys(r.scene for r in rows):
+        scene = load_scene(name, **overrides)
+        pictures, notes = [], []
+        for window in working_windows(scene):
+            try:
+                modes = window_modes(window, **keywords)  # the report's answer, from the cache
+            except ModalfeError as exc:
+                notes.append(f"no picture of {', '.join(w.selector for w in window.members)}: {exc}")
+                continue
+            for wm in window.members:
+                mode = select(modes, wm.selector, wm.near)
+                file = f"{name}_{_slug(mode.label)}.png"
+                log.info("%s: drawing %s", name, mode.label)
+                render_mode(mode, out=str(folder / file), window_size=PICTURE_SIZE, view="iso+bottom").close()
+                pictures.append(Picture(file, f"{mode_title(mode)}; left: iso view, right: from below; colour: the "
+                                              f"normal displacement, black lines: nodal lines"))
+        plots = _forced_plots(scene, folder, keywords, notes)
+        sections.append(SceneSection(scene_info(scene), [r for r in rows if r.scene == name], pictures, plots, notes))
+    return write_page(folder, sections, command=command, version=modalfe.__version__)
+
+
+def _forced_plots(scene, folder: Path, keywords: dict, notes: list[str]) -> list:
+    """The working mode's FRF and admittance (``modalfe forced --plot``) in ``folder``; a scene without drive outputs,
+    or whose reduced model fails, gets a note instead."""
+    from modalfe.cli.forced import write_forced_plots
+    from modalfe.errors import ModalfeError
+    from modalfe.report.page import Picture
+    from modalfe.response.figures import forced_figures
+
+    if not scene.drive.outputs or not scene.working_modes:
+        notes.append("no forced response drawn: the scene names no drive outputs or working mode")
+        return []
+    try:
+        fig = forced_figures(scene, **keywords)
+    except ModalfeError as exc:
+        notes.append(f"no forced response drawn: {exc}")
+        return []
+    paths = write_forced_plots(fig, str(folder / f"{scene.name}_forced.png"), 1.0)
+    captions = [f"forced response of {fig.rom.label} per {fig.load_unit} ({fig.load_description}), "
+                f"{fig.rom.damping_description} ({fig.damping_source}); fr dotted",
+                "electrical admittance of the working mode's reduced model (its BVD circuit), fr and fa dotted"]
+    return [Picture(Path(p).name, c) for p, c in zip(paths, captions)]
+
+
+def _slug(label: str) -> str:
+    """A file-name-safe form of a mode label: '(0,6)' -> '0_6', 'bending-z 6' -> 'bending-z_6'."""
+    return re.sub(r"[^A-Za-z0-9-]+", "_", label).strip("_") or "mode"

@@ -19,10 +19,11 @@ def _figure(rows: int = 1, **kwargs):
 def _mark(axes, marks: dict[str, float], scale: float) -> None:
     """Dotted vertical lines at ``marks`` (name -> frequency [Hz], e.g. fr and fa), named at the top of the first
     axes."""
-    for name, f in marks.items():
+    for k, (name, f) in enumerate(marks.items()):
         for ax in axes:
             ax.axvline(f / scale, color="grey", linestyle=":", linewidth=0.9)
-        axes[0].annotate(name, (f / scale, 1.0), xycoords=("data", "axes fraction"), xytext=(2, -10),
+        # names a line apart, so that fr and fa a few Hz apart stay readable
+        axes[0].annotate(name, (f / scale, 1.0), xycoords=("data", "axes fraction"), xytext=(2, -10 - 10 * (k % 2)),
                          textcoords="offset points", fontsize=8, color="dimgrey")
 
 

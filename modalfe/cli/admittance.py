@@ -15,6 +15,7 @@ from modalfe.cli.options import (
     solve_options,
     stated,
 )
+from modalfe.cli.page import add_html_option, scene_page
 from modalfe.errors import SceneError
 
 
@@ -36,6 +37,7 @@ def register(sub) -> None:
     p.add_argument("--plot", metavar="FILE", help="write the |Y|, |Z| and phase plot (PNG)")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene parameter")
     p.add_argument("--json", action="store_true")
+    add_html_option(p)
     solve_options(p)
     p.set_defaults(func=_admittance)
 
@@ -97,6 +99,7 @@ def _admittance(args) -> int:
         fig = plot_admittance(result.frequency, result.Y, impedance=True, circuits=circuits, marks=bvd_marks(circuits),
                               title=f"{scene.name}: {'direct FE' if args.direct else 'modal superposition'}")
         fig.savefig(args.plot, dpi=110)
+    scene_page(args, scene)
     if args.json:
         print(json.dumps(result.to_json(), indent=2))
         return 0

@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 
 from modalfe.cli.options import frequency, positive_float, solve_keywords, solve_options, stated
+from modalfe.cli.page import add_html_option, scene_page
 from modalfe.errors import SceneError
 
 
@@ -33,6 +34,7 @@ def register(subparsers) -> None:
     p.add_argument("--plot", metavar="FILE", help="write FRF and admittance plots (PNG)")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene parameter")
     p.add_argument("--json", action="store_true")
+    add_html_option(p)
     solve_options(p)
     p.set_defaults(func=_forced)
 
@@ -87,7 +89,10 @@ def _forced(args) -> int:
     if args.save_rom:
         fig.rom.save(args.save_rom)
     if args.plot:
+        from modalfe.plot.figures import write_forced_plots
+
         write_forced_plots(fig, args.plot, args.volts or 1.0)
+    scene_page(args, scene)
     if args.json:
         print(json.dumps(fig.to_json(), indent=2))
         return 0
@@ -185,30 +190,3 @@ def _print_stress(fig, pm) -> None:
         print(f"    {row['part']:<12} {what} {shown}: reached at {row['load_to_limit']:.4g} {unit}")
     for source in dict.fromkeys(r["source"] for r in fig.limits if r["source"]):
         print(f"    limits: {source}")
-
-
-def write_forced_plots(fig, path: str, volts: float) -> list[str]:
-    """FRF (reduced model, and full FE when computed) at ``path``, and for a voltage drive the admittance beside it
-    (``<stem>_admittance.<ext>``), fr and fa marked (fa: the open-circuit mode's, else the reduced model's BVD);
-    returns the paths written."""
-    from modalfe.plot.figures import plot_admittance, plot_frf
-
-    curves = {"reduced model": volts * fig.frf}
-    if fig.frf_full is not None:
-        curves["full FE"] = volts * fig.frf_full
-    title = f"{fig.scene}: {fig.rom.label}, {fig.rom.damping_description}"
-    unit = fig.load_unit
-    if unit != "V":  # per unit force, pressure or base acceleration: no circuit to plot
-        title = f"{fig.scene}: {fig.rom.label} driven by a {fig.load_description}, {fig.rom.damping_description}"
-        plot_frf(fig.frequency, {k: c / volts for k, c in curves.items()}, marks={"fr": fig.rom.frequency},
-                 ylabel=f"amplitude at {fig.rom.reference} [m/{unit}]", title=title).savefig(path, dpi=110)
-        return [path]
-    frf = plot_frf(fig.frequency, curves, ylabel=f"amplitude at {fig.rom.reference} [m] at {volts:g} V", title=title,
-                   marks={"fr": fig.rom.frequency})
-    stem, dot, ext = path.rpartition(".")
-    frf.savefig(path, dpi=110)
-    fa = fig.antiresonance or fig.rom.antiresonance
-    admittance = f"{stem}_admittance.{ext}" if dot else f"{path}_admittance"
-    plot_admittance(fig.frequency, fig.admittance, title=title, label="reduced model (the working mode's BVD)",
-                    marks={"fr": fig.rom.frequency, "fa": fa}).savefig(admittance, dpi=110)
-    return [path, admittance]

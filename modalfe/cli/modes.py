@@ -16,6 +16,7 @@ from modalfe.cli.options import (
     solve_keywords,
     solve_options,
 )
+from modalfe.cli.page import add_html_option, scene_page
 from modalfe.errors import SceneError
 
 
@@ -28,9 +29,7 @@ def register(sub) -> None:
                    help="also how each row was resolved, its notes and the assumptions (and log progress)")
     p.add_argument("--jobs", type=positive_int,
                    help="devices solved at once, one process each (default: one per core)")
-    p.add_argument("--html", metavar="DIR", help="also write a design page, DIR/index.html with its pictures: each "
-                                                 "scene's parts, materials, supports and electrodes, the table, the "
-                                                 "working modes drawn, forced response and admittance, assumptions")
+    add_html_option(p)
     solve_options(p)
     p.set_defaults(func=_report)
 
@@ -42,16 +41,15 @@ def register(sub) -> None:
     p.add_argument("--circuit", choices=("short", "open"), help="electrodes grounded or driven one floating")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene parameter")
     p.add_argument("--json", action="store_true")
+    add_html_option(p)
     solve_options(p)
     p.set_defaults(func=_modes)
 
 
 def _report(args) -> int:
-    from modalfe.cli.page import check_html_dir, write_design_page
+    from modalfe.cli.page import write_design_page
     from modalfe.report.report import format_rows, run_report
 
-    if args.html:
-        check_html_dir(args.html)
     overrides = parse_overrides(args.set)
     rows = run_report(args.scene, progress=not args.json, overrides=overrides, jobs=args.jobs, **solve_keywords(args))
     if args.json:
@@ -59,8 +57,11 @@ def _report(args) -> int:
     else:
         print(format_rows(rows, detail=args.verbose))
     if args.html:
-        page = write_design_page(args.html, rows, overrides=overrides, keywords=solve_keywords(args),
-                                 command=args.command_line)
+        from modalfe.scene import load_scene
+
+        scenes = [(load_scene(name, **overrides), [r for r in rows if r.scene == name])
+                  for name in dict.fromkeys(r.scene for r in rows)]
+        page = write_design_page(args.html, scenes, keywords=solve_keywords(args), command=args.command_line)
         print(f"design page: {page}", file=sys.stderr if args.json else sys.stdout)
     return 1 if any(r.mode == "FAILED" for r in rows) else 0
 
@@ -82,6 +83,7 @@ def _modes(args) -> int:
              "error_unresolved": m.error_estimate == float("inf"),
              "model_error": None if not math.isfinite(m.model_error) else m.model_error,
              "wavelength_m": None if m.wavelength != m.wavelength else m.wavelength} for m in modes]
+    scene_page(args, scene)
     if args.json:
         print(json.dumps({"scene": scene.name, "circuit": modes.circuit, "fidelity": modes.fidelity,
                           "fidelity_note": modes.fidelity_note, "estimate_method": modes.estimate_method,

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import logging
 import re
+import sys
 from pathlib import Path
 
 log = logging.getLogger(__name__)
@@ -14,17 +15,31 @@ log = logging.getLogger(__name__)
 PICTURE_SIZE = (1400, 520)  # two panels (iso and bottom) and the colour bar, as `show` draws them
 
 
-def check_html_dir(directory: str) -> None:
-    """A one-line SceneError, before any solve, when ``--html`` names an existing file."""
-    from modalfe.errors import SceneError
+def add_html_option(parser) -> None:
+    """``--html DIR`` on a command's parser."""
+    parser.add_argument("--html", metavar="DIR", help="also write a design page, DIR/index.html with its pictures: the "
+                                                      "scene's parts, materials, supports and electrodes, its working "
+                                                      "modes against their targets and drawn, forced response and "
+                                                      "admittance, assumptions (the report's solve of the scene)")
 
-    if Path(directory).exists() and not Path(directory).is_dir():
-        raise SceneError(f"--html: '{directory}' is a file; give a folder (it is made if missing)")
+
+def scene_page(args, scene) -> None:
+    """``--html`` of a command that solves one scene: the report's rows of ``scene`` (``device_report``, at the
+    command's solve options; answers already resolved are read back) on a page in ``args.html``."""
+    from modalfe.cli.options import solve_keywords
+    from modalfe.report.report import device_report
+
+    if not getattr(args, "html", None):
+        return
+    keywords = solve_keywords(args)
+    rows = device_report(scene, **keywords)
+    page = write_design_page(args.html, [(scene, rows)], keywords=keywords, command=args.command_line)
+    print(f"design page: {page}", file=sys.stderr if getattr(args, "json", False) else sys.stdout)
 
 
-def write_design_page(directory: str, rows: list, *, overrides: dict, keywords: dict, command: str) -> Path:
-    """Write the page of the report ``rows`` (``modalfe.report.report.ReportRow``, solved with ``overrides`` and the
-    ``solve_modes`` ``keywords`` by ``command``, the command line) and its pictures into ``directory``; returns the
+def write_design_page(directory: str, scenes: list, *, keywords: dict, command: str) -> Path:
+    """Write the page of ``scenes``, (scene, its ``modalfe.report.report.ReportRow``s solved with the ``solve_modes``
+    ``keywords``) pairs, made by ``command`` (the command line), and its pictures into ``directory``; returns the
     page's path."""
     import modalfe
     from modalfe.cli.info import scene_info
@@ -33,13 +48,12 @@ def write_design_page(directory: str, rows: list, *, overrides: dict, keywords: 
     from modalfe.report.page import Picture, SceneSection, write_page
     from modalfe.report.report import window_modes, working_windows
     from modalfe.results.modes import select
-    from modalfe.scene import load_scene
 
     folder = Path(directory)
     folder.mkdir(parents=True, exist_ok=True)
     sections = []
-    for name in dict.fromkeys(r.scene for r in rows):
-        scene = load_scene(name, **overrides)
+    for scene, rows in scenes:
+        name = scene.name
         pictures, notes = [], []
         for window in working_windows(scene):
             try:
@@ -55,15 +69,15 @@ def write_design_page(directory: str, rows: list, *, overrides: dict, keywords: 
                 pictures.append(Picture(file, f"{mode_title(mode)}; left: iso view, right: from below; colour: the "
                                               f"normal displacement, black lines: nodal lines"))
         plots = _forced_plots(scene, folder, keywords, notes)
-        sections.append(SceneSection(scene_info(scene), [r for r in rows if r.scene == name], pictures, plots, notes))
+        sections.append(SceneSection(scene_info(scene), rows, pictures, plots, notes))
     return write_page(folder, sections, command=command, version=modalfe.__version__)
 
 
 def _forced_plots(scene, folder: Path, keywords: dict, notes: list[str]) -> list:
     """The working mode's FRF and admittance (``modalfe forced --plot``) in ``folder``; a scene without drive outputs,
     or whose reduced model fails, gets a note instead."""
-    from modalfe.cli.forced import write_forced_plots
     from modalfe.errors import ModalfeError
+    from modalfe.plot.figures import write_forced_plots
     from modalfe.report.page import Picture
     from modalfe.response.figures import forced_figures
 

@@ -129,3 +129,28 @@ def plot_sweep(table: dict[str, np.ndarray], x: str, y: str, *, group: str | Non
     ax.set_ylabel(y)
     fig.tight_layout()
     return fig
+
+
+def write_forced_plots(fig, path: str, volts: float) -> list[str]:
+    """FRF (reduced model, and full FE when computed) at ``path``, and for a voltage drive the admittance beside it
+    (``<stem>_admittance.<ext>``), fr and fa marked (fa: the open-circuit mode's, else the reduced model's BVD);
+    returns the paths written."""
+    curves = {"reduced model": volts * fig.frf}
+    if fig.frf_full is not None:
+        curves["full FE"] = volts * fig.frf_full
+    title = f"{fig.scene}: {fig.rom.label}, {fig.rom.damping_description}"
+    unit = fig.load_unit
+    if unit != "V":  # per unit force, pressure or base acceleration: no circuit to plot
+        title = f"{fig.scene}: {fig.rom.label} driven by a {fig.load_description}, {fig.rom.damping_description}"
+        plot_frf(fig.frequency, {k: c / volts for k, c in curves.items()}, marks={"fr": fig.rom.frequency},
+                 ylabel=f"amplitude at {fig.rom.reference} [m/{unit}]", title=title).savefig(path, dpi=110)
+        return [path]
+    frf = plot_frf(fig.frequency, curves, ylabel=f"amplitude at {fig.rom.reference} [m] at {volts:g} V", title=title,
+                   marks={"fr": fig.rom.frequency})
+    stem, dot, ext = path.rpartition(".")
+    frf.savefig(path, dpi=110)
+    fa = fig.antiresonance or fig.rom.antiresonance
+    admittance = f"{stem}_admittance.{ext}" if dot else f"{path}_admittance"
+    plot_admittance(fig.frequency, fig.admittance, title=title, label="reduced model (the working mode's BVD)",
+                    marks={"fr": fig.rom.frequency, "fa": fa}).savefig(admittance, dpi=110)
+    return [path, admittance]

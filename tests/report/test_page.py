@@ -69,3 +69,19 @@ def test_chromium_renders_the_page_with_every_picture_decoded(page, tmp_path):
     image = Image.open(shot).convert("L")
     # not blank: a white page has one grey level; text, tables and the pictures give well over 50
     assert len(set(image.getdata())) > 50
+
+
+@pytest.mark.parametrize("command", [["report", "--scene", "ciliary_beam"], ["modes", "ciliary_beam"],
+                                     ["forced", "ciliary_beam"], ["admittance", "ciliary_beam", "--band", "2e4", "3e4"]])
+def test_html_naming_a_file_is_refused_before_any_solve(command, tmp_path, capsys, monkeypatch):
+    import modalfe.solve.api as api
+
+    def no_solve(*_args, **_kw):
+        raise AssertionError("solved before checking --html")
+
+    monkeypatch.setattr(api, "solve_modes", no_solve)
+    monkeypatch.setattr(api, "solid_modes", no_solve)
+    taken = tmp_path / "page.html"
+    taken.write_text("")
+    assert main([*command, "--html", str(taken)]) == 2
+    assert "error: --html: " in capsys.readouterr().err  # one line naming the flag

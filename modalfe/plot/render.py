@@ -285,16 +285,16 @@ def _hatch(marker: Marker, size: float):
 
 
 def _scale_bar(bounds, size: float):
-    """A bar of a round length (1, 2 or 5 x 10^k m, about a quarter of the device) along x in front of the device
-    (beyond its largest y, the side the iso view looks from), and its label; zero displacement (it does not move in
-    an animation)."""
+    """A bar of a round length (1, 2 or 5 x 10^k m, about a quarter of the device) along x in front of the device,
+    ending at its corner nearest the iso view (largest x and y), and its label; zero displacement (it does not move
+    in an animation)."""
     import pyvista as pv
 
     target = 0.25 * size
     step = 10.0 ** np.floor(np.log10(target))
     length = max(m * step for m in (1, 2, 5) if m * step <= target)
-    x0, y0, z0 = bounds[0], bounds[3] + 0.08 * size, bounds[4]
-    bar = pv.Line((x0, y0, z0), (x0 + length, y0, z0))
+    x1, y0, z0 = bounds[1], bounds[3] + 0.08 * size, bounds[4]
+    bar = pv.Line((x1 - length, y0, z0), (x1, y0, z0))
     bar.point_data["displacement"] = np.zeros((bar.n_points, 3))
     return bar, f"{1e3 * length:g} mm"
 
@@ -367,8 +367,8 @@ def render_mode(mode, *, out: str | None = None, window_size=(1000, 650), amplif
                                          text_color="black", shape_opacity=0.5, always_visible=True,
                                          name=f"label:{m.group}:{v}")
         plotter.add_mesh(bar, color="black", line_width=4, name=f"scale:{v}")
-        plotter.add_point_labels(bar.points[-1:], [bar_text], font_size=11, text_color="black", shape_opacity=0.0,
-                                 show_points=False, always_visible=True, name=f"scale_label:{v}")
+        plotter.add_point_labels(bar.points.mean(axis=0)[None, :], [bar_text], font_size=11, text_color="black",
+                                 shape_opacity=0.0, show_points=False, always_visible=True, name=f"scale_label:{v}")
         plotter.add_axes(color="black", line_width=2, viewport=(0, 0, 0.18, 0.22))
         text = f"{mode_title(mode)}\n{note}" if note else mode_title(mode)
         plotter.add_text(f"{text}\nview: {v}" if col == 0 else f"view: {v}", position="upper_left", font_size=10,
@@ -379,8 +379,10 @@ def render_mode(mode, *, out: str | None = None, window_size=(1000, 650), amplif
                            position_x=0.3, position_y=0.36, width=0.35, height=0.5, title_font_size=11,
                            label_font_size=10, fmt="%.2g")
     kinds = dict.fromkeys(m.kind for m in markers)
-    plotter.add_legend(labels=[[LEGEND[k], MARKERS[k]] for k in kinds] + [["nodal line", "black"]],
-                       bcolor="white", face="rectangle", loc="lower left", size=(0.95, 0.045 * (len(kinds) + 1)))
+    entries = [[LEGEND[k], MARKERS[k]] for k in kinds] + ([["nodal line", "black"]] if nodal.n_points else [])
+    if entries:
+        plotter.add_legend(labels=entries, bcolor="white", face="rectangle", loc="lower left",
+                           size=(0.95, 0.045 * len(entries)))
     plotter.subplot(0, 0)
     plotter._modalfe = {"overlays": overlays, "markers": markers, "views": views}
     if out:  # through Pillow: pyvista refuses an upper-case .PNG

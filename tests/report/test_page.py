@@ -72,7 +72,8 @@ def test_chromium_renders_the_page_with_every_picture_decoded(page, tmp_path):
 
 
 @pytest.mark.parametrize("command", [["report", "--scene", "ciliary_beam"], ["modes", "ciliary_beam"],
-                                     ["forced", "ciliary_beam"], ["admittance", "ciliary_beam", "--band", "2e4", "3e4"]])
+                                     ["forced", "ciliary_beam"],
+                                     ["admittance", "ciliary_beam", "--band", "2e4", "3e4"]])
 def test_html_naming_a_file_is_refused_before_any_solve(command, tmp_path, capsys, monkeypatch):
     import modalfe.solve.api as api
 

@@ -21,13 +21,17 @@ they never call ``show()`` for the caller.
 
 from __future__ import annotations
 
+import logging
 import os
 import tempfile
 from dataclasses import dataclass
 
 import numpy as np
 
+from modalfe.errors import ModalfeError
 from modalfe.models.symmetry import mirror_planes, whole_device_mesh
+
+log = logging.getLogger(__name__)
 
 MARKERS = {"foot": "limegreen", "electrode": "gold", "clamp": "black", "spring": "purple", "mass": "orange"}
 LEGEND = {"foot": "foot", "electrode": "electrode", "clamp": "clamp (hatched)", "spring": "spring", "mass": "mass"}
@@ -228,9 +232,18 @@ def nodal_lines(mode, surface):
     """The zero contour of the normal displacement w on ``surface`` with every triangle split in SUBDIVISIONS**2,
     w probed from the mode's own field at every new point (smooth lines, not the zig-zag of a linear interpolation
     between the drawn vertices); point data ``displacement`` is the drawn surface's (linear between its vertices), so
-    that the deformed lines lie on the deformed surface drawn."""
+    that the deformed lines lie on the deformed surface drawn. On a curved wall (its facets' chords are not the
+    device's surface), where a flat face's triangle reaches over a ring's hole, or where the probes refuse a point,
+    w is the drawn surface's."""
     fine = subdivided(surface, SUBDIVISIONS)
-    fine.point_data["w"] = mode.displacement(fine.points)[:, 2]
+    w = fine.point_data["displacement"][:, 2].copy()
+    flat = fine.point_data["flat"].copy()
+    flat[flat] = mode.model.holds(fine.points[flat])  # a flat face's triangle reaching over a ring's hole
+    try:
+        w[flat] = mode.displacement(fine.points[flat])[:, 2]
+    except (ModalfeError, ValueError) as exc:  # ValueError: skfem's finder, a point outside the mesh's facets
+        log.debug("nodal lines: the drawn w (the field not probed: %s)", exc)
+    fine.point_data["w"] = w
     return fine.contour([0.0], scalars="w")
 
 
@@ -238,7 +251,8 @@ def subdivided(surface, n: int):
     """``surface`` triangulated, each triangle split in n**2 on its barycentric lattice, in double precision (VTK's
     own subdivision returns single-precision points, which land up to 1e-7 of the size outside the device, where a
     probe refuses them); the triangles do not share their new points (a contour needs no more). Point data
-    ``displacement``: the surface's, interpolated linearly."""
+    ``displacement``: the surface's, interpolated linearly; ``flat``: the point's triangle lies in a plane normal to an
+    axis (a box's face, a disc's top), where the device's exact surface is the triangle's."""
     import pyvista as pv
 
     tri = surface.triangulate()
@@ -253,6 +267,9 @@ def subdivided(surface, n: int):
     fine = pv.PolyData(points, np.column_stack([np.full(len(cells), 3), cells]).ravel())
     at_corners = tri.point_data["displacement"][tri.faces.reshape(-1, 4)[:, 1:]]
     fine.point_data["displacement"] = np.einsum("kc,tcd->tkd", bary, at_corners).reshape(-1, 3)
+    normal = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    normal /= np.linalg.norm(normal, axis=1, keepdims=True)
+    fine.point_data["flat"] = np.repeat(np.abs(normal).max(axis=1) > 1 - 1e-9, len(lattice))
     return fine
 
 

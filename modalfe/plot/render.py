@@ -256,7 +256,8 @@ def subdivided(surface, n: int):
     import pyvista as pv
 
     tri = surface.triangulate()
-    corners = tri.points[tri.faces.reshape(-1, 4)[:, 1:]]  # (triangles, 3, 3)
+    triangles = tri.faces.reshape(-1, 4)[:, 1:]
+    corners = tri.points[triangles]  # (triangles, 3, 3)
     lattice = [(a, b) for a in range(n + 1) for b in range(n + 1 - a)]
     index = {ab: k for k, ab in enumerate(lattice)}
     bary = np.array([(a, b, n - a - b) for a, b in lattice], dtype=float) / n
@@ -265,12 +266,25 @@ def subdivided(surface, n: int):
     points = np.einsum("kc,tcd->tkd", bary, corners).reshape(-1, 3)
     cells = (np.arange(len(corners))[:, None, None] * len(lattice) + np.array(small)[None]).reshape(-1, 3)
     fine = pv.PolyData(points, np.column_stack([np.full(len(cells), 3), cells]).ravel())
-    at_corners = tri.point_data["displacement"][tri.faces.reshape(-1, 4)[:, 1:]]
-    fine.point_data["displacement"] = np.einsum("kc,tcd->tkd", bary, at_corners).reshape(-1, 3)
+    fine.point_data["displacement"] = np.einsum("kc,tcd->tkd", bary, tri.point_data["displacement"][triangles])\
+        .reshape(-1, 3)
     normal = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
     normal /= np.linalg.norm(normal, axis=1, keepdims=True)
-    fine.point_data["flat"] = np.repeat(np.abs(normal).max(axis=1) > 1 - 1e-9, len(lattice))
+    fine.point_data["flat"] = np.repeat(np.abs(normal).max(axis=1) > 1 - 1e-9, len(lattice))  # to round-off
     return fine
+
+
+def named_points(mode):
+    """The scene's named output points (``drive.outputs`` given as (name, (x, y, z)) [m]) as PolyData with the mode's
+    displacement, and their names; (None, []) when it names none."""
+    import pyvista as pv
+
+    named = [item for item in mode.model.scene.drive.outputs if not isinstance(item, str)]
+    if not named:
+        return None, []
+    points = pv.PolyData(np.array([xyz for _, xyz in named], dtype=float))
+    points.point_data["displacement"] = mode.displacement(points.points)
+    return points, [name for name, _ in named]
 
 
 def _edges(poly):
@@ -349,6 +363,7 @@ def render_mode(mode, *, out: str | None = None, window_size=(1000, 650), amplif
     markers = marker_set(mode, surface)
     nodal = nodal_lines(mode, surface)
     bar, bar_text = _scale_bar(surface.bounds, size)
+    points, names = named_points(mode)
     plotter = pv.Plotter(off_screen=off_screen, window_size=list(window_size), shape=(1, len(views) + 1),
                          col_weights=[6] * len(views) + [2.5], border=False)
     plotter.set_background("white")
@@ -383,6 +398,11 @@ def render_mode(mode, *, out: str | None = None, window_size=(1000, 650), amplif
                 plotter.add_point_labels(_deformed(m.poly, scale).center_of_mass()[None, :], [m.group], font_size=11,
                                          text_color="black", shape_opacity=0.5, always_visible=True,
                                          name=f"label:{m.group}:{v}")
+        if points is not None:  # drawn in every panel, named in the first (a label shows through the body)
+            draw(points, f"points:{v}", color="black", point_size=12, render_points_as_spheres=True)
+            if col == 0:
+                plotter.add_point_labels(_deformed(points, scale).points, names, font_size=11, text_color="black",
+                                         shape_opacity=0.5, show_points=False, always_visible=True, name="point_labels")
         plotter.add_mesh(bar, color="black", line_width=4, name=f"scale:{v}")
         plotter.add_point_labels(bar.points.mean(axis=0)[None, :], [bar_text], font_size=11, text_color="black",
                                  shape_opacity=0.0, show_points=False, always_visible=True, name=f"scale_label:{v}")
@@ -397,6 +417,7 @@ def render_mode(mode, *, out: str | None = None, window_size=(1000, 650), amplif
                            label_font_size=10, fmt="%.2g")
     kinds = dict.fromkeys(m.kind for m in markers)
     entries = [[LEGEND[k], MARKERS[k]] for k in kinds] + ([["nodal line", "black"]] if nodal.n_points else [])
+    entries += [["named point", "black"]] if names else []
     if entries:
         plotter.add_legend(labels=entries, bcolor="white", face="rectangle", loc="lower left",
                            size=(0.95, 0.045 * len(entries)))

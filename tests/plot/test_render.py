@@ -193,7 +193,7 @@ def _projected_inside(plotter, renderer, bounds) -> bool:
     return True
 
 
-def test_whole_beam_in_every_panel_with_its_clamp_hatched_and_a_legend(beam):
+def test_whole_beam_in_every_panel_with_its_clamp_hatched_named_points_and_a_legend(beam):
     from modalfe.plot.render import FILL_OPACITY, LEGEND, render_mode
 
     plotter = render_mode(beam[0], window_size=(1000, 400), view="iso+bottom")
@@ -211,6 +211,9 @@ def test_whole_beam_in_every_panel_with_its_clamp_hatched_and_a_legend(beam):
         texts = [props.GetItemAsObject(i) for i in range(props.GetNumberOfItems())]
         entries = [t.GetEntryString(i) for t in texts if hasattr(t, "GetEntryString")
                    for i in range(t.GetNumberOfEntries())]
-        assert {LEGEND["clamp"], LEGEND["electrode"], "nodal line"} <= set(entries)
+        assert {LEGEND["clamp"], LEGEND["electrode"], "nodal line", "named point"} <= set(entries)
+        # the scene's named output points (tip, x_47.25mm, ...) drawn in each panel
+        named = [o for o in beam[0].model.scene.drive.outputs if not isinstance(o, str)]
+        assert actors["points:iso"].mapper.dataset.n_points == len(named) >= 2
     finally:
         plotter.close()

@@ -1,6 +1,7 @@
 """``--html DIR``: the design page (``modalfe.report.page``) of the scenes a command solved: each scene's description
 (as ``modalfe info`` gives it), pictures of its working modes rendered from the answers the command just resolved
-(read back from the answer cache, ``modalfe.solve.resolved``: no new eigen solve), and its forced-response and
+(read back from the answer cache, ``modalfe.solve.resolved``: no new eigen solve, unless a plate or beam model
+answered: the picture is then the 3-D solid's, solved as ``modalfe show`` does), and its forced-response and
 admittance plots (the working mode's reduced model) where the scene names drive outputs."""
 
 from __future__ import annotations
@@ -58,6 +59,8 @@ def write_design_page(directory: str, scenes: list, *, keywords: dict, command: 
         for window in working_windows(scene):
             try:
                 modes = window_modes(window, **keywords)  # the report's answer, from the cache
+                if modes.fidelity != "solid":  # a plate or beam model answered: the picture is the 3-D solid's
+                    modes = window_modes(window, **{**keywords, "fidelity": "solid"})
             except ModalfeError as exc:
                 notes.append(f"no picture of {', '.join(w.selector for w in window.members)}: {exc}")
                 continue

@@ -355,12 +355,13 @@ def render_mode(mode, *, out: str | None = None, window_size=(1000, 650), amplif
     views = view.split("+")
     grid = mode_grid(mode)
     scale = _scale(grid, amplification)
+    faces = grid.extract_surface(algorithm=None)
+    markers = marker_set(mode, faces)  # on the mesh's own facets, which the face groups' facets match
     # triangles: drawn as the nodal lines' subdivision splits them, so that the lines lie on the drawn surface
-    surface = grid.extract_surface(algorithm=None).triangulate()
+    surface = faces.triangulate()
     w = surface.point_data["w"]
     limit = float(np.abs(w).max()) or 1.0
     size = float(np.ptp(surface.points, axis=0).max())
-    markers = marker_set(mode, surface)
     nodal = nodal_lines(mode, surface)
     bar, bar_text = _scale_bar(surface.bounds, size)
     points, names = named_points(mode)

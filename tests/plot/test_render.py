@@ -217,3 +217,20 @@ def test_whole_beam_in_every_panel_with_its_clamp_hatched_named_points_and_a_leg
         assert actors["points:iso"].mapper.dataset.n_points == len(named) >= 2
     finally:
         plotter.close()
+
+
+def test_a_ring_s_electrodes_on_its_curved_walls_are_marked():
+    """Electrodes on curved faces (a radially poled ring's walls, issue 37: not marked) are found on the mesh's
+    facets of their face groups and drawn as outlines, seen in the iso panel."""
+    from modalfe.plot.render import render_mode
+    from tests.oracles.discs import radial_ring_scene
+
+    modes = solve_modes(radial_ring_scene(50e3), near=50e3, count=1, error_estimate=False)
+    plotter = render_mode(modes[0], window_size=(600, 300), view="iso")
+    try:
+        markers = plotter._modalfe["markers"]
+        assert {m.group for m in markers} == {"electrode_a", "electrode_b"}
+        for i, m in enumerate(markers):
+            assert _visible_pixels(plotter, f"marker:{m.group}:{i}:iso") > 20, m.group  # as for the plates above
+    finally:
+        plotter.close()

@@ -388,7 +388,8 @@ def render_mode(mode, *, out: str | None = None, window_size=(1000, 650), amplif
                 draw(m.poly, f"marker:{m.group}:{i}:{v}", color=m.colour, **(tube if m.outline else {}))
                 continue
             # a face: translucent fill, and its outline (electrode) or hatching (clamp) as the marker
-            draw(m.poly, f"fill:{m.group}:{i}:{v}", color=m.colour, opacity=FILL_OPACITY)
+            # triangles, split as the body's are: a quad deformed out of plane would cross the body's own triangles
+            draw(m.poly.triangulate(), f"fill:{m.group}:{i}:{v}", color=m.colour, opacity=FILL_OPACITY)
             edge = _hatch(m, size) if m.kind == "clamp" else _edges(m.poly)
             if edge is not None and edge.n_points:
                 draw(edge, f"marker:{m.group}:{i}:{v}", color=m.colour, **tube)

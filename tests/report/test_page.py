@@ -66,9 +66,9 @@ def test_chromium_renders_the_page_with_every_picture_decoded(page, tmp_path):
     shot = tmp_path / "page.png"
     chromium("--hide-scrollbars", "--window-size=1280,2000", f"--screenshot={shot}", page.as_uri(),
              profile=tmp_path / "profile")
-    image = Image.open(shot).convert("L")
+    levels = Image.open(shot).convert("L").histogram()
     # not blank: a white page has one grey level; text, tables and the pictures give well over 50
-    assert len(set(image.getdata())) > 50
+    assert sum(count > 0 for count in levels) > 50
 
 
 @pytest.mark.parametrize("command", [["report", "--scene", "ciliary_beam"], ["modes", "ciliary_beam"],

@@ -15,6 +15,7 @@ from modalfe.cli.options import (
     solve_options,
     stated,
 )
+from modalfe.cli.page import add_html_option, scene_page
 from modalfe.errors import SceneError
 
 
@@ -36,6 +37,7 @@ def register(sub) -> None:
     p.add_argument("--plot", metavar="FILE", help="write the |Y|, |Z| and phase plot (PNG)")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene parameter")
     p.add_argument("--json", action="store_true")
+    add_html_option(p)
     solve_options(p)
     p.set_defaults(func=_admittance)
 
@@ -90,12 +92,14 @@ def _admittance(args) -> int:
         result.write_csv(args.csv)
     if args.s1p:
         result.write_s1p(args.s1p)
+    circuits = result.bvd_circuits()
     if args.plot:
         from modalfe.plot.figures import plot_admittance
 
-        fig = plot_admittance(result.frequency, result.Y, impedance=True,
+        fig = plot_admittance(result.frequency, result.Y, impedance=True, circuits=circuits, marks=bvd_marks(circuits),
                               title=f"{scene.name}: {'direct FE' if args.direct else 'modal superposition'}")
         fig.savefig(args.plot, dpi=110)
+    scene_page(args, scene)
     if args.json:
         print(json.dumps(result.to_json(), indent=2))
         return 0
@@ -123,11 +127,30 @@ def _admittance(args) -> int:
                 dip = f", |Y| min above it {r['dip_hz']:.1f} Hz [{_stated(r, 'dip_hz')}]" if "dip_hz" in r else ""
                 print(f"      |Y| max {r['peak_S']:.4g} S [{_stated(r, 'peak_S')}] at {r['peak_hz']:.1f} Hz "
                       f"[{_stated(r, 'peak_hz')}]{dip}")
+    if circuits:
+        print("  BVD circuit of each resonance (IEEE Std 176-1987; C0: the rest of Y at fr, blocked capacitance and "
+              "the other modes):")
+        print(f"    {'mode':<13} {'fr [Hz]':>10} {'fa [Hz]':>10} {'k_eff':>7} {'C0 [nF]':>9} {'R1 [ohm]':>10} "
+              f"{'L1 [H]':>10} {'C1 [pF]':>10}")
+        for c in circuits:
+            print(f"    {c['label']:<13} {c['fr_hz']:10.1f} {c['fa_hz']:10.1f} {c['k_eff']:7.4f} "
+                  f"{1e9 * c['C0_F']:9.4g} {c['R1_ohm']:10.4g} {c['L1_H']:10.4g} {1e12 * c['C1_F']:10.4g}  "
+                  f"[fr {_known(c['fr_error'])}, L1 {_known(c['L1_error'])}, C1 {_known(c['C1_error'])}]")
     print("  [stated errors in brackets, from the frequencies' estimate levels]")
     for flag, path in (("csv", args.csv), ("s1p", args.s1p), ("plot", args.plot)):
         if path:
             print(f"  wrote {flag}: {path}")
     return 0
+
+
+def bvd_marks(circuits: list[dict]) -> dict[str, float]:
+    """fr and fa of each BVD circuit, named for a plot's dotted lines (the mode's label beside them when several)."""
+    one = len(circuits) == 1
+    return {f"{name}{'' if one else ' ' + c['label']}": c[f"{name}_hz"] for c in circuits for name in ("fr", "fa")}
+
+
+def _known(error: float | None) -> str:
+    return "n/a" if error is None else stated(error)
 
 
 def _stated(row: dict, name: str) -> str:

@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 
 from modalfe.cli.options import frequency, positive_float, solve_keywords, solve_options, stated
+from modalfe.cli.page import add_html_option, scene_page
 from modalfe.errors import SceneError
 
 
@@ -36,6 +37,7 @@ def register(subparsers) -> None:
     p.add_argument("--plot", metavar="FILE", help="write FRF and admittance plots (PNG)")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene parameter")
     p.add_argument("--json", action="store_true")
+    add_html_option(p)
     solve_options(p)
     p.set_defaults(func=_forced)
 
@@ -97,7 +99,10 @@ def _forced(args) -> int:
             print(f"response at resonance per {fig.load_unit} (in phase and quadrature; von Mises peak over the "
                   f"cycle) -> {args.vtu}")
     if args.plot:
-        _plot(fig, args.plot, args.volts or 1.0)
+        from modalfe.plot.figures import write_forced_plots
+
+        write_forced_plots(fig, args.plot, args.volts or 1.0)
+    scene_page(args, scene)
     if args.json:
         print(json.dumps(fig.to_json(), indent=2))
         return 0
@@ -199,24 +204,3 @@ def _print_stress(fig, pm) -> None:
         print(f"    {row['part']:<12} {what} {shown}: reached at {row['load_to_limit']:.4g} {unit}")
     for source in dict.fromkeys(r["source"] for r in fig.limits if r["source"]):
         print(f"    limits: {source}")
-
-
-def _plot(fig, path: str, volts: float) -> None:
-    """FRF (reduced model, and full FE when computed) and admittance, one PNG."""
-    from modalfe.plot.figures import plot_admittance, plot_frf
-
-    curves = {"reduced model": volts * fig.frf}
-    if fig.frf_full is not None:
-        curves["full FE"] = volts * fig.frf_full
-    title = f"{fig.scene}: {fig.rom.label}, {fig.rom.damping_description}"
-    unit = fig.load_unit
-    if unit != "V":  # per unit force, pressure or base acceleration: no circuit to plot
-        title = f"{fig.scene}: {fig.rom.label} driven by a {fig.load_description}, {fig.rom.damping_description}"
-        plot_frf(fig.frequency, {k: c / volts for k, c in curves.items()},
-                 ylabel=f"amplitude at {fig.rom.reference} [m/{unit}]", title=title).savefig(path, dpi=110)
-        return
-    frf = plot_frf(fig.frequency, curves, ylabel=f"amplitude at {fig.rom.reference} [m] at {volts:g} V", title=title)
-    stem, dot, ext = path.rpartition(".")
-    frf.savefig(path, dpi=110)
-    plot_admittance(fig.frequency, fig.admittance, title=title).savefig(f"{stem}_admittance.{ext}" if dot else
-                                                                        f"{path}_admittance", dpi=110)

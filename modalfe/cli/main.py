@@ -11,6 +11,7 @@ import io
 import json
 import logging
 import os
+import shlex
 import sys
 import traceback
 
@@ -54,6 +55,7 @@ def main(argv: list[str] | None = None) -> int:
         print("modalfe: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
     configure_logging(args.verbose)
+    args.command_line = shlex.join(["modalfe", *(sys.argv[1:] if argv is None else argv)])  # as typed, for pages
     captured = io.StringIO() if getattr(args, "json", False) else None
     status = EXIT_INTERNAL
     try:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import sys
 
 from modalfe.cli.options import (
     _float,
@@ -15,6 +16,7 @@ from modalfe.cli.options import (
     solve_keywords,
     solve_options,
 )
+from modalfe.cli.page import add_html_option, scene_page
 from modalfe.errors import SceneError
 from modalfe.progress import is_shown
 
@@ -28,6 +30,7 @@ def register(sub) -> None:
                    help="also how each row was resolved, its notes and the assumptions (and log progress)")
     p.add_argument("--jobs", type=positive_int,
                    help="devices solved at once, one process each (default: one per core)")
+    add_html_option(p)
     solve_options(p)
     p.set_defaults(func=_report)
 
@@ -39,19 +42,28 @@ def register(sub) -> None:
     p.add_argument("--circuit", choices=("short", "open"), help="electrodes grounded or driven one floating")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene parameter")
     p.add_argument("--json", action="store_true")
+    add_html_option(p)
     solve_options(p)
     p.set_defaults(func=_modes)
 
 
 def _report(args) -> int:
+    from modalfe.cli.page import write_design_page
     from modalfe.report.report import format_rows, run_report
 
-    rows = run_report(args.scene, progress=is_shown(), overrides=parse_overrides(args.set), jobs=args.jobs,
-                      **solve_keywords(args))
+    overrides = parse_overrides(args.set)
+    rows = run_report(args.scene, progress=is_shown(), overrides=overrides, jobs=args.jobs, **solve_keywords(args))
     if args.json:
         print(json.dumps([r.to_json() for r in rows], indent=2))
     else:
         print(format_rows(rows, detail=args.verbose))
+    if args.html:
+        from modalfe.scene import load_scene
+
+        scenes = [(load_scene(name, **overrides), [r for r in rows if r.scene == name])
+                  for name in dict.fromkeys(r.scene for r in rows)]
+        page = write_design_page(args.html, scenes, keywords=solve_keywords(args), command=args.command_line)
+        print(f"design page: {page}", file=sys.stderr if args.json else sys.stdout)
     return 1 if any(r.mode == "FAILED" for r in rows) else 0
 
 
@@ -72,6 +84,7 @@ def _modes(args) -> int:
              "error_unresolved": m.error_estimate == float("inf"),
              "model_error": None if not math.isfinite(m.model_error) else m.model_error,
              "wavelength_m": None if m.wavelength != m.wavelength else m.wavelength} for m in modes]
+    scene_page(args, scene)
     if args.json:
         print(json.dumps({"scene": scene.name, "circuit": modes.circuit, "fidelity": modes.fidelity,
                           "fidelity_note": modes.fidelity_note, "estimate_method": modes.estimate_method,

@@ -128,7 +128,11 @@ def check_output_path(flag: str, path: str, *, create_parents: bool = False) -> 
 
 
 def check_output_paths(args: argparse.Namespace) -> None:
-    """Every output option of a parsed command line checked (``--out``, ``--plot``, ``--vtu``, ``--save-rom``)."""
+    """Every output option of a parsed command line checked (``--out``, ``--plot``, ``--vtu``, ``--save-rom``, and
+    ``--html``, a folder made if missing)."""
+    html = getattr(args, "html", None)
+    if html is not None and Path(html).exists() and not Path(html).is_dir():
+        raise SceneError(f"--html: '{html}' is a file; give a folder (it is made if missing)")
     for name, flag in OUTPUT_OPTIONS.items():
         path = getattr(args, name, None)
         if path is None:

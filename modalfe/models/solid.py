@@ -198,19 +198,31 @@ class Model(PiezoUnknowns):
 
         return _probing(Basis(self.u_basis.mesh, element_for(self.scene.mesh), intorder=1))
 
-    def _inside(self, p: np.ndarray) -> np.ndarray:
-        """Points (3, n) moved by 1e-9 of the device's size toward the centre of a part that holds them, so that
-        points on faces, edges and corners (a foot's sole) fall inside an element; SceneError for a point in no part."""
+    def holds(self, points: np.ndarray) -> np.ndarray:
+        """Whether each of ``points`` (n, 3) [m] of the whole device lies in one of its parts (their exact shapes,
+        widened by 1e-9 of the device's size), as the probes (``displacement_probes``) require: a point on a facet
+        of a curved wall may lie outside (the chord of a ring's inner wall crosses the hole)."""
+        p, _ = fold(self.scene, np.asarray(points, dtype=float).reshape(-1, 3).T)
+        return self._holders(p)[0].any(axis=1)
+
+    def _holders(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
+        """(n, parts) whether each part holds each point of ``p`` (3, n) within ``step``; the parts' centres
+        (parts, 3); ``step``, 1e-9 of the device's size [m]."""
         parts = self.scene.assembly().parts
         lo = np.array([q.lo for q in parts], dtype=float)  # (parts, 3)
         hi = np.array([q.hi for q in parts], dtype=float)
         step = 1e-9 * float(np.max(hi.max(axis=0) - lo.min(axis=0)))
-        inside = np.stack([q.inside(p.T, step) for q in parts], axis=1)  # (n, parts), exact shapes
+        return np.stack([q.inside(p.T, step) for q in parts], axis=1), 0.5 * (lo + hi), step  # exact shapes
+
+    def _inside(self, p: np.ndarray) -> np.ndarray:
+        """Points (3, n) moved by 1e-9 of the device's size toward the centre of a part that holds them, so that
+        points on faces, edges and corners (a foot's sole) fall inside an element; SceneError for a point in no part."""
+        inside, centres, step = self._holders(p)
         if not inside.any(axis=1).all():
             x, y, z = p[:, np.argmin(inside.any(axis=1))]
             raise SceneError(f"points: ({x:g}, {y:g}, {z:g}) m lies outside the device's parts")
         holder = inside.argmax(axis=1)
-        return p + step * (0.5 * (lo + hi)[holder].T - p)
+        return p + step * (centres[holder].T - p)
 
     def label_field(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Coordinates (3, n) and displacements (3, n) of the whole device at the vertices of its main parts

@@ -16,13 +16,27 @@ def _figure(rows: int = 1, **kwargs):
     return plt.subplots(rows, 1, figsize=(7, 3.2 * rows), **kwargs)
 
 
-def plot_frf(frequency, responses: dict[str, np.ndarray], *, ylabel: str = "amplitude [m/V]", title: str = ""):
-    """|response| vs frequency [Hz] for each named curve, log scale."""
+def _mark(axes, marks: dict[str, float], scale: float) -> None:
+    """Dotted vertical lines at ``marks`` (name -> frequency [Hz], e.g. fr and fa), named at the top of the first
+    axes."""
+    for k, (name, f) in enumerate(marks.items()):
+        for ax in axes:
+            ax.axvline(f / scale, color="grey", linestyle=":", linewidth=0.9)
+        # names a line apart, so that fr and fa a few Hz apart stay readable
+        axes[0].annotate(name, (f / scale, 1.0), xycoords=("data", "axes fraction"), xytext=(2, -10 - 10 * (k % 2)),
+                         textcoords="offset points", fontsize=8, color="dimgrey")
+
+
+def plot_frf(frequency, responses: dict[str, np.ndarray], *, ylabel: str = "amplitude [m/V]", title: str = "",
+             marks: dict[str, float] | None = None):
+    """|response| vs frequency [Hz] for each named curve, log scale; ``marks``: name -> frequency [Hz] (fr) drawn
+    as dotted lines."""
     fig, ax = _figure()
     f = np.asarray(frequency, dtype=float)
     scale, unit = (1e3, "kHz") if f.max() >= 2e3 else (1.0, "Hz")  # the tile's 47 Hz heave reads as Hz
     for name, r in responses.items():
         ax.semilogy(f / scale, np.abs(r), label=name)
+    _mark([ax], marks or {}, scale)
     ax.set_xlabel(f"frequency [{unit}]")
     ax.set_ylabel(ylabel)
     ax.legend()
@@ -32,10 +46,15 @@ def plot_frf(frequency, responses: dict[str, np.ndarray], *, ylabel: str = "ampl
 
 
 def plot_admittance(frequency, admittance, *, title: str = "", impedance: bool = False,
-                    others: dict[str, np.ndarray] | None = None, label: str = "", markers=()):
+                    others: dict[str, np.ndarray] | None = None, label: str = "", marks: dict[str, float] | None = None,
+                    circuits=()):
     """|Y| [S] and phase [deg] vs frequency [Hz]; ``impedance`` adds |Z| [ohm] and plots the phase of Z;
-    ``others``: more named admittance curves (a closed form, the direct FE) on the same axes; ``markers``:
-    frequencies [Hz] (fr, fa) drawn as dotted lines."""
+    ``others``: more named admittance curves (a closed form, the direct FE) on the same axes; ``marks``: name ->
+    frequency [Hz] (fr, fa) drawn as dotted lines; ``circuits``: BVD circuits (``Admittance.bvd_circuits``), each
+    drawn dashed from fr - 3 (fa - fr) to fa + 3 (fa - fr) (where one resonance's circuit describes Y)."""
+    from modalfe.response.admittance import bvd_admittance
+
+    f_all = np.asarray(frequency, dtype=float)
     curves = {label or "Y": np.asarray(admittance)}
     curves.update({k: np.asarray(v) for k, v in (others or {}).items()})
     fig, axes = _figure(3 if impedance else 2, sharex=True)
@@ -51,11 +70,18 @@ def plot_admittance(frequency, admittance, *, title: str = "", impedance: bool =
         axes[1].set_ylabel("|Z| [ohm]")
     axes[-1].set_ylabel(f"phase of {'Z' if impedance else 'Y'} [deg]")
     axes[-1].set_xlabel("frequency [kHz]")
-    for ax in axes:
-        for m in markers:
-            ax.axvline(m / 1e3, color="grey", linestyle=":", linewidth=0.8)
-    if len(curves) > 1:
-        axes[0].legend()
+    for k, c in enumerate(circuits):
+        gap = c["fa_hz"] - c["fr_hz"]
+        f = f_all[(f_all >= c["fr_hz"] - 3 * gap) & (f_all <= c["fa_hz"] + 3 * gap)]
+        Y = bvd_admittance(c, f)
+        name = "fitted BVD" if k == 0 else None
+        axes[0].semilogy(f / 1e3, np.abs(Y), "k--", linewidth=0.9, label=name)
+        if impedance:
+            axes[1].semilogy(f / 1e3, 1.0 / np.abs(Y), "k--", linewidth=0.9)
+        axes[-1].plot(f / 1e3, np.degrees(np.angle(1.0 / Y if impedance else Y)), "k--", linewidth=0.9)
+    _mark(axes, marks or {}, 1e3)
+    if len(curves) > 1 or circuits:
+        axes[0].legend(fontsize=8)
     axes[0].set_title(title)
     fig.tight_layout()
     return fig
@@ -103,3 +129,28 @@ def plot_sweep(table: dict[str, np.ndarray], x: str, y: str, *, group: str | Non
     ax.set_ylabel(y)
     fig.tight_layout()
     return fig
+
+
+def write_forced_plots(fig, path: str, volts: float) -> list[str]:
+    """FRF (reduced model, and full FE when computed) at ``path``, and for a voltage drive the admittance beside it
+    (``<stem>_admittance.<ext>``), fr and fa marked (fa: the open-circuit mode's, else the reduced model's BVD);
+    returns the paths written."""
+    curves = {"reduced model": volts * fig.frf}
+    if fig.frf_full is not None:
+        curves["full FE"] = volts * fig.frf_full
+    title = f"{fig.scene}: {fig.rom.label}, {fig.rom.damping_description}"
+    unit = fig.load_unit
+    if unit != "V":  # per unit force, pressure or base acceleration: no circuit to plot
+        title = f"{fig.scene}: {fig.rom.label} driven by a {fig.load_description}, {fig.rom.damping_description}"
+        plot_frf(fig.frequency, {k: c / volts for k, c in curves.items()}, marks={"fr": fig.rom.frequency},
+                 ylabel=f"amplitude at {fig.rom.reference} [m/{unit}]", title=title).savefig(path, dpi=110)
+        return [path]
+    frf = plot_frf(fig.frequency, curves, ylabel=f"amplitude at {fig.rom.reference} [m] at {volts:g} V", title=title,
+                   marks={"fr": fig.rom.frequency})
+    stem, dot, ext = path.rpartition(".")
+    frf.savefig(path, dpi=110)
+    fa = fig.antiresonance or fig.rom.antiresonance
+    admittance = f"{stem}_admittance.{ext}" if dot else f"{path}_admittance"
+    plot_admittance(fig.frequency, fig.admittance, title=title, label="reduced model (the working mode's BVD)",
+                    marks={"fr": fig.rom.frequency, "fa": fa}).savefig(admittance, dpi=110)
+    return [path, admittance]

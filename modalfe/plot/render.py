@@ -1,6 +1,13 @@
 """Mode shapes in pyvista: the whole device (symmetric models unfolded), deformed, coloured by the
 normal displacement, with nodal lines and the feet, electrodes, clamps, springs and masses marked.
 
+Each panel shows the whole device (the camera fits the deformed body and its markers), an x-y-z triad and a
+scale bar; electrodes are drawn as outlines over a translucent fill so that the mode shows through them, clamped
+faces are hatched, feet are labelled by name, and a legend beside the colour bar names every marker. The nodal
+lines are the zero contour of the normal displacement probed on a subdivided surface (the finite-element field at
+the finer points, not its linear interpolation between the drawn vertices), so they are smooth. The title gives the
+mode, its frequency with its stated error, and the model (3-D solid, whole, half or quarter).
+
 Markers are found on the whole device's surface from the full assembly's face groups (so a half or
 quarter model shows the mirrored feet and electrodes too), carry the mode's displacement so that they
 move with the body in an animation, and are lifted off the surface along the face's outward normal.
@@ -14,15 +21,22 @@ they never call ``show()`` for the caller.
 
 from __future__ import annotations
 
+import logging
 import os
 import tempfile
 from dataclasses import dataclass
 
 import numpy as np
 
+from modalfe.errors import ModalfeError
 from modalfe.models.symmetry import mirror_planes, whole_device_mesh
 
+log = logging.getLogger(__name__)
+
 MARKERS = {"foot": "limegreen", "electrode": "gold", "clamp": "black", "spring": "purple", "mass": "orange"}
+LEGEND = {"foot": "foot", "electrode": "electrode", "clamp": "clamp (hatched)", "spring": "spring", "mass": "mass"}
+FILL_OPACITY = 0.25  # electrodes' and clamps' fill: the mode's colours stay readable through it
+SUBDIVISIONS = 2  # nodal lines: each surface triangle split in 4**2, the field probed at the new points
 COLOUR_BAR_TITLE = "normal displacement w\n[m per unit modal\namplitude,\nmass-normalised]"
 VIEWS = ("iso", "top", "bottom", "iso+bottom")
 LIFT = 2e-3  # markers are lifted off the surface by this fraction of the device's size (no z-fighting)
@@ -189,6 +203,19 @@ def symmetry_note(scene) -> str:
     return f"whole device drawn from the {model} model about {about}"
 
 
+def mode_title(mode) -> str:
+    """'cube_plate: (0,6)  39807.5 Hz +- 0.28 %  (3-D solid, half model)': the mode, its frequency with its stated
+    error (or why there is none) and the model that answered."""
+    error = mode.error_estimate
+    stated = ("error not estimated" if np.isnan(error) else "error unresolved" if np.isinf(error)
+              else f"+- {100 * error:.2g} %")
+    planes = mirror_planes(mode.model.scene)
+    model = {0: "whole", 1: "half", 2: "quarter", 3: "eighth"}[len(planes)]
+    fidelity = {"Model": "3-D solid", "PlateModel": "plate", "BeamModel": "beam",
+                "AxisymmetricModel": "axisymmetric"}.get(type(mode.model).__name__, type(mode.model).__name__)
+    return f"{mode.model.scene.name}: {mode.label}  {mode.frequency:.1f} Hz {stated}  ({fidelity}, {model} model)"
+
+
 def _scale(grid, amplification: float) -> float:
     size = float(np.ptp(grid.points, axis=0).max())
     peak = float(np.abs(grid.point_data["displacement"]).max()) or 1.0
@@ -201,6 +228,108 @@ def _deformed(poly, scale: float):
     return moved
 
 
+def nodal_lines(mode, surface):
+    """The zero contour of the normal displacement w on ``surface`` with every triangle split in SUBDIVISIONS**2,
+    w probed from the mode's own field at every new point (smooth lines, not the zig-zag of a linear interpolation
+    between the drawn vertices); point data ``displacement`` is the drawn surface's (linear between its vertices), so
+    that the deformed lines lie on the deformed surface drawn. On a curved wall (its facets' chords are not the
+    device's surface), where a flat face's triangle reaches over a ring's hole, or where the probes refuse a point,
+    w is the drawn surface's."""
+    fine = subdivided(surface, SUBDIVISIONS)
+    w = fine.point_data["displacement"][:, 2].copy()
+    flat = fine.point_data["flat"].copy()
+    flat[flat] = mode.model.holds(fine.points[flat])  # a flat face's triangle reaching over a ring's hole
+    try:
+        w[flat] = mode.displacement(fine.points[flat])[:, 2]
+    except (ModalfeError, ValueError) as exc:  # ValueError: skfem's finder, a point outside the mesh's facets
+        log.debug("nodal lines: the drawn w (the field not probed: %s)", exc)
+    fine.point_data["w"] = w
+    return fine.contour([0.0], scalars="w")
+
+
+def subdivided(surface, n: int):
+    """``surface`` triangulated, each triangle split in n**2 on its barycentric lattice, in double precision (VTK's
+    own subdivision returns single-precision points, which land up to 1e-7 of the size outside the device, where a
+    probe refuses them); the triangles do not share their new points (a contour needs no more). Point data
+    ``displacement``: the surface's, interpolated linearly; ``flat``: the point's triangle lies in a plane normal to an
+    axis (a box's face, a disc's top), where the device's exact surface is the triangle's."""
+    import pyvista as pv
+
+    tri = surface.triangulate()
+    triangles = tri.faces.reshape(-1, 4)[:, 1:]
+    corners = tri.points[triangles]  # (triangles, 3, 3)
+    lattice = [(a, b) for a in range(n + 1) for b in range(n + 1 - a)]
+    index = {ab: k for k, ab in enumerate(lattice)}
+    bary = np.array([(a, b, n - a - b) for a, b in lattice], dtype=float) / n
+    small = [(index[a, b], index[a + 1, b], index[a, b + 1]) for a, b in lattice if a + b < n]
+    small += [(index[a + 1, b], index[a + 1, b + 1], index[a, b + 1]) for a, b in lattice if a + b < n - 1]
+    points = np.einsum("kc,tcd->tkd", bary, corners).reshape(-1, 3)
+    cells = (np.arange(len(corners))[:, None, None] * len(lattice) + np.array(small)[None]).reshape(-1, 3)
+    fine = pv.PolyData(points, np.column_stack([np.full(len(cells), 3), cells]).ravel())
+    fine.point_data["displacement"] = np.einsum("kc,tcd->tkd", bary, tri.point_data["displacement"][triangles])\
+        .reshape(-1, 3)
+    normal = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    normal /= np.linalg.norm(normal, axis=1, keepdims=True)
+    fine.point_data["flat"] = np.repeat(np.abs(normal).max(axis=1) > 1 - 1e-9, len(lattice))  # to round-off
+    return fine
+
+
+def named_points(mode):
+    """The scene's named output points (``drive.outputs`` given as (name, (x, y, z)) [m]) as PolyData with the mode's
+    displacement, and their names; (None, []) when it names none."""
+    import pyvista as pv
+
+    named = [item for item in mode.model.scene.drive.outputs if not isinstance(item, str)]
+    if not named:
+        return None, []
+    points = pv.PolyData(np.array([xyz for _, xyz in named], dtype=float))
+    points.point_data["displacement"] = mode.displacement(points.points)
+    return points, [name for name, _ in named]
+
+
+def _edges(poly):
+    """The boundary of a marked patch (its outline), with the patch's point data."""
+    return poly.extract_feature_edges(boundary_edges=True, feature_edges=False, manifold_edges=False,
+                                      non_manifold_edges=False)
+
+
+def _hatch(marker: Marker, size: float):
+    """Short strokes from the outline of a clamped face, outwards and slanted (the engineering symbol of a fixed
+    support), carrying the displacement of the point they start from."""
+    import pyvista as pv
+
+    edge = _edges(marker.poly)
+    if not edge.n_points:
+        return None
+    axis, sign = marker.normal
+    slant = np.zeros(3)
+    slant[axis] = sign
+    slant[(axis + 1) % 3] = 1.0
+    start = edge.points[:: max(1, edge.n_points // 24)]
+    end = start + 0.04 * size * slant / np.linalg.norm(slant)
+    n = len(start)
+    lines = np.column_stack([np.full(n, 2), np.arange(n), np.arange(n) + n]).ravel()
+    strokes = pv.PolyData(np.vstack([start, end]), lines=lines)
+    at = edge.point_data["displacement"][:: max(1, edge.n_points // 24)]
+    strokes.point_data["displacement"] = np.vstack([at, at])
+    return strokes
+
+
+def _scale_bar(bounds, size: float):
+    """A bar of a round length (1, 2 or 5 x 10^k m, about a quarter of the device) along x in front of the device,
+    ending at its corner nearest the iso view (largest x and y), and its label; zero displacement (it does not move
+    in an animation)."""
+    import pyvista as pv
+
+    target = 0.25 * size
+    step = 10.0 ** np.floor(np.log10(target))
+    length = max(m * step for m in (1, 2, 5) if m * step <= target)
+    x1, y0, z0 = bounds[1], bounds[3] + 0.08 * size, bounds[4]
+    bar = pv.Line((x1 - length, y0, z0), (x1, y0, z0))
+    bar.point_data["displacement"] = np.zeros((bar.n_points, 3))
+    return bar, f"{1e3 * length:g} mm"
+
+
 def _set_view(plotter, view: str) -> None:
     if view == "top":
         plotter.view_xy()
@@ -208,15 +337,15 @@ def _set_view(plotter, view: str) -> None:
         plotter.view_xy(negative=True)
     else:
         plotter.view_isometric()
-    plotter.camera.zoom(1.15)
+    plotter.reset_camera()  # fit the whole deformed device with its markers and bar: nothing cropped
 
 
 def render_mode(mode, *, out: str | None = None, window_size=(1000, 650), amplification: float = 0.05,
                 view: str = "iso", off_screen: bool = True):
     """Render ``mode`` deformed (largest displacement = ``amplification`` x the device's size).
 
-    ``view``: "iso", "top", "bottom" or "iso+bottom" (two panels). The colour bar has its own panel at
-    the right. Returns the Plotter (``plotter._modalfe``: ``overlays``, the (rest PolyData, actor) pairs an
+    ``view``: "iso", "top", "bottom" or "iso+bottom" (two panels). The colour bar and the legend have their own
+    panel at the right. Returns the Plotter (``plotter._modalfe``: ``overlays``, the (rest PolyData, actor) pairs an
     animation moves; ``markers``, the Marker list; ``views``); with ``out`` it also writes a PNG."""
     import pyvista as pv
 
@@ -226,39 +355,74 @@ def render_mode(mode, *, out: str | None = None, window_size=(1000, 650), amplif
     views = view.split("+")
     grid = mode_grid(mode)
     scale = _scale(grid, amplification)
-    surface = grid.extract_surface(algorithm=None)
+    faces = grid.extract_surface(algorithm=None)
+    markers = marker_set(mode, faces)  # on the mesh's own facets, which the face groups' facets match
+    # triangles: drawn as the nodal lines' subdivision splits them, so that the lines lie on the drawn surface
+    surface = faces.triangulate()
     w = surface.point_data["w"]
     limit = float(np.abs(w).max()) or 1.0
-    markers = marker_set(mode, surface)
-    nodal = surface.contour([0.0], scalars="w")
+    size = float(np.ptp(surface.points, axis=0).max())
+    nodal = nodal_lines(mode, surface)
+    bar, bar_text = _scale_bar(surface.bounds, size)
+    points, names = named_points(mode)
     plotter = pv.Plotter(off_screen=off_screen, window_size=list(window_size), shape=(1, len(views) + 1),
-                         col_weights=[6] * len(views) + [2], border=False)
+                         col_weights=[6] * len(views) + [2.5], border=False)
     plotter.set_background("white")
     overlays, device_actor = [], None
-    scene = mode.model.scene
-    note = symmetry_note(scene)
+    note = symmetry_note(mode.model.scene)
+
+    def draw(rest, name: str, **style):  # an overlay that moves with the body
+        actor = plotter.add_mesh(_deformed(rest, scale), name=name, **style)
+        overlays.append((rest, actor))
+        return actor
+
+    tube = {"line_width": 4, "render_lines_as_tubes": True}
     for col, v in enumerate(views):
         plotter.subplot(0, col)
-        actor = plotter.add_mesh(_deformed(surface, scale), scalars="w", cmap="RdBu_r", clim=[-limit, limit],
-                                 show_scalar_bar=False, name=f"device:{v}")
+        actor = draw(surface, f"device:{v}", scalars="w", cmap="RdBu_r", clim=[-limit, limit], show_scalar_bar=False)
         device_actor = device_actor or actor
-        overlays.append((surface, actor))
         if nodal.n_points:
-            overlays.append((nodal, plotter.add_mesh(_deformed(nodal, scale), color="black", line_width=3,
-                                                     name=f"nodal:{v}")))
+            draw(nodal, f"nodal:{v}", color="black", line_width=3)
         for i, m in enumerate(markers):
-            style = {"line_width": 5, "render_lines_as_tubes": True} if m.outline else {}
-            overlays.append((m.poly, plotter.add_mesh(_deformed(m.poly, scale), color=m.colour,
-                                                      name=f"marker:{m.group}:{i}:{v}", **style)))
-        text = f"{scene.name}: {mode.label}  {mode.frequency:.1f} Hz" if col == 0 else ""
-        text += f"\n{note}" if note and col == 0 else ""
-        plotter.add_text(f"{text}\nview: {v}" if text else f"view: {v}", position="upper_left", font_size=10,
+            if m.outline or m.kind not in ("electrode", "clamp"):
+                draw(m.poly, f"marker:{m.group}:{i}:{v}", color=m.colour, **(tube if m.outline else {}))
+                continue
+            # a face: translucent fill, and its outline (electrode) or hatching (clamp) as the marker
+            # triangles, split as the body's are: a quad deformed out of plane would cross the body's own triangles
+            draw(m.poly.triangulate(), f"fill:{m.group}:{i}:{v}", color=m.colour, opacity=FILL_OPACITY)
+            edge = _hatch(m, size) if m.kind == "clamp" else _edges(m.poly)
+            if edge is not None and edge.n_points:
+                draw(edge, f"marker:{m.group}:{i}:{v}", color=m.colour, **tube)
+            if m.kind == "clamp":  # its outline too, drawn thin
+                draw(_edges(m.poly), f"outline:{m.group}:{i}:{v}", color=m.colour, line_width=2)
+        for m in markers:  # feet named where the view sees them
+            if m.kind == "foot" and v in m.seen_from():
+                plotter.add_point_labels(_deformed(m.poly, scale).center_of_mass()[None, :], [m.group], font_size=11,
+                                         text_color="black", shape_opacity=0.5, always_visible=True,
+                                         name=f"label:{m.group}:{v}")
+        if points is not None:  # drawn in every panel, named in the first (a label shows through the body)
+            draw(points, f"points:{v}", color="black", point_size=12, render_points_as_spheres=True)
+            if col == 0:
+                plotter.add_point_labels(_deformed(points, scale).points, names, font_size=11, text_color="black",
+                                         shape_opacity=0.5, show_points=False, always_visible=True, name="point_labels")
+        plotter.add_mesh(bar, color="black", line_width=4, name=f"scale:{v}")
+        plotter.add_point_labels(bar.points.mean(axis=0)[None, :], [bar_text], font_size=11, text_color="black",
+                                 shape_opacity=0.0, show_points=False, always_visible=True, name=f"scale_label:{v}")
+        plotter.add_axes(color="black", line_width=2, viewport=(0, 0, 0.18, 0.22))
+        text = f"{mode_title(mode)}\n{note}" if note else mode_title(mode)
+        plotter.add_text(f"{text}\nview: {v}" if col == 0 else f"view: {v}", position="upper_left", font_size=10,
                          color="black")
         _set_view(plotter, v)
     plotter.subplot(0, len(views))
     plotter.add_scalar_bar(COLOUR_BAR_TITLE, mapper=device_actor.mapper, vertical=True, color="black",
-                           position_x=0.3, position_y=0.06, width=0.35, height=0.7, title_font_size=11,
+                           position_x=0.3, position_y=0.36, width=0.35, height=0.5, title_font_size=11,
                            label_font_size=10, fmt="%.2g")
+    kinds = dict.fromkeys(m.kind for m in markers)
+    entries = [[LEGEND[k], MARKERS[k]] for k in kinds] + ([["nodal line", "black"]] if nodal.n_points else [])
+    entries += [["named point", "black"]] if names else []
+    if entries:
+        plotter.add_legend(labels=entries, bcolor="white", face="rectangle", loc="lower left",
+                           size=(0.95, 0.045 * len(entries)))
     plotter.subplot(0, 0)
     plotter._modalfe = {"overlays": overlays, "markers": markers, "views": views}
     if out:  # through Pillow: pyvista refuses an upper-case .PNG

@@ -47,6 +47,7 @@ from modalfe.response.losses import (
     qm_table,
     resolve_losses,
 )
+from modalfe.results.coupling import k_eff
 from modalfe.results.modes import Modes
 from modalfe.scene.scene import Analysis
 
@@ -63,6 +64,9 @@ UNDRIVEN = 1e-6  # a mode whose theta is below this fraction of the strongest's 
 # the band's modes and the resolved answer's, eigenpairs of one model from two Lanczos runs, are the same mode where
 # their frequencies agree to this (ARPACK's residual tol 1e-8: eigenvalues to about its square, measured ~1e-10)
 SAME_EIGENVALUE = 1e-8
+# a resonance gets its BVD circuit where k_eff^2 = C1 / (C0 + C1) exceeds this: a weaker one changes |Y| by less than
+# 0.1 % near fr, invisible on the plot and not a working resonance of a transducer
+BVD_MIN_COUPLING = 1e-3
 REFINE_SAMPLES = 2001  # fewest samples of the model's |Y| in the window of a mode, before Brent
 
 
@@ -94,6 +98,7 @@ class Admittance:
     notes: tuple[str, ...] = ()
     model_Y: Callable[[np.ndarray], np.ndarray] | None = field(default=None, repr=False, compare=False)
     capacitance_error: float = float("nan")
+    copies: int = 1
 
     @property
     def Z(self) -> np.ndarray:  # noqa: N802 (the impedance's own symbol)
@@ -149,12 +154,43 @@ class Admittance:
                                 method="bounded", options={"xatol": 1e-10 * x[j]})
         return float(found.x) if found.fun <= sign * float(np.abs(self.model_Y(x[j]))[0]) else float(x[j])
 
+    def bvd_circuits(self) -> list[dict]:
+        """The Butterworth-Van Dyke circuit of each resonance in the band (IEEE Std 176-1987, fig. 3): its motional
+        branch is the mode's own term of the modal sum, copies theta^2 / (omega_r^2 - omega^2 + i omega 2 pi width):
+        L1 = 1 / (copies theta^2) [H], C1 = copies theta^2 / omega_r^2 [F], R1 = 2 pi width L1 [ohm] (width: the
+        half-power width at the mode, ``width_hz``); C0 [F] is the rest of the admittance at fr, Im(Y - Y_branch) /
+        omega_r (the blocked capacitance and every other mode's share); fa_hz = fr sqrt(1 + C1 / C0), k_eff from fr
+        and fa. Stated errors composed to first order from theta's and fr's (L1: 2 theta, C1: 2 theta + 2 fr; none
+        for R1 and C0's share of the other modes: the loss is a stated input). Only resonances with k_eff^2 above
+        ``BVD_MIN_COUPLING``; none without the modal terms (direct FE)."""
+        if self.model_Y is None:
+            return []
+        out = []
+        for row in self.modes:
+            fr, theta = row["frequency_hz"], row["theta_N_per_V_sqrtkg"]
+            if not (self.frequency[0] <= fr <= self.frequency[-1]) or theta == 0:
+                continue
+            w = 2 * np.pi * fr
+            L1, C1 = 1.0 / (self.copies * theta**2), self.copies * theta**2 / w**2
+            R1 = 2 * np.pi * row["width_hz"] * L1
+            branch = bvd_admittance({"C0_F": 0.0, "R1_ohm": R1, "L1_H": L1, "C1_F": C1}, fr)[0]
+            C0 = float((self.model_Y(fr)[0] - branch).imag / w)
+            if not C0 > 0 or C1 / (C0 + C1) < BVD_MIN_COUPLING:
+                continue
+            fa = fr * math.sqrt(1 + C1 / C0)
+            err_f, err_t = row["error_estimate"], row.get("theta_error")
+            out.append({"label": row["label"], "fr_hz": fr, "fa_hz": fa, "k_eff": k_eff(fr, fa), "C0_F": C0,
+                        "R1_ohm": R1, "L1_H": L1, "C1_F": C1, "fr_error": err_f,
+                        "L1_error": None if err_t is None else 2 * err_t,
+                        "C1_error": None if err_t is None or err_f is None else 2 * err_t + 2 * err_f})
+        return out
+
     def to_json(self) -> dict:
         Z = self.Z
         return {
             "scene": self.scene, "method": self.method, "losses": list(self.losses), "dofs": self.dofs,
             "capacitance_clamped_F": self.capacitance_clamped, "modes": list(self.modes), "notes": list(self.notes),
-            **self.extrema(),
+            **self.extrema(), "bvd": self.bvd_circuits(),
             "frequency_Hz": self.frequency.tolist(), "Y_real_S": self.Y.real.tolist(), "Y_imag_S": self.Y.imag.tolist(),
             "abs_Z_ohm": np.abs(Z).tolist(), "phase_Z_deg": np.degrees(np.angle(Z)).tolist(),
         }
@@ -353,6 +389,14 @@ def clamped_capacitance(model) -> float:
     return float(C_b + F_phi @ splu(A.tocsc()).solve(F_phi))
 
 
+def bvd_admittance(circuit: Mapping, frequency) -> np.ndarray:
+    """Y [S] (complex) at ``frequency`` [Hz] of a Butterworth-Van Dyke circuit (``Admittance.bvd_circuits``): C0 in
+    parallel with R1, L1 and C1 in series, Y = i omega C0 + 1 / (R1 + i omega L1 + 1 / (i omega C1))."""
+    w = 2 * np.pi * np.atleast_1d(np.asarray(frequency, dtype=float))
+    return 1j * w * circuit["C0_F"] + 1.0 / (circuit["R1_ohm"] + 1j * w * circuit["L1_H"]
+                                             + 1.0 / (1j * w * circuit["C1_F"]))
+
+
 def modal_admittance(modes, frequency, losses: Losses, *, residual: str = "centre", note: str = "") -> Admittance:
     """Y(f) [S] by modal superposition of ``modes`` (short circuit, one model; none for a band without a resonance:
     the clamped capacitance and the residual) with the residual of the modes left out at ``residual`` (module
@@ -435,7 +479,7 @@ def modal_admittance(modes, frequency, losses: Losses, *, residual: str = "centr
                  for m, t, s, b in zip(used, theta, text, widths))
     notes += _coarse_grid_notes(f, rows)
     return Admittance(model.scene.name, f, model_Y(f), method, tuple(losses.describe()), factor * C_S,
-                      modes.dofs, rows, tuple(notes), model_Y)
+                      modes.dofs, rows, tuple(notes), model_Y, copies=factor)
 
 
 # a shift moved off a resonance keeps this relative distance (in omega^2) from every mode kept where it can: on a

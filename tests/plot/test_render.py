@@ -141,3 +141,96 @@ def test_markers_and_nodal_lines_follow_the_body_in_an_animation(plate, tmp_path
     rest = 0.5 * (frames[0][foot] + frames[2][foot])  # the rest position (cos 0 = -cos pi)
     marker = next(m for m in render.marker_set(plate[1]) if m.group == "foot_1")
     np.testing.assert_allclose(rest, marker.poly.points, atol=1e-12)
+
+
+@pytest.fixture(scope="module")
+def beam():
+    scene = load_scene("ciliary_beam", **{"mesh.elements_per_wavelength": 4.0})
+    return solve_modes(scene, near=21.6e3, count=2, error_estimate=False)
+
+
+def test_title_states_the_frequency_its_error_and_the_model(plate):
+    from dataclasses import replace
+
+    from modalfe.plot.render import mode_title
+
+    mode = plate[0]
+    assert mode_title(mode) == (f"cube_plate: {mode.label}  {mode.frequency:.1f} Hz error not estimated  "
+                                f"(3-D solid, half model)")  # solved with error_estimate=False
+    stated = replace(mode, error_estimate=0.00283)
+    assert f"{mode.frequency:.1f} Hz +- 0.28 %" in mode_title(stated)
+
+
+def test_nodal_lines_follow_the_zero_of_the_mode_s_own_field(plate):
+    """The lines are the zero of w probed on a subdivided surface: at their points the mode's (quadratic) field is
+    near zero, closer than the contour of its linear interpolation between the drawn vertices (jagged lines)."""
+    from modalfe.plot.render import mode_grid, nodal_lines
+
+    mode = plate[0]
+    surface = mode_grid(mode).extract_surface(algorithm=None).triangulate()
+    peak = float(np.abs(surface.point_data["w"]).max())
+    coarse = surface.contour([0.0], scalars="w")
+    fine = nodal_lines(mode, surface)
+    off_coarse = np.abs(mode.displacement(coarse.points)[:, 2]).max() / peak
+    off_fine = np.abs(mode.displacement(fine.points)[:, 2]).max() / peak
+    # measured 0.13 (coarse) and 0.03 (fine): a quadratic field interpolated over a quarter of the element is ~16x
+    # closer in theory; 5 % of the peak is a line drawn within a few pixels of the true one at this scale
+    assert off_fine < 0.05 and off_fine < off_coarse / 3
+
+
+def _projected_inside(plotter, renderer, bounds) -> bool:
+    """Whether the eight corners of ``bounds`` project inside ``renderer``'s viewport (display pixels)."""
+    width, height = plotter.window_size
+    x0, y0, x1, y1 = renderer.GetViewport()
+    for x in bounds[0:2]:
+        for y in bounds[2:4]:
+            for z in bounds[4:6]:
+                renderer.SetWorldPoint(x, y, z, 1.0)
+                renderer.WorldToDisplay()
+                u, v, _ = renderer.GetDisplayPoint()
+                if not (x0 * width <= u <= x1 * width and y0 * height <= v <= y1 * height):
+                    return False
+    return True
+
+
+def test_whole_beam_in_every_panel_with_its_clamp_hatched_named_points_and_a_legend(beam):
+    from modalfe.plot.render import FILL_OPACITY, LEGEND, render_mode
+
+    plotter = render_mode(beam[0], window_size=(1000, 400), view="iso+bottom")
+    try:
+        actors = _actors(plotter)
+        for col, view in enumerate(("iso", "bottom")):
+            device = actors[f"device:{view}"]
+            # the deformed beam, tip included, projects inside its panel (the old zoom cut the tip off)
+            assert _projected_inside(plotter, plotter.renderers[col], device.GetBounds()), view
+        clamp = [k for k in actors if k.startswith("marker:clamp")]
+        fill = [k for k in actors if k.startswith("fill:clamp")]
+        assert clamp and fill and actors[fill[0]].prop.opacity == FILL_OPACITY
+        assert actors[clamp[0]].mapper.dataset.n_lines >= 8  # the hatching strokes
+        props = plotter.renderers[-1].GetViewProps()
+        texts = [props.GetItemAsObject(i) for i in range(props.GetNumberOfItems())]
+        entries = [t.GetEntryString(i) for t in texts if hasattr(t, "GetEntryString")
+                   for i in range(t.GetNumberOfEntries())]
+        assert {LEGEND["clamp"], LEGEND["electrode"], "nodal line", "named point"} <= set(entries)
+        # the scene's named output points (tip, x_47.25mm, ...) drawn in each panel
+        named = [o for o in beam[0].model.scene.drive.outputs if not isinstance(o, str)]
+        assert actors["points:iso"].mapper.dataset.n_points == len(named) >= 2
+    finally:
+        plotter.close()
+
+
+def test_a_ring_s_electrodes_on_its_curved_walls_are_marked():
+    """Electrodes on curved faces (a radially poled ring's walls, issue 37: not marked) are found on the mesh's
+    facets of their face groups and drawn as outlines, seen in the iso panel."""
+    from modalfe.plot.render import render_mode
+    from tests.oracles.discs import radial_ring_scene
+
+    modes = solve_modes(radial_ring_scene(50e3), near=50e3, count=1, error_estimate=False)
+    plotter = render_mode(modes[0], window_size=(600, 300), view="iso")
+    try:
+        markers = plotter._modalfe["markers"]
+        assert {m.group for m in markers} == {"electrode_a", "electrode_b"}
+        for i, m in enumerate(markers):
+            assert _visible_pixels(plotter, f"marker:{m.group}:{i}:iso") > 20, m.group  # as for the plates above
+    finally:
+        plotter.close()

@@ -207,18 +207,20 @@ class _Analysis:
         self.indptr, self.indices = upper.indptr, upper.indices
         self.ia, self.ja = (upper.indptr + 1).astype(np.int32), (upper.indices + 1).astype(np.int32)
         self.free = list(range(1, SHARED_FACTORS + 1))
-        self.analysed = False
+        self.analysed, self.mixed = False, False
         _ANALYSES.append(weakref.ref(self))
 
     def holds(self, upper: sp.csr_matrix) -> bool:
-        """Whether ``upper`` has this analysis' pattern and a slot is free for it, under the analysis' MKL threads
-        (``single_threaded_blas`` limits them to one)."""
-        return bool(self.free) and self.analysed and _mkl_threads(self._ps) == self.threads \
+        """Whether ``upper`` has this analysis' pattern and a slot is free for it, under the MKL threads every call on
+        this handle has had (``single_threaded_blas`` limits them to one): a numeric factorization under other threads
+        than its analysis, or after a solve under other threads, crashed MKL (segmentation fault)."""
+        return bool(self.free) and self.analysed and not self.mixed and _mkl_threads(self._ps) == self.threads \
             and upper.shape[0] == self.n and upper.nnz == len(self.indices) \
             and np.array_equal(upper.indptr, self.indptr) and np.array_equal(upper.indices, self.indices)
 
     def call(self, phase: int, mnum: int, iparm: np.ndarray, data: np.ndarray, rhs: np.ndarray | None = None):
         """One PARDISO call on factorization ``mnum`` (x for a solve phase); RuntimeError on PARDISO's error code."""
+        self.mixed = self.mixed or _mkl_threads(self._ps) != self.threads
         rhs = np.zeros((self.n, 1), order="F") if rhs is None else rhs
         x = np.zeros_like(rhs)
         error = ctypes.c_int32(0)

@@ -101,3 +101,16 @@ def test_an_analysis_is_shared_only_under_its_own_thread_count():
     assert again._analysis is inside._analysis
     b = np.random.default_rng(6).standard_normal(K.shape[0])
     assert np.linalg.norm(K * 1.01 @ inside(b) - b) <= linalg.REFINED_ABOVE * np.linalg.norm(b)
+
+
+def test_a_handle_solved_under_other_threads_is_not_shared_again():
+    # a solve under one MKL thread on a factorization made with two, then a numeric factorization with two on the same
+    # handle, crashed MKL (the sensitivities' factorization beside a kept eigen solve that GMRES had used)
+    K = _shifted(2, 3.0)
+    kept, _ = linalg.factorize(K, solver="pardiso")
+    b = np.random.default_rng(7).standard_normal(K.shape[0])
+    with linalg.single_threaded_blas():
+        kept(b)
+    other, _ = linalg.factorize(K * 1.01, solver="pardiso")
+    assert (other._analysis is kept._analysis) == (kept._analysis.threads == 1)  # shared only on a 1-thread machine
+    assert np.linalg.norm(K * 1.01 @ other(b) - b) <= linalg.REFINED_ABOVE * np.linalg.norm(b)

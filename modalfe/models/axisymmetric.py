@@ -63,6 +63,9 @@ _ISOTROPY_TOL = 1e-9
 _COS = [0, 1, 2, 4, 6, 8]  # generalised strain rows carried by cos n theta (rr, tt, zz, rz, G_r, G_z)
 _SIN = [3, 5, 7]  # rows carried by sin n theta (tz, rt, G_t)
 _ON_SURFACE = 1e-9  # element sizes by which a probed point may lie outside the mesh's bounds (round-off)
+# harmonics assembled where ``mesh.harmonics`` is None and none are given: the first try of the solve's rule
+# (``modalfe.solve.axisymmetric.solve_axisymmetric`` raises them until the top one holds no mode of the answer)
+FIRST_HARMONICS = 4
 _LABEL_ANGLES = 64  # angles the meridian is revolved at for the disc labeller (harmonics up to 10 resolved)
 
 
@@ -104,6 +107,12 @@ class MeridianSection:
             if reg.r0 <= r <= reg.r1 and reg.z0 <= z <= reg.z1:
                 return i
         return None
+
+
+def round_parts(scene) -> bool:
+    """Whether every part of ``scene`` is a cylinder or a ring: a candidate body of revolution, which
+    ``meridian_section`` accepts or refuses naming the field at fault."""
+    return all(isinstance(part, (Cylinder, Ring)) for part in scene.assembly().parts)
 
 
 def meridian_section(scene, size_factor: float = 1.0) -> MeridianSection:
@@ -402,15 +411,18 @@ def _interleave(N: int) -> np.ndarray:
 
 def assemble_axisymmetric(scene, *, harmonics: tuple[int, ...] | None = None, order: int | None = None,
                           size_factor: float = 1.0) -> AxisymmetricModel:
-    """Assemble the harmonics ``harmonics`` (default 0..``mesh.harmonics``) of ``scene``'s meridian section
-    (``meridian_section``) on quadrilaterals of ``order`` (default ``mesh.order``; 2-4), element size x ``size_factor``:
-    K = c_n sum_ab kron(int r d_a(v) d_b(u), B_a^T D B_b) with d = (value / r, d/dr, d/dz) (module docstring)."""
+    """Assemble the harmonics ``harmonics`` (default 0..``mesh.harmonics``, else 0..``FIRST_HARMONICS``) of
+    ``scene``'s meridian section (``meridian_section``) on quadrilaterals of ``order`` (default ``mesh.order``; 2-4),
+    element size x ``size_factor``: K = c_n sum_ab kron(int r d_a(v) d_b(u), B_a^T D B_b) with d = (value / r, d/dr,
+    d/dz) (module docstring)."""
     from skfem import Basis, BilinearForm, ElementQuad2, ElementQuadP
 
     order = scene.mesh.order if order is None else order
     if order not in ORDERS:
         raise SceneError(f"mesh.order: the axisymmetric model takes orders {ORDERS}, got {order}")
-    harmonics = tuple(sorted(int(n) for n in (range(scene.mesh.harmonics + 1) if harmonics is None else harmonics)))
+    if harmonics is None:
+        harmonics = range((FIRST_HARMONICS if scene.mesh.harmonics is None else scene.mesh.harmonics) + 1)
+    harmonics = tuple(sorted(int(n) for n in harmonics))
     if not harmonics or harmonics[0] < 0 or len(set(harmonics)) != len(harmonics):
         raise SceneError(f"harmonics: distinct whole numbers >= 0, got {harmonics}")
     t0 = time.perf_counter()

@@ -14,7 +14,10 @@ Every frequency of a reduced model (``modalfe.models.beam``, ``modalfe.models.pl
 A mode's ``error_estimate`` is the sum of the two, ``model_error`` the second, with ``fidelity="auto"`` and
 with ``fidelity="beam"|"plate"`` asked directly alike (a reduced model's figure always includes its model error).
 
-``auto`` tries the reduced model that suits the scene's kind (beam or plate) and answers with it when
+``auto`` tries the reduced model that suits the scene's kind (beam or plate; the axisymmetric model where every part
+is round, ``modalfe.models.axisymmetric.meridian_section`` refusing a scene that is no body of revolution, with the
+field at fault in the note: its discretization error is its own p-refinement's, ``modalfe.solve.axisymmetric``, its
+model error the same cross-check) and answers with it when
 the estimated error of the modes asked about is within ``tol`` (the model error is read first: where it alone
 misses ``tol``, the reduced model's own estimate levels are not solved); otherwise the 3-D solid answers,
 reusing the cross-check's levels for its own error estimate (nothing is solved twice or for nothing), and refined
@@ -69,8 +72,12 @@ FORECAST_FIRST_STEP = 0.12
 
 
 def reduced_fidelities(scene) -> list[str]:
-    """Reduced models that can stand for ``scene``, cheapest first."""
-    return {"beam": ["beam"], "plate": ["plate"]}.get(scene.kind, [])
+    """Reduced models that can stand for ``scene``, cheapest first: the beam or plate model of its kind; the
+    axisymmetric model where every part is round (``modalfe.models.axisymmetric.round_parts``: whether it is a body
+    of revolution, ``meridian_section`` decides when it is tried)."""
+    from modalfe.models.axisymmetric import round_parts
+
+    return {"beam": ["beam"], "plate": ["plate"]}.get(scene.kind, []) + (["axisymmetric"] if round_parts(scene) else [])
 
 
 NOT_ESTIMATED = ("none: error not estimated (error_estimate off, --no-error-estimate): the scene's own mesh solved "
@@ -249,7 +256,8 @@ def solve_auto(rung: Rung, analysis, *, tol: float, check=None, fidelities: tupl
 
     for fidelity in reduced_fidelities(scene) if fidelities is None else fidelities:
         try:
-            fine = solve_estimated(rung, analysis, fidelity, error_estimate=False)
+            fine = (solve_revolved(rung, analysis, tol=tol, check=check) if fidelity == "axisymmetric"
+                    else solve_estimated(rung, analysis, fidelity, error_estimate=False))
         except (SceneError, SolverError, ImportError) as exc:
             reasons.append(f"{fidelity} model not applicable: {exc}")
             continue
@@ -261,8 +269,9 @@ def solve_auto(rung: Rung, analysis, *, tol: float, check=None, fidelities: tupl
         if alone > tol:
             reasons.append(f"{fidelity} model: {why} > tol {percent(tol)}")
             continue
-        try:
-            reduced = reduced_estimates(fine, scene, analysis, size_factor=rung.size_factor, solver=rung.solver)
+        try:  # the axisymmetric answer states its discretization error already
+            reduced = fine if fidelity == "axisymmetric" else \
+                reduced_estimates(fine, scene, analysis, size_factor=rung.size_factor, solver=rung.solver)
         except (SceneError, SolverError) as exc:
             reasons.append(f"{fidelity} model not applicable: {exc}")
             continue
@@ -270,8 +279,8 @@ def solve_auto(rung: Rung, analysis, *, tol: float, check=None, fidelities: tupl
         worst, why = worst_checked(checked, check)
         if worst <= tol:
             model = max((m.model_error for m in _checked_modes(checked, check)), default=0.0)
-            note = (f"auto: {fidelity} answered, estimated error {worst:.2%} <= tol {percent(tol)} "
-                    f"(model error {model:.2%} from a 3-D solid cross-check, plus discretization)")
+            note = (f"auto: {fidelity} answered, estimated error {percent(worst)} <= tol {percent(tol)} "
+                    f"(model error {percent(model)} from a 3-D solid cross-check, plus discretization)")
             return replace(checked, fidelity_note=note, cross_check=tuple(solid_check()))
         reasons.append(f"{fidelity} model: {why} > tol {percent(tol)}")
     reason = rung.no_estimate_reason
@@ -298,6 +307,15 @@ def solve_auto(rung: Rung, analysis, *, tol: float, check=None, fidelities: tupl
     note = "auto: solid answered" + (f" ({'; '.join(reasons)})" if reasons else " (no reduced model for a "
                                      f"{scene.kind} scene)" if fidelities is None else "")
     return replace(solid, fidelity_note=note + skipped + refined)
+
+
+def solve_revolved(rung: Rung, analysis, *, tol: float, check) -> Modes:
+    """The axisymmetric model's answer on ``rung``'s element sizes, refined until the ``check``ed modes' stated
+    discretization error meets ``tol`` (``modalfe.solve.axisymmetric``); its model error is auto's to add."""
+    from modalfe.solve.axisymmetric import solve_axisymmetric  # which imports this module's helpers
+
+    return solve_axisymmetric(rung.scene, analysis, tol=tol, check=check, size_factor=rung.size_factor,
+                              solver=rung.solver)
 
 
 def scene_grid_forecast(rung: Rung, levels: list[Modes], check) -> float:

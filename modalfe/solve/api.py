@@ -67,9 +67,9 @@ def solve_modes(
     every command: it is kept (``modalfe.solve.resolved``) and read back instead of solved again.
     ``fidelity``: ``auto`` (the cheapest of beam, plate, axisymmetric and solid that meets ``tol``,
     ``modalfe.solve.fidelity``), ``solid`` (the 3-D solid refined to ``tol``), ``beam`` or ``plate`` (reduced models
-    on their own mesh, stated error discretization plus model error). ``error_estimate=False``: the scene's own mesh solved once (``auto``: the
-    solid), its error unknown (NaN), for the expert who sets the mesh; ``tol=OWN_MESH`` (inf): that mesh with its
-    stated error, never refined. ``size_factor`` scales the element sizes.
+    on their own mesh, stated error discretization plus model error). ``error_estimate=False``: the scene's own mesh
+    solved once (``auto``: the solid), its error unknown (NaN), for the expert who sets the mesh; ``tol=OWN_MESH``
+    (inf): that mesh with its stated error, never refined. ``size_factor`` scales the element sizes.
     ``frame`` (3, 3) rotates the whole device (mesh and materials), for invariance checks.
     ``fidelity="axisymmetric"``: a body of revolution (cylinders and rings on one axis) on its meridian plane,
     circumferential harmonics n = 0..``harmonics`` (default the scene's ``mesh.harmonics``, else as many as the

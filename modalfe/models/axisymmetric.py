@@ -285,6 +285,28 @@ class AxisymmetricModel(PiezoUnknowns):
                 x[self.phi_dof(h, self.electrodes[group])] = volts
         return x
 
+    def nodal_displacement(self, x: np.ndarray) -> np.ndarray:
+        """Amplitudes (U_r, U_t, U_z) (3, n_vertices) [m] at the meridian mesh's vertices of the full DOF vector ``x``
+        of one mode (its harmonic's block; the others carry none)."""
+        vertices = self.basis.nodal_dofs[0]
+        return sum(np.asarray(x)[[self.u_dof(h, vertices, c) for c in range(3)]] for h in range(len(self.harmonics)))
+
+    def rigid_translations(self) -> np.ndarray:
+        """(3, ndofs) unit rigid translations along the local radial (theta = 0), its twin direction and the axis:
+        the axis's is n = 0's U_z = 1; the radial one n = 1's U_r = 1, U_t = -1 (u = cos theta e_r - sin theta e_t);
+        the model solves one set of each n >= 1 pair, so the twin direction's row is the radial one's, which the
+        pair's other member (turned by pi / 2) projects on alike. Zero where the harmonic is not solved."""
+        ones = self.basis.project(lambda x: np.ones_like(x[0]))  # the constant in the scalar basis (exact)
+        nodes = np.arange(self.basis.N)
+        r = np.zeros((3, self.ndofs))
+        if 1 in self.harmonics:
+            h = self.harmonics.index(1)
+            r[0, self.u_dof(h, nodes, 0)], r[0, self.u_dof(h, nodes, 1)] = ones, -ones
+            r[1] = r[0]
+        if 0 in self.harmonics:
+            r[2, self.u_dof(self.harmonics.index(0), nodes, 2)] = ones
+        return r
+
     def harmonic_of(self, x: np.ndarray) -> int:
         """The harmonic n whose block carries most of the full DOF vector ``x`` (one harmonic per mode)."""
         u = np.asarray(x)[: self.n_u].reshape(len(self.harmonics), -1)

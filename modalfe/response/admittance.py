@@ -59,11 +59,6 @@ MAX_POINTS = 100_000
 CSV_HEADER = "frequency_Hz,Y_real_S,Y_imag_S,abs_Z_ohm,phase_Z_deg"
 
 
-# reduced models whose modes the admittance takes as the solid's: the axisymmetric model's electrodes are equipotential
-# faces as in 3-D, driven through harmonic n = 0 only (n >= 1 modes carry no charge), its modal masses the whole
-# body's (``modalfe.models.axisymmetric``), so the same modal sum holds; auto's axisymmetric answer is the one
-# ``modes`` gives
-REVOLVED = ("axisymmetric",)
 UNDRIVEN = 1e-6  # a mode whose theta is below this fraction of the strongest's is not driven: no error stated on it
 # the band's modes and the resolved answer's, eigenpairs of one model from two Lanczos runs, are the same mode where
 # their frequencies agree to this (ARPACK's residual tol 1e-8: eigenvalues to about its square, measured ~1e-10)
@@ -289,7 +284,7 @@ def band_modes(scene, band: tuple[float, float], **resolution) -> Modes:
     band's top, and so refined the mesh past the one ``modes`` answers on, which then gave the working mode another
     frequency). Otherwise (none or several working modes in the band, or a scene whose own question is a band) the
     band question itself, every mode estimated."""
-    from modalfe.solve.api import NEAREST, solid_modes, working_question
+    from modalfe.solve.api import NEAREST, REVOLVED, solid_modes, working_question
     from modalfe.solve.levels import modes_of
 
     lo, hi = band

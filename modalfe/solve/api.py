@@ -37,6 +37,11 @@ Check = tuple[tuple[str | None, float], ...]
 # mesh's (cube_plate near 1e12 Hz answered 19-23 MHz "in-plane" modes on a mesh resolving 50 kHz), and refinement
 # within its few steps cannot reach them; up to it the error estimates say how far a mode is resolved
 FAR_ABOVE_MESH = 10.0
+# the reduced models whose modes the mode table and the admittance take as the solid's: the axisymmetric model's
+# electrodes are equipotential faces as in 3-D, driven through n = 0 only (n >= 1 modes carry no charge), its modal
+# masses the whole body's and its open circuit the 3-D one (``modalfe.models.axisymmetric``), so fa, k_eff and the
+# modal sum hold alike; auto's axisymmetric answer is then the one ``modes`` gives
+REVOLVED = ("axisymmetric",)
 NEAREST = None  # the selector of a check entry (selector, near) that means the mode nearest ``near``
 
 

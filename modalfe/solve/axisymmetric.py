@@ -36,8 +36,8 @@ from modalfe.errors import SceneError
 from modalfe.models.axisymmetric import FIRST_HARMONICS
 from modalfe.results.modes import Modes
 from modalfe.scene.scene import MAX_HARMONIC
+from modalfe.solve.checked import NOT_ESTIMATED, percent, worst_checked
 from modalfe.solve.estimates import MIN_ORDER, singular_field
-from modalfe.solve.fidelity import NOT_ESTIMATED, percent, worst_checked
 from modalfe.solve.levels import solve_level
 
 MAX_STEPS = 6  # at most 1.5^6 = 11x smaller elements than the scene's (the meridian mesh: ~130x the DOFs)

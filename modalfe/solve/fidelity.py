@@ -43,6 +43,8 @@ from dataclasses import replace
 
 from modalfe.errors import SceneError, SolverError
 from modalfe.results.modes import Modes, select
+from modalfe.solve.axisymmetric import solve_axisymmetric
+from modalfe.solve.checked import NOT_ESTIMATED, checked_modes, percent, worst_checked
 from modalfe.solve.estimates import (
     COARSE_FACTOR,
     CONVERGENCE_ORDER,
@@ -78,10 +80,6 @@ def reduced_fidelities(scene) -> list[str]:
     from modalfe.models.axisymmetric import round_parts
 
     return {"beam": ["beam"], "plate": ["plate"]}.get(scene.kind, []) + (["axisymmetric"] if round_parts(scene) else [])
-
-
-NOT_ESTIMATED = ("none: error not estimated (error_estimate off, --no-error-estimate): the scene's own mesh solved "
-                 "once, its error unknown")
 
 
 def solve_at_fidelity(scene, analysis, *, fidelity: str, tol: float, check, size_factor: float = 1.0,
@@ -278,7 +276,7 @@ def solve_auto(rung: Rung, analysis, *, tol: float, check=None, fidelities: tupl
         checked = replace(with_model_errors(reduced, errors), timings=dict(reduced.timings, cross_check=cross_check))
         worst, why = worst_checked(checked, check)
         if worst <= tol:
-            model = max((m.model_error for m in _checked_modes(checked, check)), default=0.0)
+            model = max((m.model_error for m in checked_modes(checked, check)), default=0.0)
             note = (f"auto: {fidelity} answered, estimated error {percent(worst)} <= tol {percent(tol)} "
                     f"(model error {percent(model)} from a 3-D solid cross-check, plus discretization)")
             return replace(checked, fidelity_note=note, cross_check=tuple(solid_check()))
@@ -312,8 +310,6 @@ def solve_auto(rung: Rung, analysis, *, tol: float, check=None, fidelities: tupl
 def solve_revolved(rung: Rung, analysis, *, tol: float, check) -> Modes:
     """The axisymmetric model's answer on ``rung``'s element sizes, refined until the ``check``ed modes' stated
     discretization error meets ``tol`` (``modalfe.solve.axisymmetric``); its model error is auto's to add."""
-    from modalfe.solve.axisymmetric import solve_axisymmetric  # which imports this module's helpers
-
     return solve_axisymmetric(rung.scene, analysis, tol=tol, check=check, size_factor=rung.size_factor,
                               solver=rung.solver)
 
@@ -406,35 +402,6 @@ def refined_to_tol(rung: Rung, analysis, solid: Modes | None, *, tol: float, che
             stopped = f" at the most refinement allowed (MAX_REFINE_STEPS = {MAX_REFINE_STEPS})"
         note += f"; its {why} exceeds tol {percent(tol)}{stopped}"
     return solid, note
-
-
-def percent(x: float) -> str:
-    """A relative tolerance as a percentage with two decimals, or two significant digits below 0.01 %
-    (``tol 1e-05`` is ``0.0010%``, not ``0.00%``)."""
-    if x >= 1e-4 or x <= 0:
-        return f"{100 * x:.2f}%"
-    return f"{100 * x:.{1 - math.floor(math.log10(100 * x))}f}%"
-
-
-def _checked_modes(modes: Modes, check) -> list:
-    if check is None:
-        top = max(m.frequency for m in modes)
-        return [m for m in modes if m.frequency >= 1e-6 * top]
-    return [modes.nearest(near) if selector is None else select(modes, selector, near) for selector, near in check]
-
-
-def worst_checked(modes: Modes, check, *, what: str = "estimated error") -> tuple[float, str]:
-    """(largest estimated error of the checked modes (every mode with no ``check``), a phrase saying which, calling
-    it ``what``)."""
-    try:
-        found = _checked_modes(modes, check)
-    except SolverError as exc:
-        return math.inf, f"working mode not found ({exc})"
-    if not found:
-        return 0.0, "no mode to check"
-    worst = max(found, key=lambda m: m.error_estimate if not math.isnan(m.error_estimate) else math.inf)
-    value = worst.error_estimate if not math.isnan(worst.error_estimate) else math.inf
-    return value, f"{what} {percent(value)} on {worst.label} at {worst.frequency:.6g} Hz"
 
 
 def coupling_check_level(modes: Modes, mode, *, size_factor: float = 1.0, solver: str = "auto") -> tuple[float, float]:

@@ -278,7 +278,8 @@ def solve_auto(rung: Rung, analysis, *, tol: float, check=None, fidelities: tupl
         if worst <= tol:
             model = max((m.model_error for m in checked_modes(checked, check)), default=0.0)
             note = (f"auto: {fidelity} answered, estimated error {percent(worst)} <= tol {percent(tol)} "
-                    f"(model error {percent(model)} from a 3-D solid cross-check, plus discretization)")
+                    f"(model error {percent(model)} from a 3-D solid cross-check, plus discretization)"
+                    + (f"; {reduced.fidelity_note}" if reduced.fidelity_note else ""))  # the axisymmetric model's
             return replace(checked, fidelity_note=note, cross_check=tuple(solid_check()))
         reasons.append(f"{fidelity} model: {why} > tol {percent(tol)}")
     reason = rung.no_estimate_reason

@@ -63,6 +63,9 @@ _ISOTROPY_TOL = 1e-9
 _COS = [0, 1, 2, 4, 6, 8]  # generalised strain rows carried by cos n theta (rr, tt, zz, rz, G_r, G_z)
 _SIN = [3, 5, 7]  # rows carried by sin n theta (tz, rt, G_t)
 _ON_SURFACE = 1e-9  # element sizes by which a probed point may lie outside the mesh's bounds (round-off)
+# harmonics assembled where ``mesh.harmonics`` is None and none are given: the first try of the solve's rule
+# (``modalfe.solve.axisymmetric.solve_axisymmetric`` raises them until the top one holds no mode of the answer)
+FIRST_HARMONICS = 4
 _LABEL_ANGLES = 64  # angles the meridian is revolved at for the disc labeller (harmonics up to 10 resolved)
 
 
@@ -104,6 +107,12 @@ class MeridianSection:
             if reg.r0 <= r <= reg.r1 and reg.z0 <= z <= reg.z1:
                 return i
         return None
+
+
+def round_parts(scene) -> bool:
+    """Whether every part of ``scene`` is a cylinder or a ring: a candidate body of revolution, which
+    ``meridian_section`` accepts or refuses naming the field at fault."""
+    return all(isinstance(part, (Cylinder, Ring)) for part in scene.assembly().parts)
 
 
 def meridian_section(scene, size_factor: float = 1.0) -> MeridianSection:
@@ -276,6 +285,28 @@ class AxisymmetricModel(PiezoUnknowns):
                 x[self.phi_dof(h, self.electrodes[group])] = volts
         return x
 
+    def nodal_displacement(self, x: np.ndarray) -> np.ndarray:
+        """Amplitudes (U_r, U_t, U_z) (3, n_vertices) [m] at the meridian mesh's vertices of the full DOF vector ``x``
+        of one mode (its harmonic's block; the others carry none)."""
+        vertices = self.basis.nodal_dofs[0]
+        return sum(np.asarray(x)[[self.u_dof(h, vertices, c) for c in range(3)]] for h in range(len(self.harmonics)))
+
+    def rigid_translations(self) -> np.ndarray:
+        """(3, ndofs) unit rigid translations along the local radial (theta = 0), its twin direction and the axis:
+        the axis's is n = 0's U_z = 1; the radial one n = 1's U_r = 1, U_t = -1 (u = cos theta e_r - sin theta e_t);
+        the model solves one set of each n >= 1 pair, so the twin direction's row is the radial one's, which the
+        pair's other member (turned by pi / 2) projects on alike. Zero where the harmonic is not solved."""
+        ones = self.basis.project(lambda x: np.ones_like(x[0]))  # the constant in the scalar basis (exact)
+        nodes = np.arange(self.basis.N)
+        r = np.zeros((3, self.ndofs))
+        if 1 in self.harmonics:
+            h = self.harmonics.index(1)
+            r[0, self.u_dof(h, nodes, 0)], r[0, self.u_dof(h, nodes, 1)] = ones, -ones
+            r[1] = r[0]
+        if 0 in self.harmonics:
+            r[2, self.u_dof(self.harmonics.index(0), nodes, 2)] = ones
+        return r
+
     def harmonic_of(self, x: np.ndarray) -> int:
         """The harmonic n whose block carries most of the full DOF vector ``x`` (one harmonic per mode)."""
         u = np.asarray(x)[: self.n_u].reshape(len(self.harmonics), -1)
@@ -402,15 +433,18 @@ def _interleave(N: int) -> np.ndarray:
 
 def assemble_axisymmetric(scene, *, harmonics: tuple[int, ...] | None = None, order: int | None = None,
                           size_factor: float = 1.0) -> AxisymmetricModel:
-    """Assemble the harmonics ``harmonics`` (default 0..``mesh.harmonics``) of ``scene``'s meridian section
-    (``meridian_section``) on quadrilaterals of ``order`` (default ``mesh.order``; 2-4), element size x ``size_factor``:
-    K = c_n sum_ab kron(int r d_a(v) d_b(u), B_a^T D B_b) with d = (value / r, d/dr, d/dz) (module docstring)."""
+    """Assemble the harmonics ``harmonics`` (default 0..``mesh.harmonics``, else 0..``FIRST_HARMONICS``) of
+    ``scene``'s meridian section (``meridian_section``) on quadrilaterals of ``order`` (default ``mesh.order``; 2-4),
+    element size x ``size_factor``: K = c_n sum_ab kron(int r d_a(v) d_b(u), B_a^T D B_b) with d = (value / r, d/dr,
+    d/dz) (module docstring)."""
     from skfem import Basis, BilinearForm, ElementQuad2, ElementQuadP
 
     order = scene.mesh.order if order is None else order
     if order not in ORDERS:
         raise SceneError(f"mesh.order: the axisymmetric model takes orders {ORDERS}, got {order}")
-    harmonics = tuple(sorted(int(n) for n in (range(scene.mesh.harmonics + 1) if harmonics is None else harmonics)))
+    if harmonics is None:
+        harmonics = range((FIRST_HARMONICS if scene.mesh.harmonics is None else scene.mesh.harmonics) + 1)
+    harmonics = tuple(sorted(int(n) for n in harmonics))
     if not harmonics or harmonics[0] < 0 or len(set(harmonics)) != len(harmonics):
         raise SceneError(f"harmonics: distinct whole numbers >= 0, got {harmonics}")
     t0 = time.perf_counter()

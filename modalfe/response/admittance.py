@@ -217,8 +217,9 @@ def admittance(scene, band: tuple[float, float], points: int, *, damping: str | 
     """Y(f) of ``scene``'s driven electrodes at ``points`` frequencies evenly spaced over ``band`` [Hz]: modal
     superposition (every short-circuit mode in the band widened by ``widen``, residual of the others at
     ``residual``: ``centre`` or ``static``), or the direct damped FE solve (``direct``; its progress shown where
-    ``modalfe.progress.shown``), both on the 3-D solid's modes of the widened band (``band_modes``, resolved at
-    ``resolution``: ``solve_modes``' tol, fidelity, error_estimate). Losses from ``resolve_losses``."""
+    ``modalfe.progress.shown``), both on the modes of the widened band of the 3-D solid or the axisymmetric model
+    (``band_modes``, resolved at ``resolution``: ``solve_modes``' tol, fidelity, error_estimate). Losses from
+    ``resolve_losses``."""
     frequency = frequency_grid(band, points)
     losses = resolve_losses(scene, damping=damping, tan_delta=tan_delta, per_mode=per_mode)
     if "drive" not in scene.electrodes.values():
@@ -237,6 +238,9 @@ def admittance(scene, band: tuple[float, float], points: int, *, damping: str | 
     result = modal_admittance(modes, frequency, losses, residual=residual,
                               note=f"short-circuit modes in [{lo:.6g}, {hi:.6g}] Hz (the band widened {widen:g}x); "
                                    f"resolved: {modes.resolution}")
+    if len(modes) and modes.estimate is None:  # no estimate levels kept (the axisymmetric model's p-step, no errors)
+        return replace(result, notes=(*result.notes, f"theta, the |Y| extrema and C0: errors not estimated (the answer "
+                                                     f"keeps no estimate levels: {modes.estimate_method})"))
     return with_stated_errors(result, modes, losses, residual) if len(modes) else result
 
 
@@ -297,7 +301,8 @@ def _finite_or_none(x: float) -> float | None:
 
 
 def band_modes(scene, band: tuple[float, float], **resolution) -> Modes:
-    """Every short-circuit mode of ``scene``'s 3-D solid in ``band`` [Hz], certified by Sturm counts, on the
+    """Every short-circuit mode of ``scene``'s 3-D solid (or axisymmetric model, where auto answers with it or it is
+    asked: ``REVOLVED``) in ``band`` [Hz], certified by Sturm counts, on the
     discretization that resolves the band's working mode to ``resolution`` (``solve_modes``' tol, fidelity,
     error_estimate) as ``modes`` resolves it. The working modes in the band drive the resolution (one fr in every
     command); in a band without one, the mode nearest the scene's analysis.near where the band holds it, else its
@@ -315,7 +320,7 @@ def band_modes(scene, band: tuple[float, float], **resolution) -> Modes:
     band's top, and so refined the mesh past the one ``modes`` answers on, which then gave the working mode another
     frequency). Otherwise (none or several working modes in the band, or a scene whose own question is a band) the
     band question itself, every mode estimated."""
-    from modalfe.solve.api import NEAREST, solid_modes, working_question
+    from modalfe.solve.api import NEAREST, REVOLVED, solid_modes, working_question
     from modalfe.solve.levels import modes_of
 
     lo, hi = band
@@ -327,8 +332,9 @@ def band_modes(scene, band: tuple[float, float], **resolution) -> Modes:
     if question.get("near") is None:  # in a band without a working mode, the mode nearest the scene's own frequency
         near = a.near if a.near is not None and lo <= a.near <= hi else 0.5 * (lo + hi)  # where the band holds it,
         check = tuple((wm.selector, wm.near) for wm in inside) or ((NEAREST, near),)  # else nearest its centre
-        return solid_modes(scene, needs="the admittance", band=band, circuit="short", check=check, **resolution)
-    answer = solid_modes(scene, needs="the admittance", circuit="short", **question, **resolution)
+        return solid_modes(scene, needs="the admittance", band=band, circuit="short", check=check, takes=REVOLVED,
+                           **resolution)
+    answer = solid_modes(scene, needs="the admittance", circuit="short", takes=REVOLVED, **question, **resolution)
     found = modes_of(answer.model, Analysis(band=band, circuit="short"), fidelity=answer.fidelity, known=answer)
     unmatched = list(answer)
     rows = []

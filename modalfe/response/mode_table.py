@@ -90,7 +90,10 @@ def _clean(v):
 
 def rigid_translations(model) -> np.ndarray:
     """(3, ndofs) unit rigid translations along x, y, z on the displacement unknowns (solid model: the vector
-    element's unknowns cycle x, y, z at each node)."""
+    element's unknowns cycle x, y, z at each node); the axisymmetric model's own (radial, its twin, the axis:
+    ``AxisymmetricModel.rigid_translations``)."""
+    if hasattr(model, "rigid_translations"):
+        return model.rigid_translations()
     if not hasattr(model, "u_basis"):
         raise SceneError("fidelity: the mode table needs the 3-D solid model")
     r = np.zeros((3, model.ndofs))
@@ -110,16 +113,18 @@ def effective_masses(modes) -> tuple[np.ndarray, np.ndarray]:
 
 def mode_table(scene, *, near: float | None = None, count: int | None = None,
                band: tuple[float, float] | None = None, **resolution) -> ModeTable:
-    """The mode table of ``scene`` (3-D solid): ``count`` modes nearest ``near`` [Hz] or every mode in ``band``
-    (default: the scene's analysis), the answer ``modes`` gives for that question at ``resolution``
+    """The mode table of ``scene`` (3-D solid, or the axisymmetric model where auto answers with it or it is asked:
+    its n >= 1 modes stand for pairs, meff_y the twin's): ``count`` modes nearest ``near`` [Hz] or every mode in
+    ``band`` (default: the scene's analysis), the answer ``modes`` gives for that question at ``resolution``
     (``solve_modes``' tol, fidelity, error_estimate). fa from one open-circuit solve on the same model, each short
     mode's partner by shape (``modalfe.results.coupling.antiresonance``); a partner past that band is sought where
     ``forced`` seeks it (``modalfe.response.forced.open_circuit_fa``). Each number of a row that depends on the
     discretization has its stated error from the frequencies' estimate levels (``derived_errors``)."""
     from modalfe.response.forced import open_circuit_fa
-    from modalfe.solve.api import derived_errors, open_circuit_modes, solid_modes
+    from modalfe.solve.api import REVOLVED, derived_errors, open_circuit_modes, solid_modes
 
-    short = solid_modes(scene, needs="the mode table", near=near, count=count, band=band, **resolution)
+    short = solid_modes(scene, needs="the mode table", near=near, count=count, band=band, takes=REVOLVED,
+                        **resolution)
     if band is None and near is None:
         band = scene.analysis.band
     model = short.model

@@ -140,7 +140,8 @@ class MeshSettings:
     ``family`` of the hexahedra: serendipity (nodes on vertices and edges only, orders 1-3) or Lagrange
     (tensor-product, orders 1-4), ``auto`` serendipity at order 2 and Lagrange above;
     ``clamp_grading`` geometric element layers toward faces clamped in x, y and z (hex only, 0: none);
-    ``harmonics`` the highest circumferential harmonic n the axisymmetric model solves (n = 0..harmonics)."""
+    ``harmonics`` the highest circumferential harmonic n the axisymmetric model solves (n = 0..harmonics; None: as
+    many as the modes asked for reach, ``modalfe.solve.axisymmetric``)."""
 
     elements_per_wavelength: float = 6.0
     max_frequency: float = 0.0
@@ -151,7 +152,7 @@ class MeshSettings:
     max_size: float = math.inf
     min_layers: int = 3
     clamp_grading: int = 0
-    harmonics: int = 4
+    harmonics: int | None = None
 
     def __post_init__(self) -> None:
         v.number("mesh.elements_per_wavelength", self.elements_per_wavelength, positive=True)
@@ -170,7 +171,8 @@ class MeshSettings:
             raise SceneError(f"mesh.min_size: {self.min_size:g} m exceeds mesh.max_size {self.max_size:g} m")
         v.integer("mesh.min_layers", self.min_layers, minimum=1, maximum=1000)
         v.integer("mesh.clamp_grading", self.clamp_grading, minimum=0, maximum=12)
-        v.integer("mesh.harmonics", self.harmonics, minimum=0, maximum=MAX_HARMONIC)
+        if self.harmonics is not None:
+            v.integer("mesh.harmonics", self.harmonics, minimum=0, maximum=MAX_HARMONIC)
 
     @property
     def serendipity(self) -> bool:

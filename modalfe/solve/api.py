@@ -37,6 +37,11 @@ Check = tuple[tuple[str | None, float], ...]
 # mesh's (cube_plate near 1e12 Hz answered 19-23 MHz "in-plane" modes on a mesh resolving 50 kHz), and refinement
 # within its few steps cannot reach them; up to it the error estimates say how far a mode is resolved
 FAR_ABOVE_MESH = 10.0
+# the reduced models whose modes the mode table and the admittance take as the solid's: the axisymmetric model's
+# electrodes are equipotential faces as in 3-D, driven through n = 0 only (n >= 1 modes carry no charge), its modal
+# masses the whole body's and its open circuit the 3-D one (``modalfe.models.axisymmetric``), so fa, k_eff and the
+# modal sum hold alike; auto's axisymmetric answer is then the one ``modes`` gives
+REVOLVED = ("axisymmetric",)
 NEAREST = None  # the selector of a check entry (selector, near) that means the mode nearest ``near``
 
 
@@ -65,15 +70,16 @@ def solve_modes(
     scene's working modes in the question, else ``mode`` (a label), else the mode nearest ``near`` (a band: all its
     modes); the others keep their own stated error. The same scene, question and tolerance give the same answer in
     every command: it is kept (``modalfe.solve.resolved``) and read back instead of solved again.
-    ``fidelity``: ``auto`` (the cheapest of beam, plate and solid that meets ``tol``, ``modalfe.solve.fidelity``),
-    ``solid`` (the 3-D solid refined to ``tol``), ``beam`` or ``plate`` (reduced models on their own mesh, stated
-    error discretization plus model error). ``error_estimate=False``: the scene's own mesh solved once (``auto``: the
-    solid), its error unknown (NaN), for the expert who sets the mesh; ``tol=OWN_MESH`` (inf): that mesh with its
-    stated error, never refined. ``size_factor`` scales the element sizes.
+    ``fidelity``: ``auto`` (the cheapest of beam, plate, axisymmetric and solid that meets ``tol``,
+    ``modalfe.solve.fidelity``), ``solid`` (the 3-D solid refined to ``tol``), ``beam`` or ``plate`` (reduced models
+    on their own mesh, stated error discretization plus model error). ``error_estimate=False``: the scene's own mesh
+    solved once (``auto``: the solid), its error unknown (NaN), for the expert who sets the mesh; ``tol=OWN_MESH``
+    (inf): that mesh with its stated error, never refined. ``size_factor`` scales the element sizes.
     ``frame`` (3, 3) rotates the whole device (mesh and materials), for invariance checks.
     ``fidelity="axisymmetric"``: a body of revolution (cylinders and rings on one axis) on its meridian plane,
-    circumferential harmonics n = 0..``harmonics`` (default the scene's ``mesh.harmonics``), refined by the order and
-    the grid to ``tol`` (``modalfe.solve.axisymmetric``); not (yet) a rung ``auto`` tries.
+    circumferential harmonics n = 0..``harmonics`` (default the scene's ``mesh.harmonics``, else as many as the
+    answer reaches), refined by the order and the grid to ``tol`` (``modalfe.solve.axisymmetric``); ``auto`` tries it
+    on a scene of round parts, its model error checked against the 3-D solid like the plate's.
     The mesh resolves the scene's frequency range (``Scene.max_frequency``: ``mesh.max_frequency`` or the
     scene's own analysis, widened to a ``band`` asked here); ``near`` only places the shift, so modes far
     above that range carry the large error estimates of an under-resolved mesh.
@@ -212,14 +218,17 @@ def sought_near(scene: Scene, selector: str | None = None, near: float | None = 
     return target
 
 
-def solid_modes(scene: Scene, *, needs: str, fidelity: str = "auto", **question) -> Modes:
+def solid_modes(scene: Scene, *, needs: str, fidelity: str = "auto", takes: tuple[str, ...] = (),
+                **question) -> Modes:
     """``solve_modes(scene, fidelity=fidelity, **question)`` for ``needs`` (a phrase: what asks), which works on
-    the 3-D solid: where ``auto`` answered with a reduced model, the solid refined to the same tolerance answers
-    instead (said in its note); a reduced ``fidelity`` asked is refused before any solve."""
-    if fidelity not in ("auto", "solid"):
-        raise SolverError(f"fidelity: {needs} needs the 3-D solid model, got '{fidelity}'")
+    the 3-D solid and the reduced models ``takes``: where ``auto`` answered with another reduced model, the solid
+    refined to the same tolerance answers instead (said in its note); another reduced ``fidelity`` asked is refused
+    before any solve."""
+    if fidelity not in ("auto", "solid", *takes):
+        raise SolverError(f"fidelity: {needs} needs the 3-D solid model (fidelity 'solid'"
+                          + "".join(f" or '{t}'" for t in takes) + f"), got '{fidelity}'")
     modes = solve_modes(scene, fidelity=fidelity, **question)
-    if modes.fidelity == "solid":
+    if modes.fidelity in ("solid", *takes):
         return modes
     solid = solve_modes(scene, fidelity="solid", **question)
     return replace(solid, fidelity_note=f"{solid.fidelity_note}; {needs} needs the 3-D solid: auto's {modes.fidelity} "

@@ -14,7 +14,10 @@ Every frequency of a reduced model (``modalfe.models.beam``, ``modalfe.models.pl
 A mode's ``error_estimate`` is the sum of the two, ``model_error`` the second, with ``fidelity="auto"`` and
 with ``fidelity="beam"|"plate"`` asked directly alike (a reduced model's figure always includes its model error).
 
-``auto`` tries the reduced model that suits the scene's kind (beam or plate) and answers with it when
+``auto`` tries the reduced model that suits the scene's kind (beam or plate; the axisymmetric model where every part
+is round, ``modalfe.models.axisymmetric.meridian_section`` refusing a scene that is no body of revolution, with the
+field at fault in the note: its discretization error is its own p-refinement's, ``modalfe.solve.axisymmetric``, its
+model error the same cross-check) and answers with it when
 the estimated error of the modes asked about is within ``tol`` (the model error is read first: where it alone
 misses ``tol``, the reduced model's own estimate levels are not solved); otherwise the 3-D solid answers,
 reusing the cross-check's levels for its own error estimate (nothing is solved twice or for nothing), and refined
@@ -40,6 +43,8 @@ from dataclasses import replace
 
 from modalfe.errors import SceneError, SolverError
 from modalfe.results.modes import Modes, select
+from modalfe.solve.axisymmetric import solve_axisymmetric
+from modalfe.solve.checked import NOT_ESTIMATED, checked_modes, percent, worst_checked
 from modalfe.solve.estimates import (
     COARSE_FACTOR,
     CONVERGENCE_ORDER,
@@ -69,12 +74,12 @@ FORECAST_FIRST_STEP = 0.12
 
 
 def reduced_fidelities(scene) -> list[str]:
-    """Reduced models that can stand for ``scene``, cheapest first."""
-    return {"beam": ["beam"], "plate": ["plate"]}.get(scene.kind, [])
+    """Reduced models that can stand for ``scene``, cheapest first: the beam or plate model of its kind; the
+    axisymmetric model where every part is round (``modalfe.models.axisymmetric.round_parts``: whether it is a body
+    of revolution, ``meridian_section`` decides when it is tried)."""
+    from modalfe.models.axisymmetric import round_parts
 
-
-NOT_ESTIMATED = ("none: error not estimated (error_estimate off, --no-error-estimate): the scene's own mesh solved "
-                 "once, its error unknown")
+    return {"beam": ["beam"], "plate": ["plate"]}.get(scene.kind, []) + (["axisymmetric"] if round_parts(scene) else [])
 
 
 def solve_at_fidelity(scene, analysis, *, fidelity: str, tol: float, check, size_factor: float = 1.0,
@@ -249,7 +254,8 @@ def solve_auto(rung: Rung, analysis, *, tol: float, check=None, fidelities: tupl
 
     for fidelity in reduced_fidelities(scene) if fidelities is None else fidelities:
         try:
-            fine = solve_estimated(rung, analysis, fidelity, error_estimate=False)
+            fine = (solve_revolved(rung, analysis, tol=tol, check=check) if fidelity == "axisymmetric"
+                    else solve_estimated(rung, analysis, fidelity, error_estimate=False))
         except (SceneError, SolverError, ImportError) as exc:
             reasons.append(f"{fidelity} model not applicable: {exc}")
             continue
@@ -261,17 +267,19 @@ def solve_auto(rung: Rung, analysis, *, tol: float, check=None, fidelities: tupl
         if alone > tol:
             reasons.append(f"{fidelity} model: {why} > tol {percent(tol)}")
             continue
-        try:
-            reduced = reduced_estimates(fine, scene, analysis, size_factor=rung.size_factor, solver=rung.solver)
+        try:  # the axisymmetric answer states its discretization error already
+            reduced = fine if fidelity == "axisymmetric" else \
+                reduced_estimates(fine, scene, analysis, size_factor=rung.size_factor, solver=rung.solver)
         except (SceneError, SolverError) as exc:
             reasons.append(f"{fidelity} model not applicable: {exc}")
             continue
         checked = replace(with_model_errors(reduced, errors), timings=dict(reduced.timings, cross_check=cross_check))
         worst, why = worst_checked(checked, check)
         if worst <= tol:
-            model = max((m.model_error for m in _checked_modes(checked, check)), default=0.0)
-            note = (f"auto: {fidelity} answered, estimated error {worst:.2%} <= tol {percent(tol)} "
-                    f"(model error {model:.2%} from a 3-D solid cross-check, plus discretization)")
+            model = max((m.model_error for m in checked_modes(checked, check)), default=0.0)
+            note = (f"auto: {fidelity} answered, estimated error {percent(worst)} <= tol {percent(tol)} "
+                    f"(model error {percent(model)} from a 3-D solid cross-check, plus discretization)"
+                    + (f"; {reduced.fidelity_note}" if reduced.fidelity_note else ""))  # the axisymmetric model's
             return replace(checked, fidelity_note=note, cross_check=tuple(solid_check()))
         reasons.append(f"{fidelity} model: {why} > tol {percent(tol)}")
     reason = rung.no_estimate_reason
@@ -298,6 +306,13 @@ def solve_auto(rung: Rung, analysis, *, tol: float, check=None, fidelities: tupl
     note = "auto: solid answered" + (f" ({'; '.join(reasons)})" if reasons else " (no reduced model for a "
                                      f"{scene.kind} scene)" if fidelities is None else "")
     return replace(solid, fidelity_note=note + skipped + refined)
+
+
+def solve_revolved(rung: Rung, analysis, *, tol: float, check) -> Modes:
+    """The axisymmetric model's answer on ``rung``'s element sizes, refined until the ``check``ed modes' stated
+    discretization error meets ``tol`` (``modalfe.solve.axisymmetric``); its model error is auto's to add."""
+    return solve_axisymmetric(rung.scene, analysis, tol=tol, check=check, size_factor=rung.size_factor,
+                              solver=rung.solver)
 
 
 def scene_grid_forecast(rung: Rung, levels: list[Modes], check) -> float:
@@ -388,35 +403,6 @@ def refined_to_tol(rung: Rung, analysis, solid: Modes | None, *, tol: float, che
             stopped = f" at the most refinement allowed (MAX_REFINE_STEPS = {MAX_REFINE_STEPS})"
         note += f"; its {why} exceeds tol {percent(tol)}{stopped}"
     return solid, note
-
-
-def percent(x: float) -> str:
-    """A relative tolerance as a percentage with two decimals, or two significant digits below 0.01 %
-    (``tol 1e-05`` is ``0.0010%``, not ``0.00%``)."""
-    if x >= 1e-4 or x <= 0:
-        return f"{100 * x:.2f}%"
-    return f"{100 * x:.{1 - math.floor(math.log10(100 * x))}f}%"
-
-
-def _checked_modes(modes: Modes, check) -> list:
-    if check is None:
-        top = max(m.frequency for m in modes)
-        return [m for m in modes if m.frequency >= 1e-6 * top]
-    return [modes.nearest(near) if selector is None else select(modes, selector, near) for selector, near in check]
-
-
-def worst_checked(modes: Modes, check, *, what: str = "estimated error") -> tuple[float, str]:
-    """(largest estimated error of the checked modes (every mode with no ``check``), a phrase saying which, calling
-    it ``what``)."""
-    try:
-        found = _checked_modes(modes, check)
-    except SolverError as exc:
-        return math.inf, f"working mode not found ({exc})"
-    if not found:
-        return 0.0, "no mode to check"
-    worst = max(found, key=lambda m: m.error_estimate if not math.isnan(m.error_estimate) else math.inf)
-    value = worst.error_estimate if not math.isnan(worst.error_estimate) else math.inf
-    return value, f"{what} {percent(value)} on {worst.label} at {worst.frequency:.6g} Hz"
 
 
 def coupling_check_level(modes: Modes, mode, *, size_factor: float = 1.0, solver: str = "auto") -> tuple[float, float]:

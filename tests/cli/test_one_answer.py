@@ -75,7 +75,8 @@ def test_forced_after_modes_solves_nothing_and_a_fresh_solve_gives_what_was_kept
 
 def test_a_scene_without_working_modes_gets_the_same_answer_in_admittance(capsys):
     """The PZT-5A disc names no working mode: ``modes`` asks about the mode nearest its own frequency, and a band
-    holding that frequency resolves the same question (it was 7.8e-7 apart on a band question's mesh)."""
+    holding that frequency resolves the same question (it was 7.8e-7 apart on a band question's mesh); the mode table
+    takes the same answer (auto's axisymmetric one: both commands take that model)."""
     from pathlib import Path
 
     disc = str(Path(__file__).resolve().parents[2] / "examples" / "pzt5a_disc.toml")
@@ -85,3 +86,6 @@ def test_a_scene_without_working_modes_gets_the_same_answer_in_admittance(capsys
     found = next(m for m in band["modes"] if m["label"] == "R1")
     assert found["frequency_hz"] == pytest.approx(r1["frequency_hz"], rel=SAME)
     assert found["error_estimate"] == pytest.approx(r1["error_estimate"], rel=SAME)
+    table = _json(capsys, ["table", disc, "--json"])
+    assert next(m["frequency_Hz"] for m in table["modes"] if m["label"] == "R1") == pytest.approx(r1["frequency_hz"],
+                                                                                                 rel=SAME)

@@ -1,0 +1,62 @@
+"""``auto`` and the axisymmetric rung (issue 36 item 1): a body of revolution is answered by the axisymmetric model,
+its model error checked against the 3-D solid's estimate levels as the plate's; a round scene the model cannot take
+is refused with the field at fault in the note, a scene with a box part is not tried, and a model error past tol
+falls back to the solid."""
+
+import math
+import re
+from pathlib import Path
+
+from modalfe.scene import load_scene, scene_from_dict
+from modalfe.solve import fidelity
+from modalfe.solve.api import DEFAULT_TOL, solve_modes
+from modalfe.solve.fidelity import reduced_fidelities
+from tests.oracles.discs import SOLID_FR, SOLID_FR_ERROR
+
+DISC = str(Path(__file__).resolve().parents[2] / "examples" / "pzt5a_disc.toml")  # a free 20 x 1 mm disc
+
+
+def _al_disc(**extra):
+    """A free 20 x 2 mm aluminium disc asked near 30 kHz: a coarse mesh, a solid solved in about a second."""
+    part = {"name": "disc", "shape": "cylinder", "material": "Al-5052", "centre": [0, 0, 0], "axis": "z",
+            "radius": 10, "height": 2}
+    return scene_from_dict({"units": "mm", "parts": [part], "analysis": {"near": 30e3, "count": 4}, **extra})
+
+
+def test_auto_answers_the_pzt5a_disc_with_the_axisymmetric_model_checked_against_the_solid():
+    """The disc's default question: R1 answered by the axisymmetric model, its model error from the solid's estimate
+    levels finite and within tol, its frequency within the stated errors of the 3-D solid's (tests/oracles/discs.py,
+    plus 0.5 Hz of rounding); the harmonics raised till the top one holds no mode (the window holds (8,0))."""
+    modes = solve_modes(DISC)
+    assert modes.fidelity == "axisymmetric"
+    assert modes.fidelity_note.startswith("auto: axisymmetric answered")
+    assert len(modes.cross_check) == 2  # the solid's two estimate levels, kept for k_eff and the report
+    r1 = modes.labelled("R1")
+    assert 0 < r1.model_error <= r1.error_estimate <= DEFAULT_TOL
+    assert abs(r1.frequency / SOLID_FR - 1) <= r1.error_estimate + SOLID_FR_ERROR + 0.5 / SOLID_FR
+    harmonics = {modes.model.harmonic_of(m.shape) for m in modes}
+    assert 8 in harmonics and max(modes.model.harmonics) not in harmonics
+
+
+def test_a_round_scene_the_model_cannot_take_is_refused_in_the_note():
+    """A clamped disc is round but no free body: the solid answers, the note naming the field (clamps)."""
+    scene = _al_disc(faces={"base": ["disc.bottom"]}, clamps={"base": "xyz"})
+    assert reduced_fidelities(scene) == ["axisymmetric"]
+    modes = solve_modes(scene)
+    assert modes.fidelity == "solid"
+    assert "axisymmetric model not applicable: clamps:" in modes.fidelity_note
+
+
+def test_a_scene_with_a_box_part_is_not_tried():
+    assert reduced_fidelities(load_scene("cube_plate")) == ["plate"]
+
+
+def test_a_model_error_past_tol_falls_back_to_the_solid(monkeypatch):
+    """Where the cross-check states a model error past tol, the solid answers and the note says why (the model
+    error made 20 against tol 10, so that only the decision is tested: no refinement at that tol)."""
+    monkeypatch.setattr(fidelity, "model_errors", lambda reduced, levels, scene, orders: {m.index: 20.0
+                                                                                       for m in reduced})
+    modes = solve_modes(_al_disc(), tol=10.0)
+    assert modes.fidelity == "solid"
+    assert re.search(r"\(axisymmetric model: model error 2000\.\d\d% on .* > tol 1000\.00%\)", modes.fidelity_note)
+    assert math.isnan(modes[0].model_error)

@@ -7,6 +7,8 @@ import math
 import re
 from pathlib import Path
 
+import pytest
+
 from modalfe.scene import load_scene, scene_from_dict
 from modalfe.solve import fidelity
 from modalfe.solve.api import DEFAULT_TOL, solve_modes
@@ -23,7 +25,24 @@ def _al_disc(**extra):
     return scene_from_dict({"units": "mm", "parts": [part], "analysis": {"near": 30e3, "count": 4}, **extra})
 
 
-def test_auto_answers_the_pzt5a_disc_with_the_axisymmetric_model_checked_against_the_solid():
+@pytest.fixture
+def revolved_auto(monkeypatch):
+    """auto with the axisymmetric rung among those it tries (``fidelity.AUTO_SKIPS`` emptied)."""
+    monkeypatch.setattr(fidelity, "AUTO_SKIPS", ())
+
+
+def test_auto_leaves_the_axisymmetric_rung_out_and_says_so():
+    """By default the disc is the 3-D solid's (one answer in every command: forced, show and export need it); the
+    note names the rung left out and how to ask for it."""
+    scene = _al_disc()
+    assert reduced_fidelities(scene) == ["axisymmetric"]
+    modes = solve_modes(scene)
+    assert modes.fidelity == "solid"
+    assert "axisymmetric model not tried by auto" in modes.fidelity_note and "--fidelity axisymmetric" in \
+        modes.fidelity_note
+
+
+def test_auto_answers_the_pzt5a_disc_with_the_axisymmetric_model_checked_against_the_solid(revolved_auto):
     """The disc's default question: R1 answered by the axisymmetric model, its model error from the solid's estimate
     levels finite and within tol, its frequency within the stated errors of the 3-D solid's (tests/oracles/discs.py,
     plus 0.5 Hz of rounding); the harmonics raised till the top one holds no mode (the window holds (8,0))."""
@@ -38,7 +57,7 @@ def test_auto_answers_the_pzt5a_disc_with_the_axisymmetric_model_checked_against
     assert 8 in harmonics and max(modes.model.harmonics) not in harmonics
 
 
-def test_a_round_scene_the_model_cannot_take_is_refused_in_the_note():
+def test_a_round_scene_the_model_cannot_take_is_refused_in_the_note(revolved_auto):
     """A clamped disc is round but no free body: the solid answers, the note naming the field (clamps)."""
     scene = _al_disc(faces={"base": ["disc.bottom"]}, clamps={"base": "xyz"})
     assert reduced_fidelities(scene) == ["axisymmetric"]
@@ -51,7 +70,7 @@ def test_a_scene_with_a_box_part_is_not_tried():
     assert reduced_fidelities(load_scene("cube_plate")) == ["plate"]
 
 
-def test_a_model_error_past_tol_falls_back_to_the_solid(monkeypatch):
+def test_a_model_error_past_tol_falls_back_to_the_solid(monkeypatch, revolved_auto):
     """Where the cross-check states a model error past tol, the solid answers and the note says why (the model
     error made 20 against tol 10, so that only the decision is tested: no refinement at that tol)."""
     monkeypatch.setattr(fidelity, "model_errors", lambda reduced, levels, scene, orders: {m.index: 20.0

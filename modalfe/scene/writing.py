@@ -39,7 +39,8 @@ def scene_to_toml(scene: Scene) -> str:
     out += [f"# reference spectrum ({family}): {text}" for family, text in scene.reference_spectra.items()]
     out += _table("analysis", {f.name: getattr(scene.analysis, f.name) for f in fields(Analysis)
                                if getattr(scene.analysis, f.name) is not None})
-    out += _table("mesh", {f.name: getattr(scene.mesh, f.name) for f in fields(MeshSettings)})
+    out += _table("mesh", {f.name: getattr(scene.mesh, f.name) for f in fields(MeshSettings)
+                           if getattr(scene.mesh, f.name) is not None})  # None: the default (harmonics as needed)
     for name, constants in scene.materials.items():
         out += _table(f"materials.{_key(name)}", constants)
     if scene.device == "imported":  # the geometry file by its absolute path; its physical groups name the faces

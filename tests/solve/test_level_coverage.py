@@ -58,11 +58,12 @@ def test_a_thin_cantilever_plate_states_at_least_its_error_on_its_grid():
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="issue 34 item 4, left open: the quartic p-estimate auto refines to (orders "
-                                       "2-3-4 on one 1-layer grid) states 0.55 % on the twisting mode (1,0) against "
-                                       "at least 0.65 % (the order-4 reference bounds the exact value from above)")
 def test_a_thin_cantilever_plate_refined_to_tol_states_at_least_its_error():
+    # its quartic grids are 3.3-7.5 mm wide over 0.5 mm: the edge zones lie inside the elements, and the p-estimate
+    # takes the rate floor 1 (estimates.UNRESOLVED_P_RATE); at the floor 2 the twisting mode (1,0) stated 0.55 % against
+    # at least 0.65 %. No allowance: the conforming order-4 reference bounds the exact value from above
     solid = solve_modes(cantilever_plate_scene(), fidelity="solid")
-    reference, _ = CANTILEVER["(1,0)"]
-    mode = solid.labelled("(1,0)", near=reference)
-    assert mode.error_estimate >= mode.frequency / reference - 1
+    assert "edge zones inside the elements" in solid.estimate_method
+    for label, (reference, _) in CANTILEVER.items():
+        mode = solid.labelled(label, near=reference)
+        assert mode.error_estimate >= mode.frequency / reference - 1, label

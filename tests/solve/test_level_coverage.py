@@ -4,9 +4,13 @@ last refinement), which the comparison allows: the stated error must cover the a
 reference itself may be off. The stack (~45 s) and the cantilever refined to tol are slow; the strip (~7 s) and the
 cantilever on its grid (~2 s) run by default."""
 
+from dataclasses import replace
+
 import pytest
 
+from modalfe.models.build import build_model
 from modalfe.solve.api import solve_modes
+from modalfe.solve.estimates import unresolved_edges
 from modalfe.solve.fidelity import solve_estimated
 from modalfe.solve.rung import Rung
 from tests.oracles.cases import cantilever_plate_scene, stack_scene, strip_scene
@@ -67,3 +71,13 @@ def test_a_thin_cantilever_plate_refined_to_tol_states_at_least_its_error():
     for label, (reference, _) in CANTILEVER.items():
         mode = solid.labelled(label, near=reference)
         assert mode.error_estimate >= mode.frequency / reference - 1, label
+
+
+@pytest.mark.parametrize(("thickness", "unresolved"), [(0.5, True), (1.5, False)])
+def test_a_quartic_grid_wider_than_four_thicknesses_leaves_the_edge_zones_unresolved(thickness, unresolved):
+    # auto's second quartic step of the cantilever: 5 mm elements (x2 of the 2.5 mm grid), one layer; 5 > 4 x 0.5 mm,
+    # 5 < 4 x 1.5 mm
+    scene = cantilever_plate_scene(thickness=thickness)
+    quartic = replace(scene, mesh=replace(scene.mesh, order=4, family="lagrange", min_layers=1))
+    model, _ = build_model(quartic, size_factor=2.0)
+    assert bool(unresolved_edges(model.mesh, quartic)) is unresolved

@@ -62,7 +62,7 @@ SAMPLES = 400  # sample points for the MAC: 1200 values a shape, enough to tell 
 # studies/verification_errors.py --order 4: rates above 2.8 under-stated clamped cantilevers and bars). A rate
 # observed below the floor (not yet converging) is used: it raises the estimate.
 MIN_P_RATE = 2.0
-# the doubling needs the singular or boundary-layer behaviour on element vertices and edges. A thin part's edges carry
+# The doubling needs the singular or boundary-layer behaviour on element vertices and edges. A thin part's edges carry
 # zones of width ~ its thickness t (the twisting and shear boundary layers of a plate: Arnold & Falk, SIAM J. Math.
 # Anal. 20 (1989) 1276); the p-version resolves such a layer only with elements no wider than ~p t beside it (Schwab &
 # Suri, Math. Comp. 65 (1996) 1403). On a p-grid whose elements are wider than p times the main part's thickness

@@ -349,9 +349,7 @@ def refined_to_tol(rung: Rung, analysis, solid: Modes | None, *, tol: float, che
     times more (the estimate levels' own ratio, ``COARSE_FACTOR``); one step at a time (a step costs ~1.5^3 = 3.4x
     the one before, so the steps before the last add at most ~40 %; jumping by the steps an h^2 fall predicts
     overshot), at most ``MAX_REFINE_STEPS``, and none whose model would not fit in memory
-    (``modalfe.models.estimate.check_size``). Not where the solid states no estimate (nothing to steer by), but where
-    a level merely lacks a checked mode's partner (inf: a coarse quartic grid one element across a thin plate's width
-    at order 2 has no twisting mode): the finer rung's levels hold it. On
+    (``modalfe.models.estimate.check_size``). Not where the solid states no estimate (nothing to steer by). On
     h-steps a step's estimate levels (elements x1.5 and x2.25 of its own, layers alike) are the grids of the steps
     before it (``solid`` and its ``levels`` for the first): they are reused (``solve_estimated``)."""
     from modalfe.models.estimate import check_size
@@ -363,7 +361,7 @@ def refined_to_tol(rung: Rung, analysis, solid: Modes | None, *, tol: float, che
     worst, why = ((math.inf, "own grid (not solved, first_step)") if solid is None
                   else worst_checked(solid, check))
     steps, stopped, finer = (0 if solid is not None else start - 1), "", rung
-    while worst > tol and (math.isfinite(worst) or solid is None or _steers(solid)) and steps < MAX_REFINE_STEPS:
+    while worst > tol and (math.isfinite(worst) or solid is None) and steps < MAX_REFINE_STEPS:
         finer = rung.step(steps + 1)
         try:
             size = check_size(finer.scene, size_factor=finer.size_factor)
@@ -390,15 +388,10 @@ def refined_to_tol(rung: Rung, analysis, solid: Modes | None, *, tol: float, che
         note = (f"; refined for tol {percent(tol)}: {order}elements x{finer.size_factor:.3g} of the scene's mesh, "
                 f"{mesh.min_layers} thickness layer{'s' if mesh.min_layers != 1 else ''}, {solid.dofs} DOFs")
     if worst > tol:
-        if not stopped and steps == MAX_REFINE_STEPS:
+        if not stopped and math.isfinite(worst) and steps == MAX_REFINE_STEPS:
             stopped = f" at the most refinement allowed (MAX_REFINE_STEPS = {MAX_REFINE_STEPS})"
         note += f"; its {why} exceeds tol {percent(tol)}{stopped}"
     return solid, note
-
-
-def _steers(solid: Modes) -> bool:
-    """Whether ``solid``'s estimate plan has levels that measure its error (an inf then means a missing partner)."""
-    return solid.estimate is not None and solid.estimate.rule != "none"
 
 
 def percent(x: float) -> str:

@@ -62,6 +62,16 @@ SAMPLES = 400  # sample points for the MAC: 1200 values a shape, enough to tell 
 # studies/verification_errors.py --order 4: rates above 2.8 under-stated clamped cantilevers and bars). A rate
 # observed below the floor (not yet converging) is used: it raises the estimate.
 MIN_P_RATE = 2.0
+# The doubling needs the singular or boundary-layer behaviour on element vertices and edges. A thin part's edges carry
+# zones of width ~ its thickness t (the twisting and shear boundary layers of a plate: Arnold & Falk, SIAM J. Math.
+# Anal. 20 (1989) 1276); the p-version resolves such a layer only with elements no wider than ~p t beside it (Schwab &
+# Suri, Math. Comp. 65 (1996) 1403). On a p-grid whose elements are wider than p times the main part's thickness
+# (``unresolved_edges``) the zone lies inside the elements, where the p-version converges no faster than the h-version:
+# the floor is 2 alpha >= UNRESOLVED_P_RATE = 1. Measured (studies/level_coverage.py, cantilever): a 30 x 10 x 0.5 mm
+# clamped Cu-Be plate on quartic elements 5 mm wide (10 t) stepped 35.1 then 9.19 Hz through orders 2-3-4 on its
+# twisting mode (1,0), while 14.7 Hz of error was left (order 4 on grids 8x finer: 2146.53 Hz): at the floor 2 it stated
+# 0.55 % against 0.68 %. The seeds' quartic grids are 0.4-0.9 p t wide (the Cu-Be plate's 11 mm over 3 mm the widest)
+UNRESOLVED_P_RATE = MIN_P_RATE / 2
 # a number derived from a mode's shape (an amplitude, a force factor, a mass at a point, k_eff) converges at the energy
 # norm's rate, not at its square as an eigenvalue does (Strang & Fix 1973, ch. 6: the eigenvalue error is the square of
 # the eigenvector's energy-norm error): its orders and rates are the eigenvalue's halved (``EstimatePlan.
@@ -311,11 +321,12 @@ def p_rate(p: int, d_low: float, d_high: float) -> float | None:
     return 0.5 * (lo + hi)
 
 
-def p_extrapolation(fine: Modes, lower: Modes, lowest: Modes | None = None) -> tuple[dict[int, float], list[float]]:
+def p_extrapolation(fine: Modes, lower: Modes, lowest: Modes | None = None,
+                    rate: float = MIN_P_RATE) -> tuple[dict[int, float], list[float]]:
     """(relative error estimate of each mode of ``fine``, the rates observed) from the same grid at orders p-1
     (``lower``) and p-2 (``lowest``, may be None): |f_p - f_(p-1)| / ((p / (p-1))^q - 1) / f_p, the tail of
-    e_k = C k^-q beyond order p at q = ``MIN_P_RATE``, or at the rate observed through the three orders where
-    that is slower (see ``MIN_P_RATE``). Modes are paired by shape; inf where a mode has no partner."""
+    e_k = C k^-q beyond order p at q = ``rate`` (``MIN_P_RATE``, or ``UNRESOLVED_P_RATE``), or at the rate observed
+    through the three orders where that is slower. Modes are paired by shape; inf where a mode has no partner."""
     p = fine.model.scene.mesh.order
     estimates, rates = {}, []
     top = max(m.frequency for m in fine)
@@ -331,7 +342,7 @@ def p_extrapolation(fine: Modes, lower: Modes, lowest: Modes | None = None) -> t
             continue
         other, f1, _ = pairs[mode.index]
         f2 = chain[other.index][1] if other.index in chain else None
-        estimates[mode.index], observed = order_tail(p, mode.frequency, f1, f2)
+        estimates[mode.index], observed = order_tail(p, mode.frequency, f1, f2, rate=rate)
         if observed is not None:
             rates.append(observed)
     return estimates, rates
@@ -419,6 +430,21 @@ def refinement_ratio(fine_mesh, coarse_mesh, scene) -> float:
     return float((len(fine_mesh.parts[main]) / len(coarse_mesh.parts[main])) ** (1 / 3))
 
 
+def unresolved_edges(mesh, scene) -> str:
+    """Where the largest element of a p-grid's main part (``mesh``, a ``DeviceMesh`` of box hexahedra) across its
+    thickness is wider than the element order times that thickness, the phrase saying so (its edge zones lie inside
+    the elements: ``UNRESOLVED_P_RATE``), else ""."""
+    assembly = scene.assembly()
+    main, axis, order = assembly.main_part, assembly.thickness_axis, scene.mesh.order
+    thickness = main.size[axis]
+    extents = interval_extents(mesh, scene)
+    width = max((h for (part, a, _), (h, _) in extents.items() if part == main.name and a != axis), default=0.0)
+    if width <= order * thickness:
+        return ""
+    return (f"its part '{main.name}' is {thickness * 1e3:.3g} mm thick under elements {width * 1e3:.3g} mm wide, "
+            f"more than {order} x its thickness: edge zones inside the elements")
+
+
 def partner(mode: Mode, candidates: Modes) -> Mode | None:
     """The mode of ``candidates`` most alike ``mode`` in shape (MAC >= ``MAC_PAIR``, frequency within 30 %)."""
     one = replace(candidates, modes=(replace(mode, index=0),), model=mode.model)
@@ -434,7 +460,8 @@ class EstimatePlan:
     rule ``grids``: Richardson through ``levels`` (two coarser grids, elements ``ratios`` x the solid's) at the order
     observed within [MIN_ORDER, ``ceiling``]; ``grid``: two-level Richardson at MIN_ORDER from each of ``levels``
     (the grids that coarsen every part), the larger; ``orders``: the order tail from orders p-1 and p-2 on the
-    solid's grid (``levels``); ``none``: no level measures the error (inf). ``floor``: the order-2 solve on the
+    solid's grid (``levels``) at the rate floor ``rate`` (``MIN_P_RATE``, or ``UNRESOLVED_P_RATE`` where
+    ``unresolved_edges``); ``none``: no level measures the error (inf). ``floor``: the order-2 solve on the
     grid whose step the estimate is at least (cubic hexahedra, ``modalfe.solve.rung.Rung.checks_order_step``), else
     None. ``method``: the plan in words (``Modes.estimate_method``)."""
 
@@ -444,13 +471,14 @@ class EstimatePlan:
     ceiling: float = CONVERGENCE_ORDER
     floor: Modes | None = None
     method: str = ""
+    rate: float = MIN_P_RATE
 
     def frequency_errors(self, fine: Modes) -> tuple[dict[int, float], list[float]]:
         """({mode index: relative error estimate} of every mode of ``fine`` (partners by shape, module docstring), the
         rates the ``orders`` rule observed (empty for the others))."""
         rates: list[float] = []
         if self.rule == "orders":
-            estimates, rates = p_extrapolation(fine, *self.levels)
+            estimates, rates = p_extrapolation(fine, *self.levels, rate=self.rate)
         elif self.rule == "grids":
             estimates = richardson(fine, self.levels[0], self.ratios[0], self.levels[1], self.ratios[1],
                                    ceiling=self.ceiling)
@@ -490,7 +518,7 @@ class EstimatePlan:
         out = {}
         for name, q0 in fine.items():
             slowdown = 1.0 if name in eigenvalues else SHAPE_SLOWDOWN
-            floor, rate = MIN_ORDER / slowdown, MIN_P_RATE / slowdown
+            floor, rate = MIN_ORDER / slowdown, self.rate / slowdown
             if q0 is None or not math.isfinite(q0):
                 out[name] = (math.inf, "not found on the answer's own model")
                 continue

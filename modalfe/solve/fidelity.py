@@ -51,12 +51,14 @@ from modalfe.solve.estimates import (
     MIN_ORDER,
     MIN_P_RATE,
     MIN_RATIO,
+    UNRESOLVED_P_RATE,
     EstimatePlan,
     level_ratio,
     partner,
     shape_partners,
     singular_field,
     uncoarsened,
+    unresolved_edges,
 )
 from modalfe.solve.reduced import model_errors, reduced_estimates, solve_reduced_level, with_model_errors
 from modalfe.solve.rung import CHECK_FACTORS, UNCOARSENED, Rung, coarser
@@ -167,8 +169,10 @@ def solid_plan(fine: Modes, levels: list[Modes], rung: Rung, step_level: Modes |
     ``h_plan``."""
     if rung.uses_orders:
         orders = "-".join(str(m.model.scene.mesh.order) for m in (*reversed(levels), fine))
+        unresolved = unresolved_edges(fine.model.mesh, rung.scene)
+        rate = UNRESOLVED_P_RATE if unresolved else MIN_P_RATE
         return EstimatePlan("orders", tuple(levels), method=f"p-refinement: orders {orders} on one grid (error ~ "
-                            f"p^-q, q = {MIN_P_RATE:g} or slower)")
+                            f"p^-q, q = {rate:g} or slower{f': {unresolved}' if unresolved else ''})", rate=rate)
     plan = h_plan(fine, levels, rung.scene)
     if rung.checks_order_step:
         plan = replace(plan, floor=step_level,

@@ -33,7 +33,7 @@ from modalfe.solve.estimates import EstimatePlan
 
 log = logging.getLogger(__name__)
 
-FORMAT_VERSION = 2  # 2: the estimate plan and its levels kept with the answer
+FORMAT_VERSION = 3  # 2: the estimate plan and its levels kept with the answer; 3: with its p-rate floor
 KEPT_IN_MEMORY = 4  # answers kept in this process (a report's windows, the command's own question)
 KEPT_ON_DISK = 64  # answer files kept in the cache folder, the least recently written dropped first
 _MEMORY: OrderedDict[str, Modes] = OrderedDict()
@@ -173,6 +173,7 @@ def _describe(modes: Modes, name: str, arrays: dict) -> dict:
 
 def _describe_plan(plan: EstimatePlan, name: str, arrays: dict) -> dict:
     return {"rule": plan.rule, "ratios": list(plan.ratios), "ceiling": plan.ceiling, "method": plan.method,
+            "rate": plan.rate,
             "levels": [_describe(level, f"{name}.{i}", arrays) for i, level in enumerate(plan.levels)],
             "floor": None if plan.floor is None else _describe(plan.floor, f"{name}.floor", arrays)}
 
@@ -180,7 +181,8 @@ def _describe_plan(plan: EstimatePlan, name: str, arrays: dict) -> dict:
 def _restore_plan(meta: dict, data, name: str, scene) -> EstimatePlan:
     levels = tuple(_restore(level, data, f"{name}.{i}", scene) for i, level in enumerate(meta["levels"]))
     floor = None if meta["floor"] is None else _restore(meta["floor"], data, f"{name}.floor", scene)
-    return EstimatePlan(meta["rule"], levels, tuple(meta["ratios"]), meta["ceiling"], floor, meta["method"])
+    return EstimatePlan(meta["rule"], levels, tuple(meta["ratios"]), meta["ceiling"], floor, meta["method"],
+                        meta["rate"])
 
 
 def _restore(meta: dict, data, name: str, scene) -> Modes:

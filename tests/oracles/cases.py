@@ -112,11 +112,11 @@ def strip_scene(max_size: float = 1.2e-3, near: float = 20e3, count: int = 4):
     })
 
 
-def cantilever_plate_scene(max_size: float = 2.5e-3, near: float = 3e3, count: int = 4):
-    """A thin Cu-Be plate 30 x 10 x 0.5 mm clamped (all components) on its end xmin."""
+def cantilever_plate_scene(max_size: float = 2.5e-3, near: float = 3e3, count: int = 4, thickness: float = 0.5):
+    """A thin Cu-Be plate 30 x 10 x ``thickness`` mm clamped (all components) on its end xmin."""
     return scene_from_dict({
         "name": "cantilever-plate", "units": "mm", "kind": "plate",
-        "parts": [{"name": "plate", "material": "CuBe", "origin": [0, 0, 0], "size": [30, 10, 0.5]}],
+        "parts": [{"name": "plate", "material": "CuBe", "origin": [0, 0, 0], "size": [30, 10, thickness]}],
         "faces": {"root": ["plate.xmin"]}, "clamps": {"root": "xyz"}, "analysis": {"near": near, "count": count},
         "mesh": {"max_size": max_size},
     })

@@ -9,6 +9,7 @@ import argparse
 import json
 import math
 import sys
+from dataclasses import replace
 from pathlib import Path
 
 from modalfe.cli.options import (
@@ -110,7 +111,11 @@ def _tune(args) -> int:
     if not args.json:
         goals = ", ".join(f"{label} to {hz:.6g} Hz" for label, hz in targets)
         extras = [f"maximizing {args.maximize}"] if args.maximize else []
-        extras += [f"minimizing {objective.describe()}"] if objective else []
+        if objective:  # the contact as each design's is: at the target, the feet the outputs name sharing the load
+            from modalfe.contact.chain import feet_among
+
+            at = objective.contact.tuned(targets[0][1], feet_among(scene.drive.outputs))
+            extras.append(f"minimizing {replace(objective, contact=at).describe()}")
         extras += [f"separation >= {separation:.2%}"] if separation else []
         extras += ["feet re-placed on the antinodes"] if replace_feet else []
         print(f"{scene.name}: tuning {goals} within {args.tol:.2%} by {', '.join(names)}"

@@ -135,6 +135,7 @@ class Iterate:
     volts: float = math.nan  # ``LeastVoltage``: the voltage it asks of this design [V] (NaN: not that objective)
     amplitude_per_volt: float = math.nan  # ``LeastVoltage``: A at the output that moves most [m/V, 0-peak]
     output: str = ""  # ``LeastVoltage``: that output
+    sought: tuple[float, ...] = ()  # the frequencies [Hz] each target's mode was sought near
 
     @property
     def merit(self) -> float:
@@ -243,7 +244,7 @@ def tune(scene, targets: Sequence[FrequencyTarget], parameters: Sequence[str], *
         from modalfe.contact.chain import haptic_chain
 
         chain = haptic_chain(result.scene, maximize.contact, selector=targets[0].label,
-                             near=result.final.frequencies[0], **resolved)
+                             near=result.final.sought[0], **resolved)  # the final iterate's solve, read back
         verified = chain.voltage_for(maximize.reduction)
         result = replace(result, verified=verified, outcome=chain.outcome(verified.voltage))
     return result
@@ -484,7 +485,7 @@ def _evaluate(scene, targets, names, near, maximize, separation, replace_feet, n
     (``jacobian`` given: its rows instead, no sensitivities, no ``maximize`` nor ``separation``; ``LeastVoltage``:
     the first target's with its amplitude's, ``_least_voltage``), re-place the feet (``replace_feet``: a solve
     without feet, ``_feet_on_antinodes``) and build the iterate."""
-    from modalfe.solve.api import open_circuit_modes, solid_modes
+    from modalfe.solve.api import open_circuit_modes, solid_modes, working_question
 
     need_k = maximize == "k_eff"
     least = maximize if isinstance(maximize, LeastVoltage) else None
@@ -501,7 +502,9 @@ def _evaluate(scene, targets, names, near, maximize, separation, replace_feet, n
             if resolved is None:
                 modes = solve_modes(scene, near=f, count=TUNE_COUNT, fidelity="solid", error_estimate=False)
             else:
-                modes = solid_modes(scene, needs="tune", near=f, count=TUNE_COUNT, mode=t.label, **resolved)
+                # the question ``modes`` and ``forced`` ask about that mode (the scene's count around it): the
+                # chain's verification of a ``LeastVoltage`` run reads this answer back instead of solving again
+                modes = solid_modes(scene, needs="tune", **working_question(scene, t.label, f), **resolved)
             open_modes = None
             if need_k and i == 0:
                 open_modes = open_circuit_modes(modes, near=f, count=TUNE_COUNT)
@@ -552,7 +555,7 @@ def _evaluate(scene, targets, names, near, maximize, separation, replace_feet, n
                       tuple(dict(zip(names, row.tolist())) for row in J), k, gap,
                       _feet(scene) if has_feet(scene) else (), len(solves) + extra, time.perf_counter() - start,
                       True, tuple(notes), tuple(float(mode.error_estimate) for mode, _, _ in found),
-                      resolved is not None, volts, apv, output)
+                      resolved is not None, volts, apv, output, tuple(near))
     return _Point(scene, iterate, r, J, neighbours, g, placed)
 
 

@@ -99,6 +99,31 @@ def test_tuning_lowers_the_voltage_on_the_target_and_verifies_it_through_the_cha
     assert result.verified.voltage == pytest.approx(cheap[-1].volts, rel=1e-3)
 
 
+def test_cli_prints_the_iterates_voltages_and_the_verified_outcome(tmp_path, capsys):
+    """The same run from the command line, as JSON: each own-mesh iterate's voltage, and the chain's verified voltage
+    and outcome at the final design; the text form prints the verified line."""
+    import json
+
+    from modalfe.scene.writing import scene_to_toml
+
+    path = tmp_path / "bar.toml"
+    path.write_text(scene_to_toml(_bar()))
+    d31 = parameter_value(_bar(), D31)
+    args = ["tune", str(path), "--vary", ",".join(NAMES), "--target", f"{LABEL}=36.2e3", "--objective",
+            "volts-for reduction=30% preload=3 speed=0.01", "--bounds", f"{D31}={1.05 * d31!r}:{d31!r}",
+            "--no-error-estimate"]
+    assert main([*args, "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    volts = [it["volts"] for it in out["iterates"] if not it["resolved"]]
+    assert volts[-1] < volts[0] and out["verified"]["output"] == "end"
+    # the chain on the final design's solve and the objective's own V on the same design and mesh (test above)
+    assert out["verified"]["voltage_v"] == pytest.approx(volts[-1], rel=1e-3)
+    assert out["verified"]["outcome"]["friction_reduction"] == pytest.approx(0.3, abs=2e-4)
+    assert main(args) == 0
+    text = capsys.readouterr().out
+    assert "verified on the resolved model: " in text and f"{volts[0]:.4g} V at the start" in text
+
+
 @pytest.mark.parametrize("objective, message", [
     ("least-volts reduction=0.6", "--objective: expected"),
     ("volts-for preload=3", "--objective: give reduction=R"),

@@ -1,6 +1,7 @@
 """``modalfe tune``: change scene parameters until modes sit on target frequencies (3-D solid), optionally
-maximizing k_eff, keeping a separation from neighbouring modes and the feet on the antinodes; from one start or
-several on the sweep's Dask cluster; the final design written as a scene file."""
+maximizing k_eff or minimizing the voltage for a friction reduction (``--objective``), keeping a separation from
+neighbouring modes and the feet on the antinodes; from one start or several on the sweep's Dask cluster; the final
+design written as a scene file."""
 
 from __future__ import annotations
 
@@ -8,6 +9,7 @@ import argparse
 import json
 import math
 import sys
+from dataclasses import replace
 from pathlib import Path
 
 from modalfe.cli.options import (
@@ -41,6 +43,11 @@ def register(sub) -> None:
                    help=f"relative distance to the targets, the resolved model's stated error included (default "
                         f"{DEFAULT_TOL:g}, as every command; the model is resolved to {RESOLVED_SHARE:g} of it)")
     p.add_argument("--maximize", choices=("k_eff",), help="maximize the first target mode's coupling k_eff")
+    p.add_argument("--objective", metavar='"volts-for reduction=R [preload=N] [speed=M/S] [contact=foot|finger]"',
+                   help="minimize the drive voltage at which the first target mode gives the friction reduction R "
+                        "(fraction or %%) at the output that moves most, through the contact model (foot: seed "
+                        "000's, default; finger: seed 004's) at that preload [N] and sliding speed [m/s]; the final "
+                        "design's outcome is computed on the resolved model")
     p.add_argument("--separation", metavar="FRACTION|PERCENT%",
                    help="least relative distance of the first target mode to its neighbours, e.g. 3%%")
     p.add_argument("--replace-feet", action=argparse.BooleanOptionalAction, default=None,
@@ -78,6 +85,9 @@ def _tune(args) -> int:
     names = parse_names(args.vary)
     bounds = dict(parse_bound(text) for text in args.bounds or [])
     separation = parse_fraction("--separation", args.separation) if args.separation is not None else None
+    objective = parse_objective(args.objective) if args.objective is not None else None
+    if objective is not None and args.maximize:
+        raise SceneError("--objective: give it or --maximize, not both")
     scene = load_scene(args.scene, **parse_overrides(args.set))
     check_variables(scene, names)  # before the header and any solve
     replace_feet = has_feet(scene) if args.replace_feet is None else args.replace_feet
@@ -90,7 +100,7 @@ def _tune(args) -> int:
         if missing:
             raise SceneError(f"--bounds: --starts {args.starts} spreads the starts inside the bounds; give "
                              f"--bounds {missing[0]}=LOW:HIGH")
-    options = {"tol": args.tol, "bounds": bounds, "maximize": args.maximize, "separation": separation,
+    options = {"tol": args.tol, "bounds": bounds, "maximize": objective or args.maximize, "separation": separation,
                "replace_feet": replace_feet, "max_iterations": args.max_iterations,
                "resolution": solve_keywords(args)}
 
@@ -101,6 +111,11 @@ def _tune(args) -> int:
     if not args.json:
         goals = ", ".join(f"{label} to {hz:.6g} Hz" for label, hz in targets)
         extras = [f"maximizing {args.maximize}"] if args.maximize else []
+        if objective:  # the contact as each design's is: at the target, the feet the outputs name sharing the load
+            from modalfe.contact.chain import feet_among
+
+            at = objective.contact.tuned(targets[0][1], feet_among(scene.drive.outputs))
+            extras.append(f"minimizing {replace(objective, contact=at).describe()}")
         extras += [f"separation >= {separation:.2%}"] if separation else []
         extras += ["feet re-placed on the antinodes"] if replace_feet else []
         print(f"{scene.name}: tuning {goals} within {args.tol:.2%} by {', '.join(names)}"
@@ -135,6 +150,11 @@ def _tune(args) -> int:
                "k_eff": _number(final.k_eff), "separation": _number(final.separation),
                "feet": [list(f) for f in final.feet], "out": args.out,
                "iterates": [_iterate_json(it) for it in result.iterates]}
+        if result.verified is not None:
+            out["verified"] = {"reduction": result.verified.reduction, "output": result.verified.output,
+                               "voltage_v": result.verified.voltage, "amplitude_m": result.verified.amplitude,
+                               "voltage_error": _number(result.verified.voltage_error),
+                               "outcome": result.outcome.to_json()}
         if table is not None:
             out["starts"] = [{"start": s, "error": str(r)} if isinstance(r, BaseException) else
                              {"start": s, "converged": r.converged, "reason": r.reason, "parameters": r.final.values,
@@ -151,6 +171,8 @@ def _tune(args) -> int:
             start = "not reached" if first is None else f"{first.k_eff:.5f} at the first design on the targets"
             gain = "" if first is None else f" ({100 * (final.k_eff / first.k_eff - 1):+.2f} %)"
             print(f"k_eff {result.iterates[0].k_eff:.5f} at the start, {start}, {final.k_eff:.5f} final{gain}")
+        if result.verified is not None:
+            _print_verified(result)
         if final.feet:
             print(f"feet: {feet_text(final.feet)}")
         print("parameters: " + " ".join(_reproduce(final)))
@@ -160,6 +182,58 @@ def _tune(args) -> int:
         print(f"modalfe: tune: not converged (tol {args.tol:.2%}): {result.reason}", file=sys.stderr)
         return 1
     return 0
+
+
+def parse_objective(text: str):
+    """``volts-for reduction=R [preload=N] [speed=M/S] [contact=foot|finger]`` -> ``LeastVoltage``; SceneError
+    naming --objective otherwise (before any solve)."""
+    from modalfe.contact.chain import FingerContact, FootContact
+    from modalfe.contact.finger import FingerParameters
+    from modalfe.design.tuning import LeastVoltage
+    from modalfe.errors import ContactError
+
+    form = ('"volts-for reduction=R [preload=N] [speed=M/S] [contact=foot|finger]", e.g. '
+            '"volts-for reduction=0.6141 preload=3 speed=0.01"')
+    kind, *pairs = text.split()
+    if kind != "volts-for":
+        raise SceneError(f"--objective: expected {form}, got '{text}'")
+    fields = {}
+    for pair in pairs:
+        key, sep, value = pair.partition("=")
+        if not sep or key not in ("reduction", "preload", "speed", "contact") or key in fields:
+            raise SceneError(f"--objective: '{pair}' is not one of reduction=, preload=, speed=, contact= (each once); "
+                             f"expected {form}")
+        fields[key] = value
+    if "reduction" not in fields:
+        raise SceneError(f"--objective: give reduction=R; expected {form}")
+    reduction = parse_fraction("--objective reduction", fields.pop("reduction"))
+    kind = fields.pop("contact", "foot")
+    if kind not in ("foot", "finger"):
+        raise SceneError(f"--objective: contact must be foot or finger, got '{kind}'")
+    try:
+        numbers = {k: float(v) for k, v in fields.items()}
+    except ValueError:
+        raise SceneError(f"--objective: preload and speed must be numbers, got '{text}'") from None
+    try:
+        contact = FootContact(**numbers) if kind == "foot" else FingerContact(FingerParameters().with_(**numbers))
+    except ContactError as exc:
+        raise SceneError(f"--objective: {exc}") from None
+    return LeastVoltage(reduction, contact)
+
+
+def _print_verified(result) -> None:
+    """The voltage for the required reduction at the first and final designs (own mesh) and verified at the final
+    design on the resolved model, with the outcome there and its stated errors."""
+    v, o = result.verified, result.outcome
+    first = result.iterates[0]
+    last = next(it for it in reversed(result.iterates) if not it.resolved and it.accepted)
+    print(f"voltage for {v.reduction:.2%} at {last.output}: {first.volts:.4g} V at the start, {last.volts:.4g} V at "
+          f"the last design on the scene's own mesh ({100 * (last.volts / first.volts - 1):+.2f} %)")
+    stated = f" [{100 * v.voltage_error:.3g} %]" if math.isfinite(v.voltage_error) else ""
+    print(f"verified on the resolved model: {v.voltage:.4g} V{stated} at {v.output} ({1e9 * v.amplitude:.4g} nm "
+          f"0-peak); there reduction {o.reduction:.2%} (range {o.reduction_range[0]:.2%}-{o.reduction_range[1]:.2%} "
+          f"from the amplitude's stated error), flight {o.flight_ratio:.3g} %, current {1e3 * o.current:.4g} mA, "
+          f"power {1e3 * o.power:.4g} mW, rise time {1e3 * o.rise_time:.3g} ms")
 
 
 def _reproduce(final) -> list[str]:
@@ -180,6 +254,8 @@ def _line(k: int, it, targets) -> str:
     text = f"{k:>3}  {freqs}  {values}  (d ln f / d ln p {slopes}; {it.solves} solves, {it.seconds:.1f} s)"
     if math.isfinite(it.k_eff):
         text += f"  k_eff {it.k_eff:.5f}"
+    if math.isfinite(it.volts):
+        text += f"  {1e9 * it.amplitude_per_volt:.4g} nm/V at {it.output}, {it.volts:.4g} V"
     if math.isfinite(it.separation):
         text += f"  separation {it.separation:.2%}"
     if it.feet:
@@ -212,7 +288,8 @@ def _iterate_json(it) -> dict:
             "dlnf_dlnp": list(it.relative_sensitivity), "k_eff": _number(it.k_eff),
             "separation": _number(it.separation), "feet": [list(f) for f in it.feet], "solves": it.solves,
             "seconds": it.seconds, "accepted": it.accepted, "notes": list(it.notes), "resolved": it.resolved,
-            "stated_errors": [_number(e) for e in it.errors]}
+            "stated_errors": [_number(e) for e in it.errors], "volts": _number(it.volts),
+            "amplitude_per_volt_m": _number(it.amplitude_per_volt), "output": it.output or None}
 
 
 def _number(x: float) -> float | None:

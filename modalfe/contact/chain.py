@@ -261,26 +261,12 @@ class HapticChain:
         return (voltage * abs(Y), (abs(Y.real) * e_g + abs(Y.imag) * e_b) / abs(Y), voltage**2 * Y.real / 2, e_g)
 
     def voltage_for(self, reduction: float, output: str | None = None) -> VoltageFor:
-        """The voltage [V] at which the reduction at ``output`` first reaches ``reduction``: the amplitude doubled from
-        SEARCH_START until the contact model's reduction reaches it, then Brent's method between the last amplitude
-        below and the first at or above it. That is the first crossing wherever the curve rises monotonically within
-        that octave. The finger's curve at 66 kHz dips and recovers near 0.7 um pp, and there Brent may return a
-        later crossing of the same octave."""
-        from scipy.optimize import brentq
-
-        target = require("reduction", reduction)
-        if not 0 < target < 1:
-            raise ContactError(f"reduction: a fraction strictly between 0 and 1, got {target:g}")
+        """The voltage [V] at which the reduction at ``output`` first reaches ``reduction``: the amplitude
+        ``amplitude_for`` finds over this chain's amplitude per volt."""
         output = output or self.output
-        low, high = 0.0, SEARCH_START
-        for _ in range(SEARCH_DOUBLINGS):
-            if self.reduction_at(high).reduction >= target:
-                break
-            low, high = high, 2 * high
-        else:
-            raise ContactError(f"reduction: {target:g} is not reached below {high:.3g} m (0-peak)")
-        W = brentq(lambda w: self.reduction_at(w).reduction - target, low, high, rtol=SEARCH_RTOL, xtol=1e-15)
-        return VoltageFor(target, output, W / self.amplitude_per_volt(output), W, self.error(f"amplitude:{output}"))
+        W = amplitude_for(self.contact, reduction)
+        return VoltageFor(reduction, output, W / self.amplitude_per_volt(output), W,
+                          self.error(f"amplitude:{output}"))
 
     def foot_curve(self, voltage) -> ContactCurve:
         """``foot.simulate_contact`` over ``voltage`` [V] with this chain's amplitude per volt (a foot chain)."""
@@ -291,10 +277,36 @@ class HapticChain:
                                 preload=c.preload, speed=c.speed, parameters=c.parameters)
 
 
+def amplitude_for(contact: Contact, reduction: float, rtol: float = SEARCH_RTOL) -> float:
+    """The amplitude W [m, 0-peak] at which ``contact``'s reduction first reaches ``reduction``: W doubled from
+    SEARCH_START until the contact model's reduction reaches it, then Brent's method (relative tolerance ``rtol``)
+    between the last amplitude below and the first at or above it. That is the first crossing wherever the curve
+    rises monotonically within that octave. The finger's curve at 66 kHz dips and recovers near 0.7 um pp, and there
+    Brent may return a later crossing of the same octave."""
+    from scipy.optimize import brentq
+
+    target = require("reduction", reduction)
+    if not 0 < target < 1:
+        raise ContactError(f"reduction: a fraction strictly between 0 and 1, got {target:g}")
+    low, high = 0.0, SEARCH_START
+    for _ in range(SEARCH_DOUBLINGS):
+        if contact.state(high).reduction >= target:
+            break
+        low, high = high, 2 * high
+    else:
+        raise ContactError(f"reduction: {target:g} is not reached below {high:.3g} m (0-peak)")
+    return float(brentq(lambda w: contact.state(w).reduction - target, low, high, rtol=rtol, xtol=1e-15))
+
+
 def foot_count(rom: ReducedModel) -> int | None:
-    """Feet sharing the load according to the reduced model: its ``foot*`` outputs where it has two or more (the
-    Cu-Be plate has 4); one foot output alone says nothing of how many there are (None)."""
-    feet = [o for o in rom.shapes if o.startswith("foot")]
+    """Feet sharing the load according to the reduced model's outputs (``feet_among``)."""
+    return feet_among(rom.shapes)
+
+
+def feet_among(outputs) -> int | None:
+    """Feet sharing the load according to output names: the ``foot*`` ones where there are two or more (the Cu-Be
+    plate has 4); one foot output alone says nothing of how many there are (None)."""
+    feet = [o for o in outputs if isinstance(o, str) and o.startswith("foot")]
     return len(feet) if len(feet) > 1 else None
 
 

@@ -29,6 +29,15 @@ Unknowns are x = ln |p| (a relative change of each parameter; signs are kept). A
   (restoration, Rosen, J. SIAM 9 (1961) 514). A design back on the targets with a lower k_eff than the best so
   far is rejected and the trust radius halved; the run ends when the predicted gain over the trust radius is
   below ``K_GAIN_TOL`` or the radius below ``MIN_RADIUS``.
+* ``maximize=LeastVoltage(reduction, contact)``: the least drive voltage V = W_R(f) / A at which the contact
+  model's friction reduction reaches ``reduction`` at the output that moves most (``reduce``'s reference), with A
+  the amplitude per volt at resonance there and W_R(f) the amplitude the contact model needs at the mode's frequency
+  f (``modalfe.contact.chain.amplitude_for``, the contact model's steady state). The same gradient projection
+  maximizes -ln V, whose gradient is d ln A / d ln p (``amplitude_sensitivities``, the same two assemblies per
+  parameter as the frequencies') less (d ln W_R / d ln f) (d ln f / d ln p). The first target is the objective's
+  own mode, so its row d ln f / d ln p is a constraint row that the projection P removes: on the targets the
+  contact model's frequency slope drops out and the ascent is P d ln A / d ln p exactly; W_R is evaluated at each
+  design's own frequency for V. Off the targets, restoration alone (as for k_eff).
 * trust region: no parameter moves by more than ``MAX_RELATIVE_STEP`` of itself (radius ln 1.2), then ``bounds``.
 * the device holds together: a step whose scene the builder or the scene checks refuse (a ceramic or foot off
   the plate, parts apart) is halved until it is accepted, up to ``MAX_HALVINGS`` times, and the reason is logged.
@@ -83,6 +92,19 @@ RESOLVED_SHARE = 0.75
 
 
 @dataclass(frozen=True)
+class LeastVoltage:
+    """The objective "the least drive voltage for a required friction reduction" (module docstring): reduction
+    (a fraction in (0, 1)) and the contact model (``modalfe.contact.chain.FootContact`` or ``FingerContact``, its
+    preload and speed; the drive frequency and the number of feet are set at each design)."""
+
+    reduction: float
+    contact: object
+
+    def describe(self) -> str:
+        return f"the voltage for a {self.reduction:.2%} friction reduction ({self.contact.describe()})"
+
+
+@dataclass(frozen=True)
 class FrequencyTarget:
     """A mode, by label (``(0,6)``, ``bending-z 6``, a family ``(0,n)``), and its target frequency [Hz]."""
 
@@ -110,6 +132,15 @@ class Iterate:
     notes: tuple[str, ...] = ()
     errors: tuple[float, ...] = ()  # each target mode's stated relative error (NaN: not estimated, own mesh)
     resolved: bool = False  # solved on the resolved model (``tune``'s second stage), else the scene's own mesh
+    volts: float = math.nan  # ``LeastVoltage``: the voltage it asks of this design [V] (NaN: not that objective)
+    amplitude_per_volt: float = math.nan  # ``LeastVoltage``: A at the output that moves most [m/V, 0-peak]
+    output: str = ""  # ``LeastVoltage``: that output
+    sought: tuple[float, ...] = ()  # the frequencies [Hz] each target's mode was sought near
+
+    @property
+    def merit(self) -> float:
+        """What a maximizing run maximizes: ln k_eff, or -ln V for ``LeastVoltage`` (NaN: neither)."""
+        return math.log(self.k_eff) if math.isfinite(self.k_eff) else -math.log(self.volts)
 
 
 @dataclass(frozen=True)
@@ -124,7 +155,11 @@ class TuningResult:
     reason: str
     scene: object
     final: Iterate  # the design in ``scene``
-    maximize: str | None = None
+    maximize: str | LeastVoltage | None = None
+    # ``LeastVoltage``: the chain (``modalfe.contact.chain.haptic_chain``) at the final design on the resolved model:
+    # the voltage for the required reduction (``VoltageFor``) and the outcome at that voltage (``Outcome``)
+    verified: object = None
+    outcome: object = None
 
     @property
     def solves(self) -> int:
@@ -161,11 +196,12 @@ class _Point:
 
 
 def tune(scene, targets: Sequence[FrequencyTarget], parameters: Sequence[str], *, tol: float = DEFAULT_TOL,
-         bounds: Mapping[str, tuple[float, float]] | None = None, maximize: str | None = None,
+         bounds: Mapping[str, tuple[float, float]] | None = None, maximize: str | LeastVoltage | None = None,
          separation: float | None = None, replace_feet: bool = False, max_iterations: int = 12,
          progress: Callable[[int, Iterate], None] | None = None, resolution: Mapping | None = None) -> TuningResult:
     """Change ``parameters`` (``frequency_sensitivities`` names, real and non-zero) until every target mode lies
-    within ``tol`` (relative) of its frequency, optionally maximizing k_eff of the first, keeping its
+    within ``tol`` (relative) of its frequency, optionally maximizing k_eff of the first (``maximize="k_eff"``) or
+    minimizing the voltage for a friction reduction (``maximize=LeastVoltage(...)``), keeping its
     ``separation`` from its neighbours and its feet on its antinodes (module docstring). ``bounds``: name ->
     (low, high) [its unit]. ``progress(k, iterate)`` after each evaluation (kept or rejected).
 
@@ -178,7 +214,9 @@ def tune(scene, targets: Sequence[FrequencyTarget], parameters: Sequence[str], *
     ``solve_modes``' tol, fidelity, error_estimate; tol default ``RESOLVED_SHARE`` x ``tol``), steered by the first
     stage's Jacobian (module docstring), until every target is met within ``tol`` *including* its mode's stated
     error; only then converged. ``tol`` defaults to every command's (``DEFAULT_TOL``). ``max_iterations``
-    evaluations at most in each stage."""
+    evaluations at most in each stage. With ``LeastVoltage`` the final design's chain is built on the resolved model
+    (``haptic_chain``, the first target's mode at ``resolution``) and its voltage for the reduction and outcome
+    there are the result's ``verified`` and ``outcome``, with their stated errors."""
     targets = tuple(targets)
     names = list(dict.fromkeys(parameters))
     _check(scene, targets, list(parameters), tol, bounds, maximize, separation, replace_feet)
@@ -200,8 +238,21 @@ def tune(scene, targets: Sequence[FrequencyTarget], parameters: Sequence[str], *
     reason = (f"{checked.reason} on the model resolved to {100 * resolved['tol']:.3g} % (modes --tol "
               f"{resolved['tol']:g}), stated error included")
     if maximize:
-        reason += f"; k_eff maximized on the scene's own mesh ({cheap.reason})"
-    return replace(checked, iterates=cheap.iterates + checked.iterates, reason=reason, maximize=maximize)
+        reason += f"; {_goal(maximize)} on the scene's own mesh ({cheap.reason})"
+    result = replace(checked, iterates=cheap.iterates + checked.iterates, reason=reason, maximize=maximize)
+    if isinstance(maximize, LeastVoltage):
+        from modalfe.contact.chain import haptic_chain
+
+        chain = haptic_chain(result.scene, maximize.contact, selector=targets[0].label,
+                             near=result.final.sought[0], **resolved)  # the final iterate's solve, read back
+        verified = chain.voltage_for(maximize.reduction)
+        result = replace(result, verified=verified, outcome=chain.outcome(verified.voltage))
+    return result
+
+
+def _goal(maximize: str | LeastVoltage) -> str:
+    """What a maximizing run does, in words."""
+    return "k_eff maximized" if maximize == "k_eff" else "the voltage for the reduction minimized"
 
 
 def _descend(scene, *, targets, names, tol, bounds, maximize, separation, replace_feet, max_iterations, progress,
@@ -218,7 +269,7 @@ def _descend(scene, *, targets, names, tol, bounds, maximize, separation, replac
     near = [t.frequency for t in targets]
     notes: list[str] = []
     kept: _Point | None = None  # the point the next step starts from
-    best: _Point | None = None  # maximizing: the point on the targets with the highest k_eff so far
+    best: _Point | None = None  # maximizing: the point on the targets with the highest merit so far
 
     def finish(converged: bool, reason: str, ahead=None) -> TuningResult:
         # maximizing and stopped early: the best design on the targets, not the last one off them
@@ -238,8 +289,8 @@ def _descend(scene, *, targets, names, tol, bounds, maximize, separation, replac
     steer = jacobian if resolved is not None and separation is None else None
     for _ in range(max_iterations):
         try:
-            point = _evaluate(scene, targets, names, near, maximize is not None, separation, replace_feet, notes,
-                              resolved, steer)
+            point = _evaluate(scene, targets, names, near, maximize, separation, replace_feet, notes, resolved,
+                              steer)
         except SolverError as exc:  # a target mode lost after a step: the step halved, from the kept design
             if kept is None or not np.any(taken):
                 raise
@@ -257,10 +308,9 @@ def _descend(scene, *, targets, names, tol, bounds, maximize, separation, replac
                 dict(zip(names, row.tolist())) for row in steer))
         x = np.array(list(point.iterate.values.values()))
         met = _met(point, tol, separation)
-        if maximize and met and best is not None and point.iterate.k_eff < best.iterate.k_eff:
+        if maximize and met and best is not None and point.iterate.merit < best.iterate.merit:
             record(replace(point.iterate, accepted=False, notes=(
-                *point.iterate.notes, f"rejected: k_eff {point.iterate.k_eff:.5f} is below the best "
-                                      f"{best.iterate.k_eff:.5f}; trust radius halved")))
+                *point.iterate.notes, f"rejected: {_worse(point.iterate, best.iterate)}; trust radius halved")))
             radius /= 2
             point = kept = best
             x = np.array(list(point.iterate.values.values()))
@@ -281,10 +331,10 @@ def _descend(scene, *, targets, names, tol, bounds, maximize, separation, replac
             if not maximize:
                 return finish(True, "within tol")
             if radius < MIN_RADIUS:
-                return finish(True, "within tol; the trust region can no longer improve k_eff")
-            # predicted gain in ln k_eff of a step of max-norm ``radius`` along P g
+                return finish(True, "within tol; the trust region can no longer improve the objective")
+            # predicted gain in the merit (ln k_eff, -ln V) of a step of max-norm ``radius`` along P g
             if radius * float(ascent @ ascent) / max(float(np.max(np.abs(ascent))), 1e-300) < K_GAIN_TOL:
-                return finish(True, "within tol; k_eff's projected gradient is small")
+                return finish(True, "within tol; the objective's projected gradient is small")
         if not np.all(np.isfinite(point.J)) or not np.any(point.J):
             return finish(False, "the modes do not move with these parameters")
         proposed = np.clip(x * np.exp(step), low, high)
@@ -323,8 +373,15 @@ def _descend(scene, *, targets, names, tol, bounds, maximize, separation, replac
             # moved included), whose own-mesh solve would only be discarded
             return finish(True, "a step predicted within tol", ahead=scene)
     if best is not None:
-        return finish(False, f"k_eff not at its optimum after {max_iterations} evaluations")
+        return finish(False, f"the objective not at its optimum after {max_iterations} evaluations")
     return finish(False, f"not within tol after {max_iterations} evaluations")
+
+
+def _worse(it: Iterate, best: Iterate) -> str:
+    """Why a maximizing iterate on the targets is rejected."""
+    if math.isfinite(it.k_eff):
+        return f"k_eff {it.k_eff:.5f} is below the best {best.k_eff:.5f}"
+    return f"{it.volts:.4g} V is above the best {best.volts:.4g} V"
 
 
 def broyden(J: np.ndarray, s: np.ndarray, dr: np.ndarray) -> np.ndarray:
@@ -364,10 +421,22 @@ def _check(scene, targets, names, tol, bounds, maximize, separation, replace_fee
         if value == 0 or not lo <= value <= hi:
             raise SceneError(f"{name}: {value:g} cannot be tuned (must be non-zero and within its bounds "
                              f"{lo:g}-{hi:g})")
-    if maximize not in (None, "k_eff"):
-        raise SceneError(f"maximize: only k_eff can be maximized, got {maximize!r}")
+    if not (maximize in (None, "k_eff") or isinstance(maximize, LeastVoltage)):
+        raise SceneError(f"maximize: k_eff or a LeastVoltage objective, got {maximize!r}")
     if maximize and "drive" not in scene.electrodes.values():
-        raise SceneError('maximize: k_eff needs a driven electrode (electrodes.GROUP = "drive")')
+        raise SceneError(f'maximize: {"k_eff" if maximize == "k_eff" else "a voltage"} needs a driven electrode '
+                         f'(electrodes.GROUP = "drive")')
+    if isinstance(maximize, LeastVoltage):
+        from modalfe.contact.chain import Contact
+        from modalfe.response.loads import check_outputs
+
+        if not 0 < maximize.reduction < 1:
+            raise SceneError(f"objective: the reduction must lie strictly between 0 and 1, got {maximize.reduction:g}")
+        if not isinstance(maximize.contact, Contact):
+            raise SceneError(f"objective: the contact must be a FootContact or FingerContact, got {maximize.contact!r}")
+        if not scene.drive.outputs:
+            raise SceneError("objective: the scene has no outputs to read the amplitude at (drive.outputs)")
+        check_outputs(scene, scene.drive.outputs)
     if separation is not None and not (math.isfinite(separation) and 0 < separation < 1):
         raise SceneError(f"separation: must lie in (0, 1) (a fraction of the frequency), got {separation}")
     if replace_feet and "feet" not in _builder_parameters(scene):
@@ -408,15 +477,20 @@ def _feet(scene) -> tuple[tuple[float, float], ...]:
     return tuple((float(x), float(y)) for x, y in feet)
 
 
-def _evaluate(scene, targets, names, near, need_k, separation, replace_feet, notes, resolved=None,
+def _evaluate(scene, targets, names, near, maximize, separation, replace_feet, notes, resolved=None,
               jacobian=None) -> _Point:
-    """Solve ``scene`` near each target (with ``need_k`` the open circuit of the same model beside the first): on its
-    own mesh, where one solve serves every target inside its span of modes, or, with ``resolved`` (``solve_modes``
-    keywords), each target on the model ``modes`` resolves that mode on; take the sensitivities (``jacobian`` given:
-    its rows instead, no sensitivities, no ``need_k`` nor ``separation``), re-place the feet (``replace_feet``: a
-    solve without feet, ``_feet_on_antinodes``) and build the iterate."""
-    from modalfe.solve.api import open_circuit_modes, solid_modes
+    """Solve ``scene`` near each target (maximizing k_eff, the open circuit of the same model beside the first): on
+    its own mesh, where one solve serves every target inside its span of modes, or, with ``resolved``
+    (``solve_modes`` keywords), each target on the model ``modes`` resolves that mode on; take the sensitivities
+    (``jacobian`` given: its rows instead, no sensitivities, no ``maximize`` nor ``separation``; ``LeastVoltage``:
+    the first target's with its amplitude's, ``_least_voltage``), re-place the feet (``replace_feet``: a solve
+    without feet, ``_feet_on_antinodes``) and build the iterate."""
+    from modalfe.solve.api import open_circuit_modes, solid_modes, working_question
 
+    need_k = maximize == "k_eff"
+    least = maximize if isinstance(maximize, LeastVoltage) else None
+    volts = apv = math.nan
+    output, g = "", None
     start = time.perf_counter()
     solves: list = []  # (modes, Sensitivities)
     rows, found = [], []
@@ -428,13 +502,20 @@ def _evaluate(scene, targets, names, near, need_k, separation, replace_feet, not
             if resolved is None:
                 modes = solve_modes(scene, near=f, count=TUNE_COUNT, fidelity="solid", error_estimate=False)
             else:
-                modes = solid_modes(scene, needs="tune", near=f, count=TUNE_COUNT, mode=t.label, **resolved)
+                # the question ``modes`` and ``forced`` ask about that mode (the scene's count around it): the
+                # chain's verification of a ``LeastVoltage`` run reads this answer back instead of solving again
+                modes = solid_modes(scene, needs="tune", **working_question(scene, t.label, f), **resolved)
             open_modes = None
             if need_k and i == 0:
                 open_modes = open_circuit_modes(modes, near=f, count=TUNE_COUNT)
                 extra = 1
-            solves.append((modes, None if jacobian is not None else
-                           frequency_sensitivities(modes, names, open_modes=open_modes)))
+            if jacobian is not None:
+                sens = None
+            elif least is not None and i == 0:
+                volts, apv, output, g, sens = _least_voltage(scene, modes, t.label, f, names, least)
+            else:
+                sens = frequency_sensitivities(modes, names, open_modes=open_modes)
+            solves.append((modes, sens))
             use = len(solves) - 1
         modes, sens = solves[use]
         try:
@@ -448,7 +529,7 @@ def _evaluate(scene, targets, names, near, need_k, separation, replace_feet, not
     frequencies = tuple(float(mode.frequency) for mode, _, _ in found)
     r = np.log(np.array(frequencies) / np.array([t.frequency for t in targets]))
     _, row0, sens0 = found[0]
-    k, g = math.nan, None
+    k = math.nan
     if need_k:
         k = float(sens0.k_eff[row0])
         if not (math.isfinite(k) and k > 0):
@@ -474,8 +555,31 @@ def _evaluate(scene, targets, names, near, need_k, separation, replace_feet, not
                       tuple(dict(zip(names, row.tolist())) for row in J), k, gap,
                       _feet(scene) if has_feet(scene) else (), len(solves) + extra, time.perf_counter() - start,
                       True, tuple(notes), tuple(float(mode.error_estimate) for mode, _, _ in found),
-                      resolved is not None)
+                      resolved is not None, volts, apv, output, tuple(near))
     return _Point(scene, iterate, r, J, neighbours, g, placed)
+
+
+def _least_voltage(scene, modes, label: str, near: float, names, least: LeastVoltage):
+    """``LeastVoltage`` at one design (module docstring): (V [V], A [m/V], the output, the gradient of -ln V on the
+    targets, d ln A / d ln p, and every mode's ``Sensitivities``), from ``amplitude_sensitivities`` of the mode
+    ``label`` at the scene's outputs with its damping (the materials', as ``forced``), read at the output that
+    moves most (``reduce``'s reference rule: the first of equals), and the contact model's amplitude W_R for the
+    reduction at the mode's frequency (``amplitude_for``)."""
+    from modalfe.contact.chain import amplitude_for, feet_among
+    from modalfe.response.forced import REFERENCE_TIE
+    from modalfe.response.losses import mode_damping, resolve_losses
+    from modalfe.response.sensitivity import amplitude_sensitivities
+
+    try:
+        mode = select(modes, label, near)
+    except SolverError as exc:
+        raise SolverError(f"tune: the mode {label} is not found near {near:.6g} Hz ({exc})") from None
+    outputs = tuple(scene.drive.outputs)
+    damping, _ = mode_damping(mode, resolve_losses(scene))
+    amp = amplitude_sensitivities(modes, names, mode=mode, outputs=outputs, damping=damping)
+    o = next(i for i, a in enumerate(amp.amplitude) if a >= (1 - REFERENCE_TIE) * amp.amplitude.max())
+    needed = amplitude_for(least.contact.tuned(mode.frequency, feet_among(outputs)), least.reduction)
+    return needed / amp.amplitude[o], float(amp.amplitude[o]), amp.outputs[o], amp.relative[o], amp.modal
 
 
 def _met(point: _Point, tol: float, separation: float | None) -> bool:
@@ -508,7 +612,12 @@ def _step(point: _Point, separation, radius: float, x, low, high) -> tuple[np.nd
         ascent = np.zeros(n)
         if point.g is not None:
             g = point.g
-            free = ~(((x >= high) & (g > 0)) | ((x <= low) & (g < 0)))  # bounds g pushes against are held
+            # bounds g pushes against are held: g is along ln |p|, so along p it is sign(p) g; a design on a bound
+            # reads it back from its scene to within rounding
+            up = np.sign(x) * g
+            on_low, on_high = (x <= low) | np.isclose(x, low, rtol=1e-9, atol=0), \
+                (x >= high) | np.isclose(x, high, rtol=1e-9, atol=0)
+            free = ~((on_high & (up > 0)) | (on_low & (up < 0)))
             Af = A[:, free]
             ascent[free] = g[free] - np.linalg.pinv(Af) @ (Af @ g[free])  # P g, P = I - A^+ A
             top = float(np.max(np.abs(ascent)))
@@ -574,13 +683,13 @@ class TuneTask:
 
 
 def best_result(results: Sequence) -> int:
-    """Index of the best of several runs' results (exceptions last): converged first, then the highest k_eff
-    when maximizing, then the smallest residual."""
+    """Index of the best of several runs' results (exceptions last): converged first, then the highest merit
+    (k_eff, the least voltage) when maximizing, then the smallest residual."""
     def key(i: int):
         r = results[i]
         if not isinstance(r, TuningResult):
             return (2, 0.0, 0.0)
-        k = r.final.k_eff if r.maximize else 0.0
+        k = r.final.merit if r.maximize else 0.0
         return (0 if r.converged else 1, -k, r.residual)
 
     return min(range(len(results)), key=key)

@@ -3,12 +3,7 @@ reduction, V = W_R(f) / A, its derivative against a finite difference, a run tha
 and is verified on the resolved model through the chain, and the CLI's one-line refusals of --objective.
 
 The two-patch PZT bar of tests/contact/test_chain.py (30 x 2 x 1 mm, bending-z 4 near 35.5 kHz, ~1 s a solve)
-carries the mode, read at a point 1 mm from its end, Q = 100; seed 000's foot at 3 N and 1 cm/s.
-
-PARDISO's symbolic analyses are not shared here (``unshared``): a numeric factorization in a second slot of a shared
-analysis (the eigen solve's, reused beside resonance by ``amplitude_sensitivities``) crashed with a segmentation
-fault on this machine with two MKL threads (tests/response/test_sensitivity_amplitude.py too), also under
-``threadpool_limits(1)``; only MKL_NUM_THREADS=1 or OMP_NUM_THREADS=1 set before MKL loads avoided it."""
+carries the mode, read at a point 1 mm from its end, Q = 100; seed 000's foot at 3 N and 1 cm/s."""
 
 import math
 
@@ -19,7 +14,6 @@ from modalfe.contact.chain import FootContact, amplitude_for
 from modalfe.design.tuning import FrequencyTarget, LeastVoltage, _least_voltage, tune
 from modalfe.errors import SceneError
 from modalfe.response.sensitivity import parameter_value, with_values
-from modalfe.solve import linalg
 from modalfe.solve.api import solve_modes
 from tests.oracles.cases import two_patch_bar_scene
 
@@ -29,12 +23,6 @@ LABEL, NEAR = "bending-z 4", 35.45e3
 D31 = "materials.PZT-5A.d31"
 NAMES = ["parts.right.size.x", D31]
 OBJECTIVE = LeastVoltage(0.3, FootContact(preload=3.0, speed=0.01))
-
-
-@pytest.fixture(autouse=True)
-def unshared(monkeypatch):
-    """Every factorization on its own PARDISO analysis (module docstring)."""
-    monkeypatch.setattr(linalg._Analysis, "holds", lambda self, upper: False)
 
 
 def _bar():

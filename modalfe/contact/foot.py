@@ -303,7 +303,7 @@ def _search_from_rest(dyn: _Dynamics, p: FootParameters, W: float, Fn: float, pe
     stable and within REACHED of the marched state.  A stable orbit that the motion from rest does not reach (a
     contact-only orbit beside a chattering one below the onset; at 1.3 um above it, 2.04 % flight where the
     motion reaches 75.9 %) is never reported.  A march that does not recur within ``periods`` periods (a slow
-    approach) hands its last state to ``kernel.find_orbit``.
+    approach) leaves the search to ``kernel.find_orbit`` from the contact-only state or a quasi-static guess.
     """
     onset = p.onset_amplitude(Fn)
     below = onset * (1 + GRAZING) > W
@@ -341,9 +341,11 @@ def _search_from_rest(dyn: _Dynamics, p: FootParameters, W: float, Fn: float, pe
             return _minimal_period(period_map, sol.state, k, scale), sol.state, sol.residual
     if below and not flew:
         return None
-    # no recurrence within the march (a slow approach: kn 1e4 N/m, W 0.1 mm): the orbit search from the marched state
-    # (``kernel.find_orbit``: Newton on k T from it, then a further march and its recurrences), else an average
-    search = find_orbit(period_map, x, scale, max_period=max_period, march_periods=periods, march_from=x)
+    # no recurrence within the march (a slow approach from rest: kn 1e4-1e6 N/m, W 0.1 mm, where the plate is thrown
+    # high): the orbit search from the contact-only state near the onset or a quasi-static guess (``kernel.find_orbit``:
+    # Newton on k T, then a march and its recurrences), else an average
+    guess = contact_only if 1.01 * onset > W else np.array([quasi_static_offset(W, dyn.P, dyn.kn), 0.0])
+    search = find_orbit(period_map, guess, scale, max_period=max_period, march_periods=periods)
     return search.period, search.state, search.shooting.residual if search.period else math.nan
 
 

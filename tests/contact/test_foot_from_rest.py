@@ -21,7 +21,9 @@ def assert_reached_from_rest(amplitude: float, preload: float, p: FootParameters
     orbit = steady_state(amplitude, preload=preload, parameters=p)
     ref = brute_force_steady_state(amplitude, preload=preload, parameters=p, max_step=p.period / steps_per_period,
                                    settle=1e-4, max_periods=3000)
-    assert ref.converged, "the reference did not settle: no orbit to compare with"
+    if not ref.converged:  # no steady state within 3000 periods (chaotic rattling: 500 Hz, dn 34 N s/m, Fn 1 N, 3.2 um)
+        assert not orbit.periodic, "an orbit where the motion from rest reaches none"
+        return
     assert orbit.flight_ratio == pytest.approx(ref.flight_ratio, abs=FLIGHT_PP)
     assert orbit.friction_mean == pytest.approx(ref.friction_mean, rel=FRICTION_REL)
 

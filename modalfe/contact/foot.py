@@ -23,16 +23,16 @@ onset amplitude and 0 above it.
 Onset of flight: up to ``FootParameters.onset_amplitude`` the contact-only linear response (a closed
 form, no event to find) is a steady state; at the onset it grazes the ground.  Amplitudes up to the
 onset are answered by that closed form exactly unless the motion from rest flies off it onto a
-coexisting chattering orbit (``_flight_from_rest``), which is then shot and reported; so are those less
-than ``GRAZING`` (1e-8, relative) above it, where the flight lasts < 1e-5 of a period and double
-precision cannot resolve it (flight ratio < 1e-3 %; the friction is the limit from below the onset, which
-the one just above it matches to 1e-7 at light loads only: at 10 N it is 40 % lower, docs/contact.md);
-above that the shooting starts from the contact-only state.
+coexisting chattering orbit, which is then shot and reported; so are those less than ``GRAZING``
+(1e-8, relative) above it, where the flight lasts < 1e-5 of a period and double precision cannot
+resolve it (flight ratio < 1e-3 %; the friction is the limit from below the onset, which the one just
+above it matches to 1e-7 at light loads only: at 10 N it is 40 % lower, docs/contact.md).
 
 Method: one period of the event-driven exact solution is the period map; the periodic steady state is
-its fixed point, found by Newton's method (shooting) with the exact monodromy matrix
-(``kernel.find_orbit``: period k T, k <= 8, stable orbits only); failing that the solver averages over
-many periods (``periodic = False``, with a batch-means uncertainty).  Period averages of ``Rn`` and
+its fixed point, found by Newton's method (shooting, ``kernel.shoot_periodic``) with the exact
+monodromy matrix, seeded by the motion from rest and accepted only where that motion reaches it
+(``_search_from_rest``: period k T, k <= 8, stable orbits only; issue 35); failing that the solver
+averages over many periods (``periodic = False``, with a batch-means uncertainty).  Period averages of ``Rn`` and
 ``Rt`` are Gauss-Legendre integrals over the contact arcs, split where ``kt V (t - t_c) = mu0 Rn`` and
 where ``Rn`` changes sign, so every piece is smooth.  A brute-force reference (scipy ``solve_ivp``, the
 seed's ode23 settings) lives with the tests, ``tests/oracles/contact_brute_force.py``.
@@ -67,7 +67,14 @@ from modalfe.contact.foot_model import (  # noqa: F401  (re-exported: the foot's
     _Piece,
     quasi_static_offset,
 )
-from modalfe.contact.kernel import batch_ratio, find_orbit, gauss_nodes, landed_window, sign_changes
+from modalfe.contact.kernel import (
+    batch_ratio,
+    find_orbit,
+    gauss_nodes,
+    landed_window,
+    shoot_periodic,
+    sign_changes,
+)
 from modalfe.contact.validation import require, values
 from modalfe.errors import ContactError
 
@@ -84,7 +91,7 @@ class ContactOrbit:
     contacts_per_period : touchdowns per drive period (0 in permanent contact);
     periodic : True for an exact periodic orbit (shooting) of ``periods`` drive periods (1, or k for a
     subharmonic orbit), False for a time average over ``periods`` periods; residual : scaled shooting
-    residual.  ``balance_error`` states how far a time average is from converged, and
+    residual (NaN for a time average).  ``balance_error`` states how far a time average is from converged, and
     ``friction_uncertainty`` the relative standard error of its <Rt> (batch means; 0 on an orbit).
     """
 
@@ -214,11 +221,11 @@ def steady_state(amplitude: float, *, preload: float = FN, speed: float = SPEED,
     preload : Fn [N]; speed : sliding speed V [m/s] (0: the limit V -> 0+, see the module docstring);
     parameters : FootParameters (defaults: seed 000 appendix).  At or below the onset amplitude
     (``FootParameters.onset_amplitude``) the answer is the contact-only response in closed form (seed
-    000 eq. 11, no flight).  Above it, the period-1 orbit is shot from the contact-only state (near
-    the onset) or a quasi-static guess; when it is unstable, orbits of period k T (k <=
-    ``max_subharmonic``) are sought (``kernel.find_orbit``); failing that, the result is a time
-    average (``periodic = False``) over ``march_periods`` further periods, four times as many while
-    its momentum balance is off by more than BALANCE_TOL (up to MAX_AVERAGE_GROWTH times).
+    000 eq. 11, no flight) unless the motion from rest flies off it.  Otherwise the answer is the periodic
+    orbit (period k T, k <= ``max_subharmonic``) that the motion from rest reaches (``_search_from_rest``);
+    failing one within ``march_periods`` periods, a time average (``periodic = False``) over
+    ``march_periods`` further periods, four times as many while its momentum balance is off by more than
+    BALANCE_TOL (up to MAX_AVERAGE_GROWTH times).
     """
     p = parameters if parameters is not None else FootParameters()
     W = require("amplitude", amplitude, nonnegative=True)
@@ -228,15 +235,6 @@ def steady_state(amplitude: float, *, preload: float = FN, speed: float = SPEED,
         raise ContactError(f"preload: the load Fn + m g must be positive, got {p.total_load(Fn):g} N")
     dyn = _Dynamics.build(p, W, Fn)
     T = p.period
-    onset = p.onset_amplitude(Fn)
-    contact_only = np.array(p.contact_only_state(W, Fn))
-    below_onset = onset * (1 + GRAZING) > W
-    if below_onset:  # the contact-only orbit exists; it is the answer unless the motion from rest flies off it
-        flying = _flight_from_rest(dyn, p, W, onset, contact_only, march_periods)
-        if flying is None:  # exact: no event to find
-            piece = _Piece(_Arc(dyn, True, 0.0, *contact_only), 0.0, T)
-            return _orbit(dyn, p, W, Fn, V, [piece], [-math.inf], periods=1, residual=0.0, uncertainty=0.0)
-
     su = max(W, dyn.P / dyn.kn)
     scale = np.array([su, su * dyn.omega])
     last: dict = {}
@@ -246,18 +244,15 @@ def steady_state(amplitude: float, *, preload: float = FN, speed: float = SPEED,
         last.update(k=k, x=tuple(x), pieces=pieces)
         return np.array([u, v]), Phi
 
-    # just above the onset the orbit grazes: the contact-only state is its limit and the best guess; below it, the
-    # chattering orbit that the motion from rest reached
-    if below_onset:
-        guess = flying
-    else:
-        guess = contact_only if 1.01 * onset > W else np.array([quasi_static_offset(W, dyn.P, dyn.kn), 0.0])
     with np.errstate(over="ignore", invalid="ignore"):  # the unused sensitivity of a long march
-        search = find_orbit(period_map, guess, scale, max_period=max_subharmonic, march_periods=march_periods)
-    periods, x = search.period, search.state
+        search = _search_from_rest(dyn, p, W, Fn, period_map, scale, max_subharmonic, march_periods)
+    if search is None:  # the contact-only orbit, reached from rest: exact, no event to find
+        piece = _Piece(_Arc(dyn, True, 0.0, *p.contact_only_state(W, Fn)), 0.0, T)
+        return _orbit(dyn, p, W, Fn, V, [piece], [-math.inf], periods=1, residual=0.0, uncertainty=0.0)
+    periods, x, residual = search
     if not periods:
-        log.warning("no stable orbit of period up to %d T at W = %g m, Fn = %g N; averaging over %d periods",
-                    max_subharmonic, W, Fn, march_periods)
+        log.warning("no stable orbit of period up to %d T reached from rest at W = %g m, Fn = %g N; averaging "
+                    "over %d periods", max_subharmonic, W, Fn, march_periods)
 
     def advance(t0, t1):
         if t0 == 0 and last.get("x") == tuple(x) and last["k"] * T == t1:  # the shooting's last period
@@ -278,34 +273,90 @@ def steady_state(amplitude: float, *, preload: float = FN, speed: float = SPEED,
     if not periods and max(balance, uncertainty) > BALANCE_TOL:
         log.warning("time average over %d periods: momentum balance off by %.2g, <Rt> uncertain by %.2g "
                     "(standard error of %d batch means)", window, balance, uncertainty, BATCHES)
-    return _orbit(dyn, p, W, Fn, V, pieces, tcs, periods=periods, residual=search.shooting.residual,
-                  uncertainty=uncertainty)
+    return _orbit(dyn, p, W, Fn, V, pieces, tcs, periods=periods, residual=residual, uncertainty=uncertainty)
 
 
-def _flight_from_rest(dyn: _Dynamics, p: FootParameters, W: float, onset: float, contact_only: np.ndarray,
-                      periods: int) -> np.ndarray | None:
-    """Below the onset: None when the motion from rest (the plate at rest under its load when the vibration starts,
-    as in the seed's simulations) settles on the contact-only orbit, else its state (u, v) at a period's start once
-    it flies still after ``periods`` periods (a chattering orbit coexisting with the contact-only one: at 1.5 kHz,
-    dn 20 N s/m, Fn 10 N, W 1 um, 23.5 % flight where the contact-only orbit has none). In contact the deviation
-    from the contact-only orbit is a free damped oscillation whose energy never grows, so once its amplitude
-    sqrt(du^2 + M dv^2 / kn) is below the orbit's margin to lift-off, P/kn (1 - W / onset), the foot never lifts; a
-    motion that touches without progress grazes the contact-only orbit (at the onset, where the margin is nil)."""
-    M = p.mass / p.n
+# The march from rest seeds Newton on k T once it comes back within SEED (scaled) of its state k periods
+# before, and again each time that gap has shrunk tenfold; the orbit Newton finds is accepted as the one the
+# motion reaches only when it lies within REACHED (scaled) of the marched state: an attracting orbit is approached
+# geometrically (|x_j - x*| ~ gap r / (1 - r) for a contraction r per k T; r = 0.82 for the slowest seen,
+# 1.5 kHz, dn 20 N s/m, W 1.3 um), so a state whose recurrence gap is 1e-3 lies within ~5e-3 of its attractor.
+SEED = 1e-3
+REACHED = 1e-2
+SAME_STATE = 1e-7  # scaled distance under which two states of an orbit are one (its minimal period)
+
+
+def _search_from_rest(dyn: _Dynamics, p: FootParameters, W: float, Fn: float, period_map: Callable,
+                      scale: np.ndarray, max_period: int,
+                      periods: int) -> tuple[int, np.ndarray, float] | None:
+    """The steady state that the motion from rest reaches (the plate at rest under its load when the vibration
+    starts, as in the seed's simulations; issue 35): None for the contact-only orbit, else (k, x, residual) for a
+    stable periodic orbit of minimal period k T through the state x at t = 0, or (0, x, nan) with x a state to
+    average from when none is found.
+
+    The march is exact (``_advance``), one period at a time.  Below the onset amplitude the deviation from the
+    contact-only orbit is, in contact, a free damped oscillation whose energy never grows: once its amplitude
+    sqrt(du^2 + M dv^2 / kn) is below the orbit's margin to lift-off, P/kn (1 - W / onset), without a flight in the
+    last period, the foot never lifts again; a motion that touches without progress grazes the contact-only orbit
+    (at the onset, where the margin is nil).  Otherwise, once the march recurs after k periods (gap below SEED),
+    Newton on k T (``kernel.shoot_periodic``) polishes its state into the orbit; the orbit counts only if it is
+    stable and within REACHED of the marched state.  A stable orbit that the motion from rest does not reach (a
+    contact-only orbit beside a chattering one below the onset; at 1.3 um above it, 2.04 % flight where the
+    motion reaches 75.9 %) is never reported.  A march that does not recur within ``periods`` periods (a slow
+    approach) leaves the search to ``kernel.find_orbit`` from the contact-only state or a quasi-static guess.
+    """
+    onset = p.onset_amplitude(Fn)
+    below = onset * (1 + GRAZING) > W
+    contact_only = np.array(p.contact_only_state(W, Fn))
     margin = dyn.P / dyn.kn * (1 - W / onset)
-    u, v = -dyn.P / dyn.kn, 0.0
-    T = p.period
+    x = np.array([-dyn.P / dyn.kn, 0.0])
+    history = [x / scale]
     flew = False
-    for k in range(periods):
-        du, dv = u - contact_only[0], v - contact_only[1]
-        if math.sqrt(du * du + M * dv * dv / dyn.kn) < margin and not flew:
-            return None
+    seeded = math.inf  # the gap at the last Newton attempt
+    for j in range(periods):
+        if below and not flew:
+            du, dv = x - contact_only
+            if math.sqrt(du * du + dyn.M * dv * dv / dyn.kn) < margin:
+                return None
         try:
-            pieces, u, v, _ = _advance(dyn, k * T, (k + 1) * T, u, v)
-        except ContactError:  # touching without progress: grazing the contact-only orbit at its onset, its limit
-            return None
+            pieces, u, v, _ = _advance(dyn, j * p.period, (j + 1) * p.period, float(x[0]), float(x[1]))
+        except ContactError:
+            if below:  # touching without progress: grazing the contact-only orbit at its onset, its limit
+                return None
+            raise
         flew = any(not q.contact for q in pieces)
-    return np.array([u, v]) if flew else None
+        x = np.array([u, v])
+        history.append(x / scale)
+        if below and not flew:  # in contact all period long: the margin decides
+            continue
+        gaps = [float(np.linalg.norm(history[-1] - history[-1 - k])) for k in range(1, min(max_period, j + 1) + 1)]
+        k = next((i + 1 for i, g in enumerate(gaps) if g < SEED), 0)
+        if not k or gaps[k - 1] > 0.1 * seeded:
+            continue
+        if below and np.linalg.norm((x - contact_only) / scale) < REACHED:
+            return None  # settling on the contact-only orbit, or within GRAZING above the onset on its grazing limit
+        seeded = gaps[k - 1]
+        sol = shoot_periodic(lambda y, k=k: period_map(k, y), x, scale, max_iter=12)
+        if sol.converged and sol.stable and np.linalg.norm((sol.state - x) / scale) < REACHED:
+            return _minimal_period(period_map, sol.state, k, scale), sol.state, sol.residual
+    if below and not flew:
+        return None
+    # no recurrence within the march (a slow approach from rest: kn 1e4-1e6 N/m, W 0.1 mm, where the plate is thrown
+    # high): the orbit search from the contact-only state near the onset or a quasi-static guess (``kernel.find_orbit``:
+    # Newton on k T, then a march and its recurrences), else an average
+    guess = contact_only if 1.01 * onset > W else np.array([quasi_static_offset(W, dyn.P, dyn.kn), 0.0])
+    search = find_orbit(period_map, guess, scale, max_period=max_period, march_periods=periods)
+    return search.period, search.state, search.shooting.residual if search.period else math.nan
+
+
+def _minimal_period(period_map: Callable, x: np.ndarray, k: int, scale: np.ndarray) -> int:
+    """The smallest j <= k after which the orbit through x comes back to x (within SAME_STATE, scaled)."""
+    y = x
+    for j in range(1, k):
+        y = period_map(1, y, False)[0]
+        if np.linalg.norm((y - x) / scale) < SAME_STATE:
+            return j
+    return k
 
 
 def _orbit(dyn: _Dynamics, p: FootParameters, W: float, Fn: float, V: float, pieces: list, tcs: list, *,

@@ -442,10 +442,9 @@ def _disc(points: np.ndarray, u: np.ndarray, axis: np.ndarray, centre: np.ndarra
         return ("thickness", purity) if n == 0 and purity >= _PURE else ("?", purity)
     radial = _Spectrum(polar, c * membrane[0] + s * membrane[1])
     circumferential = _Spectrum(polar, -s * membrane[0] + c * membrane[1])
-    in_plane = radial.total + circumferential.total
     energy = radial.energy + circumferential.energy
     n = int(np.argmax(energy))
-    purity = float(energy[n] / max(in_plane, 1e-300))
+    purity = float(energy[n] / max(radial.totals[n] + circumferential.totals[n], 1e-300))
     if purity < _PURE:
         return "?", purity
     major = radial if radial.energy[n] >= circumferential.energy[n] else circumferential
@@ -521,24 +520,26 @@ def _polar(points: np.ndarray, axis: np.ndarray, centre: np.ndarray) -> _Polar:
 
 class _Spectrum:
     """Harmonic coefficients a_k(r), b_k(r) of one scalar field on the rings of a ``_Polar`` (rows: rings),
-    the energy of each harmonic (sum over rings of r dr times the mean square over the angle) and the total."""
+    the energy of each harmonic (sum over rings of r dr times the mean square over the angle) and, per harmonic n,
+    the field's energy on the rings whose samples resolve n (``totals``): a ring of r with too few distinct angles
+    (between a ring's or tube's walls, only the end faces' few vertices) resolves no harmonic, and counting its
+    energy against every harmonic made a ring's clear modes "?" (issue 35)."""
 
     def __init__(self, polar: _Polar, values: np.ndarray) -> None:
         rings = len(polar.rings)
         self.a, self.b = np.zeros((rings, _HARMONICS + 1)), np.zeros((rings, _HARMONICS + 1))
-        total = 0.0
+        self.totals = np.zeros(_HARMONICS + 1)
         for j, (members, fit, k) in enumerate(polar.rings):
             c = fit @ values[members]
             self.a[j, : k + 1], self.b[j, 1 : k + 1] = c[np.r_[0, 1 : 2 * k : 2]], c[2::2]
-            total += polar.area[j] * float(np.mean(values[members] ** 2))
+            self.totals[: k + 1] += polar.area[j] * float(np.mean(values[members] ** 2))
         self.area = polar.area
         self.energy = self.area @ (self.a**2 + self.b**2) * np.r_[1.0, np.full(_HARMONICS, 0.5)]
-        self.total = total
 
     def dominant(self) -> tuple[int, float]:
-        """(harmonic with the most energy, its share of the field's energy)."""
+        """(harmonic with the most energy, its share of the field's energy on the rings that resolve it)."""
         n = int(np.argmax(self.energy))
-        return n, float(self.energy[n] / max(self.total, 1e-300))
+        return n, float(self.energy[n] / max(self.totals[n], 1e-300))
 
     def sign_changes(self, n: int) -> int:
         """Sign changes along r of harmonic ``n``'s radial profile, taken along the orientation in the angle that

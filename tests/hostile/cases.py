@@ -888,5 +888,58 @@ ISSUE_35 = [
              expect="ok", check=lambda out: _fr_fa_beside_the_mode(out) and "wider than the resonance" in out),
 ]
 
+# issue 35, contact: the orbit reported is the one the motion from rest reaches (1.5 kHz, dn 20 N s/m, Fn 10 N; onset
+# 1.295 um). Reference flight ratios from the brute force from rest (RK23, max step 1e-6 s): 23.46 % at 1.0 um, 75.86 %
+# at 1.3 um (modalfe answered 2.04 %), 76.01 % at 1.4 um (75.23 %, a period-3 orbit); 0.2 pp as the benchmark's target
+def _foot_from_rest(amplitude: float):
+    import modalfe
+    from modalfe.contact.foot import FootParameters
+
+    return lambda _tmp: modalfe.simulate_contact(amplitude=[amplitude], preload=10.0,
+                                                 parameters=FootParameters(frequency=1500.0, dn=20.0))
+
+
+def _onset_1500() -> float:
+    from modalfe.contact.foot import FootParameters
+
+    return FootParameters(frequency=1500.0, dn=20.0).onset_amplitude(10.0)
+
+
+# issue 35, labels: bodies of revolution with a hole were labelled "?"
+def _revolution(name: str, axis: str, inner: float, outer: float, height: float, near: float) -> str:
+    """A free steel ring or tube (mm) as a scene file, its part on one line."""
+    return (f'name = "{name}"\nunits = "mm"\nanalysis = {{near = {near}, count = 12}}\n'
+            f'mesh = {{max_size = 3, min_layers = 1}}\nmaterials = {{steel = {{E = 200e9, nu = 0.3, rho = 7850.0}}}}\n'
+            f'parts = [{{name = "{name}", shape = "ring", material = "steel", centre = [0, 0, 0], axis = "{axis}", '
+            f'inner = {inner}, outer = {outer}, height = {height}}}]\n')
+
+
+RING = _revolution("ring", "z", 15, 20, 3, 5000.0)
+TUBE = _revolution("tube", "x", 9, 10, 12, 8000.0)
+
+
+def _labelled(out: str) -> bool:
+    """Every listed mode has a label (no "?")."""
+    return _modes_listed_any(out) and " ? " not in out and "?#" not in out
+
+
+def _modes_listed_any(out: str) -> bool:
+    return "(2,0)" in out and "n=2" in out
+
+
+ISSUE_35_TRUST = [
+    _api("contact-from-rest-below-onset", "contact", _foot_from_rest(1.0e-6), expect="ok",
+         check=lambda c: abs(c.flight_ratio[0] - 23.46) < 0.2),
+    _api("contact-from-rest-above-onset", "contact", _foot_from_rest(1.3e-6), expect="ok",
+         check=lambda c: abs(c.flight_ratio[0] - 75.86) < 0.2),
+    _api("contact-from-rest-period-one", "contact", _foot_from_rest(1.4e-6), expect="ok",
+         check=lambda c: abs(c.flight_ratio[0] - 76.01) < 0.2 and bool(c.periodic[0])),
+    _api("contact-from-rest-at-onset", "contact", lambda tmp: _foot_from_rest(_onset_1500())(tmp), expect="ok",
+         check=lambda c: bool(c.periodic[0]) and c.flight_ratio[0] >= 0),
+    _file("ring-labels", "labels", RING, "", expect="ok", check=_labelled),
+    _file("tube-labels", "labels", TUBE, "", expect="ok", check=_labelled),
+]
+
 CASES: list[Case] = [*SCENE_FILES, *MATERIALS, *FLAGS, *SETS, *PATHS, *SWEEPS, *API, *ELECTRODES_AND_MODELS,
-                     *TEXT, *INTERRUPTS_AND_CACHES, *DESIGN, *ISSUE_35]
+                     *TEXT, *INTERRUPTS_AND_CACHES, *DESIGN, *ISSUE_35,
+                     *ISSUE_35_TRUST]

@@ -68,16 +68,10 @@ def register(sub) -> None:
 
 
 def _tune(args) -> int:
+    from modalfe.design.feet import feet_text, has_feet
     from modalfe.design.multistart import latin_hypercube
-    from modalfe.design.tuning import (
-        FrequencyTarget,
-        TuneTask,
-        best_result,
-        check_variables,
-        feet_text,
-        has_feet,
-        tune,
-    )
+    from modalfe.design.tune_starts import TuneTask, best_result
+    from modalfe.design.tuning import FrequencyTarget, check_variables, tune
     from modalfe.scene import load_scene
     from modalfe.scene.writing import scene_to_toml
 
@@ -189,7 +183,7 @@ def parse_objective(text: str):
     naming --objective otherwise (before any solve)."""
     from modalfe.contact.chain import FingerContact, FootContact
     from modalfe.contact.finger import FingerParameters
-    from modalfe.design.tuning import LeastVoltage
+    from modalfe.design.outcome import LeastVoltage
     from modalfe.errors import ContactError
 
     form = ('"volts-for reduction=R [preload=N] [speed=M/S] [contact=foot|finger]", e.g. '
@@ -259,7 +253,7 @@ def _line(k: int, it, targets) -> str:
     if math.isfinite(it.separation):
         text += f"  separation {it.separation:.2%}"
     if it.feet:
-        from modalfe.design.tuning import feet_text
+        from modalfe.design.feet import feet_text
 
         text += f"  feet {feet_text(it.feet)}"
     return "\n".join([text] + [f"     {note}" for note in it.notes])

@@ -56,6 +56,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from modalfe.design.feet import builder_parameters_of, feet_on_mode_antinodes, feet_text, has_feet, scene_feet
+from modalfe.design.outcome import LeastVoltage, least_voltage
 from modalfe.errors import SceneError, SolverError
 from modalfe.response.sensitivity import check_parameters, frequency_sensitivities, parameter_value, with_values
 from modalfe.results.labels import check_selector
@@ -79,9 +81,6 @@ MIN_RADIUS = math.log(1.005)
 # a step of the full 20 % along the projected gradient lost the Cu-Be plate's (0,6) mode from the solve's window
 # (docs/tuning.md), and the radius halves from here whenever a step loses k_eff or the targets
 ASCENT_RADIUS = 0.05
-# feet are placed on the antinodes of ``placement.antinodes`` (0.5 mm grid, each peak refined by a parabola): a foot
-# that would move by less than half a grid step is left where it is
-FOOT_TOL = 0.25e-3
 # the second stage's model is resolved to this share of the targets' tol, so that at least the rest of it is left to
 # the residual: resolved to tol itself, a stated error just under tol left the design no room (a bimorph's stated
 # 0.499 % at tol 0.5 % asked a residual below 1e-5). A quarter of tol is room enough: one step of the second stage
@@ -89,19 +88,6 @@ FOOT_TOL = 0.25e-3
 # ciliary beam's bending-z 6: docs/tuning.md), while half of tol asked the Cu-Be plate's 0.25 % at tol 0.5 %, three
 # refinement steps (92k DOFs, ~60 s a solve) where its first (31k DOFs, 0.33-0.35 %) leaves 0.15 % to the residual
 RESOLVED_SHARE = 0.75
-
-
-@dataclass(frozen=True)
-class LeastVoltage:
-    """The objective "the least drive voltage for a required friction reduction" (module docstring): reduction
-    (a fraction in (0, 1)) and the contact model (``modalfe.contact.chain.FootContact`` or ``FingerContact``, its
-    preload and speed; the drive frequency and the number of feet are set at each design)."""
-
-    reduction: float
-    contact: object
-
-    def describe(self) -> str:
-        return f"the voltage for a {self.reduction:.2%} friction reduction ({self.contact.describe()})"
 
 
 @dataclass(frozen=True)
@@ -392,11 +378,6 @@ def broyden(J: np.ndarray, s: np.ndarray, dr: np.ndarray) -> np.ndarray:
     return J if ss == 0 else J + np.outer(dr - J @ s, s) / ss
 
 
-def feet_text(feet: Sequence[tuple[float, float]]) -> str:
-    """``(x, y)`` of each foot in mm."""
-    return " ".join(f"({1e3 * x:.2f}, {1e3 * y:.2f})" for x, y in feet) + " mm"
-
-
 def _check(scene, targets, names, tol, bounds, maximize, separation, replace_feet) -> None:
     """SceneError naming the first bad argument (before any solve)."""
     if not targets:
@@ -439,7 +420,7 @@ def _check(scene, targets, names, tol, bounds, maximize, separation, replace_fee
         check_outputs(scene, scene.drive.outputs)
     if separation is not None and not (math.isfinite(separation) and 0 < separation < 1):
         raise SceneError(f"separation: must lie in (0, 1) (a fraction of the frequency), got {separation}")
-    if replace_feet and "feet" not in _builder_parameters(scene):
+    if replace_feet and "feet" not in builder_parameters_of(scene):
         raise SceneError(f"replace_feet: the scene '{scene.name}' has no feet to place (its device takes no "
                          f"'feet')")
 
@@ -460,31 +441,14 @@ def check_variables(scene, names: Sequence[str]) -> None:
             raise SceneError(f"vary: {name} cannot change in '{scene.name}' ({exc}){hint}") from None
 
 
-def has_feet(scene) -> bool:
-    """Whether the scene's builder places feet (``replace_feet`` can be used)."""
-    return "feet" in _builder_parameters(scene)
-
-
-def _builder_parameters(scene) -> dict:
-    from modalfe.geometry import builder_parameters
-
-    return builder_parameters(scene.device) if scene.device != "boxes" else {}
-
-
-def _feet(scene) -> tuple[tuple[float, float], ...]:
-    """The scene's foot centres (x, y) [m] (its builder's default when not set)."""
-    feet = scene.params.get("feet", _builder_parameters(scene)["feet"].default)
-    return tuple((float(x), float(y)) for x, y in feet)
-
-
 def _evaluate(scene, targets, names, near, maximize, separation, replace_feet, notes, resolved=None,
               jacobian=None) -> _Point:
     """Solve ``scene`` near each target (maximizing k_eff, the open circuit of the same model beside the first): on
     its own mesh, where one solve serves every target inside its span of modes, or, with ``resolved``
     (``solve_modes`` keywords), each target on the model ``modes`` resolves that mode on; take the sensitivities
     (``jacobian`` given: its rows instead, no sensitivities, no ``maximize`` nor ``separation``; ``LeastVoltage``:
-    the first target's with its amplitude's, ``_least_voltage``), re-place the feet (``replace_feet``: a solve
-    without feet, ``_feet_on_antinodes``) and build the iterate."""
+    the first target's with its amplitude's, ``modalfe.design.outcome.least_voltage``), re-place the feet
+    (``replace_feet``: a solve without feet, ``modalfe.design.feet.feet_on_mode_antinodes``) and build the iterate."""
     from modalfe.solve.api import open_circuit_modes, solid_modes, working_question
 
     need_k = maximize == "k_eff"
@@ -512,7 +476,7 @@ def _evaluate(scene, targets, names, near, maximize, separation, replace_feet, n
             if jacobian is not None:
                 sens = None
             elif least is not None and i == 0:
-                volts, apv, output, g, sens = _least_voltage(scene, modes, t.label, f, names, least)
+                volts, apv, output, g, sens = least_voltage(scene, modes, t.label, f, names, least)
             else:
                 sens = frequency_sensitivities(modes, names, open_modes=open_modes)
             solves.append((modes, sens))
@@ -548,38 +512,15 @@ def _evaluate(scene, targets, names, near, maximize, separation, replace_feet, n
     if replace_feet:
         # sought near the target, not this design's frequency: a design whose plate the feet were placed on last asks
         # the same question and reads the answer back (the resolved stage's first iterate)
-        placed = _feet_on_antinodes(scene, targets[0].label, targets[0].frequency)
+        placed = feet_on_mode_antinodes(scene, targets[0].label, targets[0].frequency)
         extra += 1
     values = sens0.values if sens0 is not None else np.array([parameter_value(scene, n) for n in names])
     iterate = Iterate(dict(zip(names, values.tolist())), frequencies,
                       tuple(dict(zip(names, row.tolist())) for row in J), k, gap,
-                      _feet(scene) if has_feet(scene) else (), len(solves) + extra, time.perf_counter() - start,
+                      scene_feet(scene) if has_feet(scene) else (), len(solves) + extra, time.perf_counter() - start,
                       True, tuple(notes), tuple(float(mode.error_estimate) for mode, _, _ in found),
                       resolved is not None, volts, apv, output, tuple(near))
     return _Point(scene, iterate, r, J, neighbours, g, placed)
-
-
-def _least_voltage(scene, modes, label: str, near: float, names, least: LeastVoltage):
-    """``LeastVoltage`` at one design (module docstring): (V [V], A [m/V], the output, the gradient of -ln V on the
-    targets, d ln A / d ln p, and every mode's ``Sensitivities``), from ``amplitude_sensitivities`` of the mode
-    ``label`` at the scene's outputs with its damping (the materials', as ``forced``), read at the output that
-    moves most (``reduce``'s reference rule: the first of equals), and the contact model's amplitude W_R for the
-    reduction at the mode's frequency (``amplitude_for``)."""
-    from modalfe.contact.chain import amplitude_for, feet_among
-    from modalfe.response.forced import REFERENCE_TIE
-    from modalfe.response.losses import mode_damping, resolve_losses
-    from modalfe.response.sensitivity import amplitude_sensitivities
-
-    try:
-        mode = select(modes, label, near)
-    except SolverError as exc:
-        raise SolverError(f"tune: the mode {label} is not found near {near:.6g} Hz ({exc})") from None
-    outputs = tuple(scene.drive.outputs)
-    damping, _ = mode_damping(mode, resolve_losses(scene))
-    amp = amplitude_sensitivities(modes, names, mode=mode, outputs=outputs, damping=damping)
-    o = next(i for i, a in enumerate(amp.amplitude) if a >= (1 - REFERENCE_TIE) * amp.amplitude.max())
-    needed = amplitude_for(least.contact.tuned(mode.frequency, feet_among(outputs)), least.reduction)
-    return needed / amp.amplitude[o], float(amp.amplitude[o]), amp.outputs[o], amp.relative[o], amp.modal
 
 
 def _met(point: _Point, tol: float, separation: float | None) -> bool:
@@ -646,50 +587,3 @@ def _feasible(scene, names, x, proposed) -> tuple[object | None, float, str]:
         except SceneError as exc:
             why = str(exc)
     return None, 0.0, why
-
-
-def _feet_on_antinodes(scene, label: str, near: float) -> tuple[tuple[float, float], ...] | None:
-    """The feet moved to the antinodes of the mode ``label`` of the device without feet (solved near ``near``
-    [Hz]; ``placement.feet_on_antinodes``, without ``place_feet``'s re-solves with the feet: the antinodes of the
-    mode with feet are pulled off each foot by the foot itself); None when no foot would move by more than
-    ``FOOT_TOL``."""
-    from modalfe.response.placement import feet_on_antinodes
-
-    feet = _feet(scene)
-    size = float(scene.params.get("foot_size", _builder_parameters(scene)["foot_size"].default))
-    bare = solve_modes(scene.with_overrides(feet=()), near=near, count=8, fidelity="solid", error_estimate=False)
-    try:
-        mode = select(bare, label, near)
-    except SolverError as exc:
-        raise SolverError(f"tune: the mode {label} of the device without feet is not found near {near:.6g} Hz "
-                          f"({exc})") from None
-    placed = feet_on_antinodes(mode, feet, part="plate", foot_size=size)
-    moved = max(math.hypot(a - x, b - y) for (a, b), (x, y) in zip(placed, feet))
-    return placed if moved > FOOT_TOL else None
-
-
-@dataclass(frozen=True)
-class TuneTask:
-    """``tune`` from one start (a dict of parameter values), as a picklable callable for
-    ``modalfe.design.multistart.run_starts``: the scene, the targets, the parameters and ``tune``'s options."""
-
-    scene: object
-    targets: tuple[FrequencyTarget, ...]
-    parameters: tuple[str, ...]
-    options: Mapping = field(default_factory=dict)
-
-    def __call__(self, start: Mapping[str, float]) -> TuningResult:
-        return tune(with_values(self.scene, start), self.targets, self.parameters, **self.options)
-
-
-def best_result(results: Sequence) -> int:
-    """Index of the best of several runs' results (exceptions last): converged first, then the highest merit
-    (k_eff, the least voltage) when maximizing, then the smallest residual."""
-    def key(i: int):
-        r = results[i]
-        if not isinstance(r, TuningResult):
-            return (2, 0.0, 0.0)
-        k = r.final.merit if r.maximize else 0.0
-        return (0 if r.converged else 1, -k, r.residual)
-
-    return min(range(len(results)), key=key)

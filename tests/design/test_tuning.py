@@ -12,15 +12,14 @@ import numpy as np
 import pytest
 
 from modalfe.design.multistart import INLINE, latin_hypercube, run_starts
+from modalfe.design.tune_starts import TuneTask, best_result
 from modalfe.design.tuning import (
     RESOLVED_SHARE,
     FrequencyTarget,
-    TuneTask,
     _feasible,
     _met,
     _Point,
     _step,
-    best_result,
     check_variables,
     tune,
 )

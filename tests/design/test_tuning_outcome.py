@@ -11,7 +11,8 @@ import pytest
 
 from modalfe.cli.main import main
 from modalfe.contact.chain import FootContact, amplitude_for
-from modalfe.design.tuning import FrequencyTarget, LeastVoltage, _least_voltage, tune
+from modalfe.design.outcome import LeastVoltage, least_voltage
+from modalfe.design.tuning import FrequencyTarget, tune
 from modalfe.errors import SceneError
 from modalfe.response.sensitivity import parameter_value, with_values
 from modalfe.solve.api import solve_modes
@@ -31,7 +32,7 @@ def _bar():
 
 def _at(scene):
     modes = solve_modes(scene, near=NEAR, count=6, fidelity="solid", error_estimate=False)
-    return _least_voltage(scene, modes, LABEL, NEAR, NAMES, OBJECTIVE)
+    return least_voltage(scene, modes, LABEL, NEAR, NAMES, OBJECTIVE)
 
 
 def test_the_voltages_derivative_is_a_finite_differences():

@@ -1,11 +1,11 @@
-"""Point probes on hexahedra with a sliver element (modalfe/models/solid.py ``_probing``): skfem's inverse map
+"""Point probes on hexahedra with a sliver element (modalfe/models/probing.py ``probing``): skfem's inverse map
 stalls at round-off there; the probes must still locate every point and read a linear field exactly."""
 
 import numpy as np
 import pytest
 from skfem import Basis, ElementHex1, MeshHex1
 
-from modalfe.models.solid import _probing
+from modalfe.models.probing import probing as _probing
 
 
 def test_probes_in_a_sliver_element_read_a_linear_field_exactly():

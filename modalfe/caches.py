@@ -7,7 +7,8 @@ What is kept, and until when (``registered()`` lists them):
 - assembled models, the last few per kind (``modalfe.models.build``);
 - short-circuit factorizations kept for their open circuit (``modalfe.solve.levels``), while their model lives;
 - resolved answers, a few in memory and the newest on disk (``modalfe.solve.resolved``);
-- summaries of imported geometry files, by path and content digest (``modalfe.geometry.imported``).
+- summaries of imported geometry files, by path and content digest (``modalfe.geometry.imported``);
+- per-material stiffness matrices of live models, for the materials' Qm (``modalfe.response.losses``).
 Only the whereabouts of MKL (``modalfe.solve.linalg``) are not dropped: they do not change while a process runs.
 """
 

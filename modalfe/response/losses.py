@@ -7,6 +7,7 @@ eps^S (1 - i tan delta). Resolved from the options given, else the scene's drive
 from __future__ import annotations
 
 import math
+import weakref
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
@@ -14,6 +15,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import scipy.sparse as sp
 
+from modalfe import caches
 from modalfe.errors import SceneError, SolverError
 
 if TYPE_CHECKING:
@@ -157,16 +159,31 @@ def _material_loss_sources(scene, what: str) -> str:
     return "; ".join(parts.values())
 
 
+# per-material stiffness of each live model, by the materials asked: ``forced`` and ``admittance`` read the modal
+# strain energy of every mode on every estimate level, and each assembly of a quartic model's ceramics cost as much
+# as a solve's Lanczos run (dropped with the model, or by ``modalfe.caches.clear``)
+_MATERIAL_STIFFNESS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+caches.register("per-material stiffness", _MATERIAL_STIFFNESS.clear)
+
+
 def material_stiffness(model, names) -> dict[str, sp.csr_matrix]:
     """(n_u, n_u) elastic stiffness K_uu of the parts made of each material in ``names`` (solid model), for the
-    modal strain energy U_m = u^T K_m u / 2."""
+    modal strain energy U_m = u^T K_m u / 2; assembled once per model and set of names."""
+    if not hasattr(model, "u_basis"):
+        raise SolverError("material losses: need the 3-D solid model")
+    kept = _MATERIAL_STIFFNESS.setdefault(model, {})
+    key = frozenset(names)
+    if key not in kept:
+        kept[key] = _assembled_material_stiffness(model, key)
+    return kept[key]
+
+
+def _assembled_material_stiffness(model, names: frozenset) -> dict[str, sp.csr_matrix]:
     from skfem import Basis, ElementVector
 
     from modalfe.models.solid import _contract, _scatter, _strain_and_value, element_for, material_of
 
     scene = model.scene
-    if not hasattr(model, "u_basis"):
-        raise SolverError("material losses: need the 3-D solid model")
     scalar = element_for(scene.mesh)
     intorder = 2 * scene.mesh.order
     mesh = model.u_basis.mesh

@@ -184,7 +184,8 @@ class Model(PiezoUnknowns):
 
     @cached_property
     def _displacement_probing(self):
-        """The vector basis that locates probe points (``modalfe.models.probing.probing``), built once per model: a whole-mesh basis."""
+        """The vector basis that locates probe points (``modalfe.models.probing.probing``), built once per model: a
+        whole-mesh basis."""
         return probing(self.u_basis)
 
     @cached_property

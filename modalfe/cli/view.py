@@ -2,10 +2,8 @@
 
 from __future__ import annotations
 
-import contextlib
 import logging
 import os
-import threading
 import time
 from pathlib import Path
 
@@ -63,24 +61,6 @@ def log_timings(modes, seconds: float) -> None:
     log.info("%d modes, %d DOFs, %s model, in %.1f s (%s)", len(modes), modes.dofs, modes.fidelity, seconds, stages)
 
 
-@contextlib.contextmanager
-def renderer_loading():
-    """Context in which pyvista's plotting (VTK, matplotlib) loads on a second thread while the block (the solve)
-    runs: its import took 2.7 s of a quiet 2-core machine, about the ciliary beam's whole solve; the solve's
-    factorizations and eigen iterations run outside the interpreter lock (PARDISO through ctypes), so the two
-    overlap. Waits for the import at the end, so that none is left running when the process exits."""
-    loading = threading.Thread(target=_load_renderer, name="load-renderer", daemon=True)
-    loading.start()
-    try:
-        yield
-    finally:
-        loading.join()
-
-
-def _load_renderer() -> None:
-    import pyvista.plotting  # noqa: F401 (loads VTK's rendering and matplotlib's colour maps)
-
-
 def _show(args) -> int:
     from modalfe.errors import SolverError
     from modalfe.plot.render import animate_mode, render_mode
@@ -98,8 +78,7 @@ def _show(args) -> int:
             return {"near": args.near or seek(scene)[1]}
         return working_question(scene, selector, args.near)
 
-    with renderer_loading():
-        scene, modes = _modes(args, question)
+    scene, modes = _modes(args, question)
     if index:
         if int(args.mode) >= len(modes):
             raise SolverError(f"--mode: index {args.mode} out of range (0-{len(modes) - 1})")

@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import scipy.sparse as sp
 
-from modalfe import caches
+import modalfe.caches as caches
 from modalfe.errors import SceneError, SolverError
 
 if TYPE_CHECKING:

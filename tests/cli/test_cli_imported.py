@@ -75,6 +75,7 @@ def test_modes_first_bending_near_the_cantilever(scene, capsys):
     assert out["dofs"] > 10000
 
 
+@pytest.mark.slow  # 8-25 s on a quiet 2-core machine: on demand (-m slow), the default run kept under 10 min
 def test_show_writes_a_png(scene, tmp_path, capsys):
     out = tmp_path / "mode.png"
     assert main(["show", str(scene), "--mode", "0", "--out", str(out)]) == 0

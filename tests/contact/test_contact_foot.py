@@ -206,6 +206,7 @@ def test_bad_input_is_a_one_line_error_naming_the_field(call, field):
     assert_one_line_error(call, field, ContactError)
 
 
+@pytest.mark.slow  # 8-25 s on a quiet 2-core machine: on demand (-m slow), the default run kept under 10 min
 def test_identify_kt_study_runs(tmp_path):
     # The study behind KT finds it again (KT keeps three digits: 1e-3) and writes its figure.
     study = load_study("identify_kt")

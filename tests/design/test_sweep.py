@@ -22,6 +22,7 @@ def _run(out, env):
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
 
 
+@pytest.mark.slow  # 8-25 s on a quiet 2-core machine: on demand (-m slow), the default run kept under 10 min
 def test_killed_sweep_resumes_without_losing_or_recomputing(tmp_path):
     env = dict(os.environ, MODALFE_CACHE=str(tmp_path / "cache"))
     out = tmp_path / "sweep.csv"

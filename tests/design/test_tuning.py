@@ -114,6 +114,7 @@ def test_a_target_its_model_cannot_verify_is_said():
     assert not strict.converged and "stated error is not below tol ((1,1)" in strict.reason
 
 
+@pytest.mark.slow  # 8-25 s on a quiet 2-core machine: on demand (-m slow), the default run kept under 10 min
 def test_more_targets_than_parameters():
     """f ~ sqrt(E) exactly at fixed nu (K linear in E): one modulus meets two targets scaled alike (least squares
     is exact), but not two targets scaled differently: the run says the targets cannot all be met."""
@@ -139,6 +140,7 @@ def test_a_target_outside_the_bounds_stops_on_them_and_says_so():
     assert result.final.frequencies[0] > 1300.0
 
 
+@pytest.mark.slow  # 8-25 s on a quiet 2-core machine: on demand (-m slow), the default run kept under 10 min
 def test_k_eff_rises_on_the_target():
     """Patch thickness and length with bending-z 1 held at 600 Hz: every design on the target (and the final one)
     has a k_eff above the start's (0.185), the rejected steps excepted, and the run ends on the optimality test.

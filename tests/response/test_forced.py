@@ -94,6 +94,7 @@ def test_frequency_tuning_controller_reaches_its_target(beam):
     assert 0 < run.response_time < 8 * rom.envelope_time_constant
 
 
+@pytest.mark.slow  # 16-21 s on a quiet 2-core machine: on demand (-m slow), the default run kept under 10 min
 def test_feet_land_on_the_antinodes_of_the_working_mode():
     from modalfe.response.placement import place_feet
 

@@ -46,6 +46,7 @@ from modalfe.scene import load_scene
 from modalfe.scene.loading import scene_from_dict
 from modalfe.solve.api import OWN_MESH, solve_modes
 from tests.oracles.discs import (
+    PZT5A_DISC,
     SOLID_FA,
     SOLID_FR,
     STEEL_RING,
@@ -59,7 +60,7 @@ from tests.oracles.discs import (
     thin_ring_breathing,
 )
 
-DISC = "examples/pzt5a_disc.toml"
+DISC = PZT5A_DISC
 TOL = 1e-5  # the tolerance every row is solved to (the 3-D solid's stated error on the disc's R1)
 THICKNESS = 1e-3  # m, the disc's
 THICKNESS_MESH = {"mesh.order": 4, "mesh.max_frequency": 2.3e6, "mesh.elements_per_wavelength": 2.0,

@@ -11,6 +11,7 @@ import modalfe
 from modalfe.cli.main import main
 from modalfe.solve import resolved
 from modalfe.solve.api import DEFAULT_TOL
+from tests.oracles.discs import PZT5A_DISC
 
 SCENE, MODE = "ciliary_beam", "bending-z 6"  # its resolved level is small (3,510 DOFs at 0.5 %)
 SAME = 1e-9  # one discretization, one shift or its neighbour: ARPACK's tol 1e-8 on the residual, squared
@@ -77,9 +78,8 @@ def test_a_scene_without_working_modes_gets_the_same_answer_in_admittance(capsys
     """The PZT-5A disc names no working mode: ``modes`` asks about the mode nearest its own frequency, and a band
     holding that frequency resolves the same question (it was 7.8e-7 apart on a band question's mesh); the mode table
     takes the same answer (auto's axisymmetric one: both commands take that model)."""
-    from pathlib import Path
 
-    disc = str(Path(__file__).resolve().parents[2] / "examples" / "pzt5a_disc.toml")
+    disc = PZT5A_DISC
     modes = _json(capsys, ["modes", disc, "--json"])
     r1 = next(m for m in modes["modes"] if m["label"] == "R1")
     band = _json(capsys, ["admittance", disc, "--band", "95e3", "105e3", "--points", "50", "--json"])

@@ -5,13 +5,13 @@ import signal
 import subprocess
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 from modalfe.design.sweep import grid_values, mac, read_table, sweep, track
 from modalfe.errors import SceneError
+from tests.oracles.discs import PZT5A_DISC
 
 ARGS = ["sweep", "ciliary_beam", "--param", "x0=0.05:0.08:6", "--workers", "2", "--json",
         "--set", "mesh.elements_per_wavelength=4.0"]
@@ -78,7 +78,7 @@ def test_mac_and_grid_values():
             grid_values(bad)
 
 
-DISC = Path(__file__).resolve().parents[2] / "examples" / "pzt5a_disc.toml"  # a free 20 x 1 mm disc
+DISC = PZT5A_DISC  # a free 20 x 1 mm disc
 
 
 def test_a_sweep_point_of_a_disc_samples_its_shapes_inside_it():

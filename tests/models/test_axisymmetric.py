@@ -17,6 +17,7 @@ from modalfe.scene.loading import load_scene, scene_from_dict
 from modalfe.solve.api import OWN_MESH, solve_modes
 from tests.oracles.cases import stack_scene
 from tests.oracles.discs import (
+    PZT5A_DISC,
     SOLID_FA,
     SOLID_FR,
     SOLID_FR_ERROR,
@@ -31,7 +32,7 @@ from tests.oracles.discs import (
     thin_ring_breathing,
 )
 
-DISC = "examples/pzt5a_disc.toml"
+DISC = PZT5A_DISC
 
 
 def _disc(radius_mm: float, height_mm: float, material_name: str, near: float, poling: int = 0):

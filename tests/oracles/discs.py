@@ -30,6 +30,8 @@ from modalfe.scene.materials import material
 from tests.oracles.analytic import _bracketed_roots
 from tests.oracles.cases import EXAMPLES
 
+# the free 20 x 1 mm PZT-5A disc's scene file, by its absolute path (the tests and studies run from any folder)
+PZT5A_DISC = str(EXAMPLES / "pzt5a_disc.toml")
 # the 3-D solid's 20 x 1 mm PZT-5A disc (examples/pzt5a_disc.toml; docs/studies.md "Curved parts", "Mesh error
 # of the disc"): R1 short circuit 99,365 Hz stated to 0.001 % (P2, 17,940 DOFs; two layers 99,364.8 Hz), open 117,317 Hz
 SOLID_FR, SOLID_FR_ERROR, SOLID_FA = 99_365.0, 1e-5, 117_317.0

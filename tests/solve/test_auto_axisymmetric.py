@@ -5,7 +5,6 @@ falls back to the solid."""
 
 import math
 import re
-from pathlib import Path
 
 import pytest
 
@@ -13,9 +12,9 @@ from modalfe.scene import load_scene, scene_from_dict
 from modalfe.solve import fidelity
 from modalfe.solve.api import DEFAULT_TOL, solve_modes
 from modalfe.solve.fidelity import reduced_fidelities
-from tests.oracles.discs import SOLID_FR, SOLID_FR_ERROR
+from tests.oracles.discs import PZT5A_DISC, SOLID_FR, SOLID_FR_ERROR
 
-DISC = str(Path(__file__).resolve().parents[2] / "examples" / "pzt5a_disc.toml")  # a free 20 x 1 mm disc
+DISC = PZT5A_DISC  # a free 20 x 1 mm disc
 
 
 def _al_disc(**extra):

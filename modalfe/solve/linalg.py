@@ -169,7 +169,8 @@ def _pardiso(A: sp.csr_matrix):
 # numeric factorizations one symbolic analysis holds (PARDISO's maxfct). The shifted matrices A - sigma B of one model
 # share their pattern, and the analysis (reordering and symbolic factorization, phase 11) took about as long as the
 # numeric factorization (phase 22): measured on the Cu-Be plate's quartic model (30,865 DOFs), 0.87 s and 0.58-0.95 s,
-# so a band's Sturm counts and residual beside a kept eigen solve's factorization cost about half each
+# so a band's Sturm counts and residual beside a kept eigen solve's factorization cost about half each (a further
+# shift 0.68 s shared against 1.64 s with its own analysis, quiet machine: studies/pardiso_sharing.py)
 SHARED_FACTORS = 8
 _ANALYSES: list = []  # weak references to the live ``_Analysis`` objects (their factorizations keep them alive)
 

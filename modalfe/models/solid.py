@@ -272,7 +272,6 @@ def assemble(scene, device_mesh, *, frame: np.ndarray | None = None) -> Model:
     frame invariance); face springs are axis-aligned and refuse a frame.
     """
     from skfem import Basis, ElementVector
-    from skfem.quadrature import get_quadrature
 
     start = time.perf_counter()
     assembly = scene.assembly()
@@ -289,27 +288,10 @@ def assemble(scene, device_mesh, *, frame: np.ndarray | None = None) -> Model:
     scalar = element_for(scene.mesh)
     intorder = 2 * scene.mesh.order
     u_basis = Basis(mesh, ElementVector(scalar), intorder=1)  # DOF numbering and probes only: one point
-    # batches hold (3 nloc) x nq basis values per element: keep the serendipity's 60 x 27 memory per batch
-    chunk_size = max(1, _CHUNK * 60 * 27 // (u_basis.Nbfun * len(get_quadrature(mesh.refdom, intorder)[1])))
+    chunk_size = _chunk_size(u_basis, intorder)
     n_u = u_basis.N
     scalar_dofs = u_basis.element_dofs[::3] // 3  # scikit-fem numbers vector DOFs 3 s + c
-    K_blocks, M_blocks = [], []
-    boxes, piezo_parts = [], []
-    for part in assembly.parts:
-        mat, tensors = material_of(scene, part, frame)
-        found, rest = box_assembly.find_boxes(mesh, scalar, scalar_dofs, device_mesh.parts[part.name])
-        boxes.append((found, mat))
-        if part.poling:
-            piezo_parts.append((mat, tensors, found, rest))
-        for chunk in _chunks(rest, chunk_size):
-            b = Basis(mesh, ElementVector(scalar), intorder=intorder, elements=chunk)
-            Bv, V = _strain_and_value(b)
-            C = tensors(b)[0]
-            K_blocks.append(_scatter(b.element_dofs, b.element_dofs, _contract(Bv, C, Bv, b.dx), n_u, n_u))
-            M_blocks.append(_scatter(b.element_dofs, b.element_dofs, mat.rho * _contract(V, None, V, b.dx), n_u, n_u))
-    Kuu, Muu = box_assembly.assemble_elastic(scalar, intorder, boxes, n_u // 3)
-    Kuu = sum(K_blocks, Kuu).tocsr()
-    Muu = sum(M_blocks, Muu).tocsr()
+    Kuu, Muu, piezo_parts = _elastic(scene, device_mesh, u_basis, assembly.parts, frame)
     if scene.springs:
         Kuu = Kuu + _face_springs(scene, device_mesh, u_basis, scalar, intorder)
     attached = _face_masses(scene, device_mesh, u_basis, scalar, intorder) if scene.masses else None
@@ -328,6 +310,51 @@ def assemble(scene, device_mesh, *, frame: np.ndarray | None = None) -> Model:
     clamped = _clamped_dofs(scene, device_mesh, u_basis)
     return Model(scene, device_mesh, u_basis, K, M, n_u, phi_dofs, electrodes, clamped,
                  {"assembly": time.perf_counter() - start}, frame, attached)
+
+
+def _chunk_size(u_basis, intorder: int) -> int:
+    """Elements per batch: batches hold (3 nloc) x nq basis values per element; keep the serendipity's 60 x 27
+    memory per batch."""
+    from skfem.quadrature import get_quadrature
+
+    return max(1, _CHUNK * 60 * 27 // (u_basis.Nbfun * len(get_quadrature(u_basis.mesh.refdom, intorder)[1])))
+
+
+def _elastic(scene, device_mesh, u_basis, parts, frame) -> tuple[sp.csr_matrix, sp.csr_matrix, list]:
+    """(K_uu, M_uu, piezo parts) over ``parts`` of the scene: axis-aligned box elements by
+    ``box_assembly`` (closed form), the others by quadrature; the piezo parts as (material, tensors, boxes, other
+    elements) for ``_piezo_blocks``."""
+    from skfem import Basis, ElementVector
+
+    mesh = u_basis.mesh
+    scalar = element_for(scene.mesh)
+    intorder = 2 * scene.mesh.order
+    chunk_size = _chunk_size(u_basis, intorder)
+    n_u = u_basis.N
+    scalar_dofs = u_basis.element_dofs[::3] // 3
+    K_blocks, M_blocks = [], []
+    boxes, piezo_parts = [], []
+    for part in parts:
+        mat, tensors = material_of(scene, part, frame)
+        found, rest = box_assembly.find_boxes(mesh, scalar, scalar_dofs, device_mesh.parts[part.name])
+        boxes.append((found, mat))
+        if part.poling:
+            piezo_parts.append((mat, tensors, found, rest))
+        for chunk in _chunks(rest, chunk_size):
+            b = Basis(mesh, ElementVector(scalar), intorder=intorder, elements=chunk)
+            Bv, V = _strain_and_value(b)
+            C = tensors(b)[0]
+            K_blocks.append(_scatter(b.element_dofs, b.element_dofs, _contract(Bv, C, Bv, b.dx), n_u, n_u))
+            M_blocks.append(_scatter(b.element_dofs, b.element_dofs, mat.rho * _contract(V, None, V, b.dx), n_u, n_u))
+    Kuu, Muu = box_assembly.assemble_elastic(scalar, intorder, boxes, n_u // 3)
+    return sum(K_blocks, Kuu).tocsr(), sum(M_blocks, Muu).tocsr(), piezo_parts
+
+
+def parts_stiffness(model, names: set[str] | frozenset[str]) -> sp.csr_matrix:
+    """(n_u, n_u) elastic stiffness K_uu of ``model``'s parts named in ``names`` alone (its frame and mesh), by
+    the same assembly as the whole model's; for the strain energy U = u^T K u / 2 of those parts."""
+    parts = [part for part in model.scene.assembly().parts if part.name in names]
+    return _elastic(model.scene, model.mesh, model.u_basis, parts, model.frame)[0]
 
 
 def material_of(scene, part, frame) -> tuple[object, object]:

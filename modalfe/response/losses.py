@@ -179,27 +179,13 @@ def material_stiffness(model, names) -> dict[str, sp.csr_matrix]:
 
 
 def _assembled_material_stiffness(model, names: frozenset) -> dict[str, sp.csr_matrix]:
-    from skfem import Basis, ElementVector
-
-    from modalfe.models.solid import _contract, _scatter, _strain_and_value, element_for, material_of
+    from modalfe.models.solid import parts_stiffness
 
     scene = model.scene
-    scalar = element_for(scene.mesh)
-    intorder = 2 * scene.mesh.order
-    mesh = model.u_basis.mesh
-    out = {}
+    made_of: dict[str, set[str]] = {}
     for part in scene.assembly().parts:
-        mat = scene.material(part.material)
-        if mat.name not in names:
-            continue
-        _, tensors = material_of(scene, part, model.frame)
-        elements = model.mesh.parts[part.name]
-        for chunk in np.array_split(elements, max(1, int(np.ceil(len(elements) / 500)))):
-            b = Basis(mesh, ElementVector(scalar), intorder=intorder, elements=chunk)
-            Bv, _ = _strain_and_value(b)
-            Ke = _scatter(b.element_dofs, b.element_dofs, _contract(Bv, tensors(b)[0], Bv, b.dx), model.n_u, model.n_u)
-            out[mat.name] = out.get(mat.name, 0) + Ke
-    return {k: sp.csr_matrix(v) for k, v in out.items()}
+        made_of.setdefault(scene.material(part.material).name, set()).add(part.name)
+    return {name: parts_stiffness(model, made_of[name]) for name in names if name in made_of}
 
 
 def qm_table(model) -> dict[str, float]:

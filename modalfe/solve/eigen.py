@@ -132,7 +132,15 @@ def band_eigenpairs(A, B, band: tuple[float, float], solver: str = "auto", known
     if below_top - below_low <= 0:
         raise SolverError(f"no modes in the band {f1:g}-{f2:g} Hz (Sturm count 0)")
     if known is not None and below_top - below_low <= WINDOW_MODES:
-        ends = [(solve, shift) for shift in (low, top) if (solve := counter.solve_at(shift)) is not None]
+        (_, shift), lam_known, _ = known
+        # the known pairs' factorization counts below its shift too: then only the band's ends with modes missing
+        # between them and the known ones are searched
+        below, sides = _inertia(known[0][0], A.shape[0]), (low, top)
+        if below is not None and low < shift <= top:
+            missing_below = below - offset - below_low - int(np.sum((lam_known > low) & (lam_known < shift)))
+            missing_above = below_top - (below - offset) - int(np.sum((lam_known >= shift) & (lam_known <= top)))
+            sides = tuple(end for end, missing in ((low, missing_below), (top, missing_above)) if missing > 0)
+        ends = [(solve, end) for end in sides if (solve := counter.solve_at(end)) is not None]
         completed = _completed(A, B, low, top, below_top - below_low, known, ends)
         if completed is not None:
             return completed
@@ -229,6 +237,15 @@ def _interval(A, B, low, below_low, top, below_top, solver, counter) -> EigenSol
         raise SolverError(f"band: {len(lam)} modes found against a Sturm count of {expected}")
     log.info("%d modes in %d windows, complete by Sturm count", expected, len(windows))
     return EigenSolution(lam, X, t_fact, seconds_eig, used, expected=expected)
+
+
+def _inertia(solve, n: int) -> int | None:
+    """Negative pivots of a PARDISO factorization of an (n, n) matrix (``modalfe.solve.linalg.counted_factorization``'s
+    count), None where it perturbed pivots or is not a PARDISO one."""
+    iparm = getattr(solve, "iparm", None)
+    if iparm is None or int(iparm[13]) != 0 or int(iparm[21]) + int(iparm[22]) != n:
+        return None
+    return int(iparm[22])
 
 
 def sturm_count(A, B, sigma: float, solver: str = "auto") -> int:

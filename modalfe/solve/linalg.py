@@ -387,7 +387,9 @@ def single_threaded_blas():
     """Context with one BLAS thread. numpy's OpenBLAS threads spin while they wait; on a small machine shared
     with MKL PARDISO's threads and other processes, the small dense operations of a solve (the labels'
     interpolation) then ran up to 100x slower (measured: the Cu-Be plate's report row 6 s with one BLAS thread,
-    30-40 s with two under load). The heavy work is sparse (PARDISO has its own threads), so this costs nothing."""
-    from threadpoolctl import threadpool_limits
+    30-40 s with two under load). The heavy work is sparse (PARDISO has its own threads), so this costs nothing.
+    OpenBLAS only: MKL, loaded for PARDISO, keeps its threads (a limit on every BLAS reached MKL only where it was
+    loaded before the context was entered, so that the same factorization ran on one or two threads by call order)."""
+    from threadpoolctl import ThreadpoolController
 
-    return threadpool_limits(limits=1, user_api="blas")
+    return ThreadpoolController().select(internal_api="openblas").limit(limits=1)

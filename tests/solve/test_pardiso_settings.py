@@ -93,8 +93,10 @@ def test_more_factorizations_than_slots_open_another_analysis():
 def test_an_analysis_is_shared_only_under_its_own_thread_count():
     # a numeric factorization under one MKL thread on an analysis made with two crashed MKL (segmentation fault)
     K = _shifted(2, 3.0)
+    from threadpoolctl import threadpool_limits
+
     outside, _ = linalg.factorize(K, solver="pardiso")
-    with linalg.single_threaded_blas():
+    with threadpool_limits(limits=1, user_api="blas"):  # every BLAS, MKL included (a caller's own limit)
         inside, _ = linalg.factorize(K * 1.01, solver="pardiso")
         again, _ = linalg.factorize(K * 1.02, solver="pardiso")
     assert (inside._analysis is outside._analysis) == (inside._analysis.threads == outside._analysis.threads)
@@ -109,8 +111,23 @@ def test_a_handle_solved_under_other_threads_is_not_shared_again():
     K = _shifted(2, 3.0)
     kept, _ = linalg.factorize(K, solver="pardiso")
     b = np.random.default_rng(7).standard_normal(K.shape[0])
-    with linalg.single_threaded_blas():
+    from threadpoolctl import threadpool_limits
+
+    with threadpool_limits(limits=1, user_api="blas"):  # every BLAS, MKL included (a caller's own limit)
         kept(b)
     other, _ = linalg.factorize(K * 1.01, solver="pardiso")
     assert (other._analysis is kept._analysis) == (kept._analysis.threads == 1)  # shared only on a 1-thread machine
     assert np.linalg.norm(K * 1.01 @ other(b) - b) <= linalg.REFINED_ABOVE * np.linalg.norm(b)
+
+
+def test_single_threaded_blas_leaves_pardiso_its_threads():
+    # the context limits OpenBLAS only: a limit on every BLAS reached MKL only where it was loaded before the context
+    # was entered, so that the same factorization ran on one or two threads by call order
+    from threadpoolctl import threadpool_info
+
+    linalg.factorize(_shifted(2, 3.0), solver="pardiso")  # MKL loaded
+    before = {d["internal_api"]: d["num_threads"] for d in threadpool_info()}
+    with linalg.single_threaded_blas():
+        inside = [(d["internal_api"], d["num_threads"]) for d in threadpool_info()]
+    assert ("mkl", before["mkl"]) in inside
+    assert all(n == 1 for api, n in inside if api == "openblas")

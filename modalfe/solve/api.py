@@ -271,7 +271,7 @@ def open_circuit_modes(short: Modes | Mode, *, near: float | None = None, count:
         Analysis(near=near, count=count, circuit="open")
     with single_threaded_blas():
         opens = modes_of(short.model, analysis, fidelity=short.fidelity if isinstance(short, Modes) else "solid",
-                         solver=solver)
+                         solver=solver, known=short if isinstance(short, Modes) else (short,))
     return partner_labels(short, opens) if isinstance(short, Modes) else opens
 
 

@@ -52,21 +52,26 @@ def solve_level(scene, analysis, *, fidelity: str = "solid", size_factor: float 
 
 
 def modes_of(model, analysis, *, fidelity: str, solver: str = "auto", timings: dict | None = None,
-             labels: bool = True, known: Modes | None = None) -> Modes:
+             labels: bool = True, known: Modes | tuple[Mode, ...] | None = None) -> Modes:
     """Modes of an assembled ``model`` (solid, plate or beam) for ``analysis``. An open-circuit solve of a model solved
     in short circuit borders that solve's matrices (``Constraints.project``) and, at its shift, reuses its
     factorization (``open_circuit_solve``). ``known``: short-circuit modes of ``model`` solved near a frequency (an
     answer), whose factorization was kept: a short-circuit band keeps those in it and seeks only the others at their
-    shift (``modalfe.solve.eigen.band_eigenpairs``)."""
+    shift (``modalfe.solve.eigen.band_eigenpairs``); the open circuit at their shift starts from them
+    (``modalfe.solve.eigen.near_eigenpairs``' seed)."""
     _SHORT_SOLVES[:] = [kept for kept in _SHORT_SOLVES if kept.model() is not None]
     constraints = model.constraints(analysis.circuit)
     short = [kept for kept in _SHORT_SOLVES if kept.model() is model] if analysis.circuit == "open" else []
     A = constraints.project(model.K, picked=short[0].A if short else None)
     B = constraints.project(model.M, picked=short[0].B if short else None)
-    factor = None
+    factor, start = None, None
     if analysis.band is None:
         factor = next((open_circuit_solve(A, kept.A.shape[0], kept.factor) for kept in short
                        if kept.factor[1] == (2 * np.pi * analysis.near) ** 2), None)
+    if factor is not None and known is not None and analysis.circuit == "open":
+        sigma = (2 * np.pi * analysis.near) ** 2  # nearest first: the seed's leading columns are kept
+        start = free_values(constraints.T, np.column_stack([m.shape for m in sorted(
+            known, key=lambda m: abs(m.omega**2 - sigma))]))
     seed = None
     kept = next((k for k in _SHORT_SOLVES if k.model() is model), None)
     if known is not None and analysis.band is not None and analysis.circuit == "short" and kept is not None:
@@ -78,7 +83,7 @@ def modes_of(model, analysis, *, fidelity: str, solver: str = "auto", timings: d
     # completion ran beside PARDISO's threads at 3x the time a Lanczos step)
     with step(f"{model.scene.name}, {fidelity} model, order {model.scene.mesh.order}: eigen solve, {asked}, "
               f"{analysis.circuit} circuit, {A.shape[0]} unknowns"), single_threaded_blas():
-        solution = eigenpairs(A, B, analysis, solver, factor, seed)
+        solution = eigenpairs(A, B, analysis, solver, factor, seed, start)
     driven = "drive" in model.scene.electrodes.values()  # else the open circuit is the short one: nothing to reuse
     if analysis.circuit == "short" and driven and solution.factor is not None:
         _SHORT_SOLVES.insert(0, _ShortSolve(weakref.ref(model), A, B, solution.factor))

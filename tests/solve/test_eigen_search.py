@@ -219,9 +219,7 @@ def test_a_seeded_solve_finds_the_lanczos_pairs_from_nearby_vectors():
 def test_a_useless_seed_falls_back_to_lanczos():
     # a seed of one repeated column makes the Rayleigh-Ritz block singular: the answer is then Lanczos', not wrong
     A, B = _pencil(k31_bar_scene(3e-3))
-    from modalfe.solve.eigen import near_eigenpairs
-
-    from modalfe.solve.eigen import _seeded
+    from modalfe.solve.eigen import _seeded, near_eigenpairs
     from modalfe.solve.linalg import factorize
 
     plain = near_eigenpairs(A, B, 40e3, 3)

@@ -58,7 +58,7 @@ def modes_of(model, analysis, *, fidelity: str, solver: str = "auto", timings: d
     factorization (``open_circuit_solve``). ``known``: short-circuit modes of ``model`` solved near a frequency (an
     answer), whose factorization was kept: a short-circuit band keeps those in it and seeks only the others at their
     shift (``modalfe.solve.eigen.band_eigenpairs``); the open circuit at their shift starts from them
-    (``modalfe.solve.eigen.near_eigenpairs``' seed)."""
+    (``_open_circuit_start``)."""
     _SHORT_SOLVES[:] = [kept for kept in _SHORT_SOLVES if kept.model() is not None]
     constraints = model.constraints(analysis.circuit)
     short = [kept for kept in _SHORT_SOLVES if kept.model() is model] if analysis.circuit == "open" else []
@@ -69,9 +69,7 @@ def modes_of(model, analysis, *, fidelity: str, solver: str = "auto", timings: d
         factor = next((open_circuit_solve(A, kept.A.shape[0], kept.factor) for kept in short
                        if kept.factor[1] == (2 * np.pi * analysis.near) ** 2), None)
     if factor is not None and known is not None and analysis.circuit == "open":
-        sigma = (2 * np.pi * analysis.near) ** 2  # nearest first: the seed's leading columns are kept
-        start = free_values(constraints.T, np.column_stack([m.shape for m in sorted(
-            known, key=lambda m: abs(m.omega**2 - sigma))]))
+        start = _open_circuit_start(constraints.T, known, factor[0], A.shape[0] - short[0].A.shape[0])
     seed = None
     kept = next((k for k in _SHORT_SOLVES if k.model() is model), None)
     if known is not None and analysis.band is not None and analysis.circuit == "short" and kept is not None:
@@ -100,6 +98,21 @@ def modes_of(model, analysis, *, fidelity: str, solver: str = "auto", timings: d
                "eigensolve": solution.eigensolve_seconds, "solver": solution.solver}
     return Modes(tuple(modes), model, analysis.circuit, fidelity, A.shape[0], seconds,
                  mesh_frequency=model.scene.max_frequency)
+
+
+def _open_circuit_start(T, known, solve, floating: int) -> np.ndarray:
+    """A Lanczos start vector for the open-circuit modes from the short-circuit ones ``known`` of the same model
+    (open-circuit unknowns ``T``): their sum, each B-normalised, and the static response to a charge on each of
+    the ``floating`` electrodes (the open circuit's last unknowns; ``solve`` with the open matrix at the shift),
+    scaled like one mode: the open modes are the short ones but for that part."""
+    x = free_values(T, np.column_stack([m.shape for m in known])).sum(axis=1)
+    n = len(x)
+    for j in range(n - floating, n):
+        charge = np.zeros(n)
+        charge[j] = 1.0
+        static = solve(charge)
+        x = x + static * (np.linalg.norm(x) / len(known) / np.linalg.norm(static))
+    return x
 
 
 def short_circuit_pencil(model) -> tuple[sp.csr_matrix, sp.csr_matrix, tuple | None]:

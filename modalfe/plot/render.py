@@ -269,11 +269,11 @@ def nodal_lines(mode, surface):
 
 def subdivided(surface, n: int):
     """``surface`` triangulated, each triangle split in n**2 on its barycentric lattice, in double precision (VTK's
-    own subdivision returns single-precision points, which land up to 1e-7 of the size outside the device, where a
-    probe refuses them); the triangles do not share their new points (a contour needs no more). Point data
-    ``displacement``: the surface's, interpolated linearly; ``element``: the cell the point's triangle bounds (the
-    surface's cell data, ``mode_grid``), ``corners`` (n, 3) the positions of the triangle's corners in that cell's
-    vertex list, ``weights`` (n, 3) the point's barycentric coordinates on them."""
+    own subdivision returns single-precision points, up to 1e-7 of the size off the drawn surface); the triangles do
+    not share their new points (a contour needs no more). Point data ``displacement``: the surface's, interpolated
+    linearly; ``element``: the cell the point's triangle bounds (the surface's cell data, ``mode_grid``), ``corners``
+    (n, 3) the positions of the triangle's corners in that cell's vertex list, ``weights`` (n, 3) the point's
+    barycentric coordinates on them."""
     import pyvista as pv
 
     tri = surface.triangulate()

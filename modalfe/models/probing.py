@@ -54,8 +54,6 @@ class _Probing:
     def probes(self, x: np.ndarray) -> sp.coo_matrix:
         """(components x points, DOFs) matrix of the basis functions' values at the points ``x`` (3, n) [m];
         ValueError for a point in no element."""
-        from skfem.element import ElementVector
-
         b = self.basis
         if self._find is None:
             return b.probes(x)
@@ -63,9 +61,17 @@ class _Probing:
         # the box's trilinear map is affine: x = F(0) + J X, J's columns F(e_k) - F(0)
         F = b.mapping.F(np.array([[0.0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]), tind=cells)  # (3, n, 4)
         J = F[:, :, 1:] - F[:, :, :1]
-        local = np.linalg.solve(J.transpose(1, 0, 2), (x - F[:, :, 0]).T[:, :, None])[:, :, 0].T[:, :, None]
+        return self.at(cells, np.linalg.solve(J.transpose(1, 0, 2), (x - F[:, :, 0]).T[:, :, None])[:, :, 0].T)
+
+    def at(self, cells: np.ndarray, local: np.ndarray) -> sp.coo_matrix:
+        """(components x points, DOFs) matrix of the basis functions' values at reference coordinates ``local``
+        (3, n) of the elements ``cells`` (n,): no point search, no inverse map."""
+        from skfem.element import ElementVector
+
+        b = self.basis
+        local = local[:, :, None]
         scalar, dim = (b.elem.elem, b.elem.dim) if isinstance(b.elem, ElementVector) else (b.elem, 1)
-        count, n = b.Nbfun // dim, x.shape[1]
+        count, n = b.Nbfun // dim, len(cells)
         values = np.array([scalar.gbasis(b.mapping, local, i, tind=cells)[0] for i in range(count)])
         # vector function dim i + c is scalar i in component c (scikit-fem's ElementVector numbering)
         rows = np.broadcast_to(np.arange(dim * n).reshape(1, dim, n), (count, dim, n))

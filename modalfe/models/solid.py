@@ -27,7 +27,7 @@ from modalfe.errors import SceneError
 from modalfe.models import box_assembly
 from modalfe.models.constraints import Constraints
 from modalfe.models.probing import probing
-from modalfe.models.symmetry import fold, unfold
+from modalfe.models.symmetry import fold, solved_elements, unfold
 
 log = logging.getLogger(__name__)
 
@@ -175,6 +175,17 @@ class Model(PiezoUnknowns):
         P = sp.diags(flip.ravel()) @ self._displacement_probing.probes(self._inside(p))
         return sp.hstack([P, sp.csr_matrix((P.shape[0], self.n_phi))], format="csr")
 
+    def element_probes(self, cells: np.ndarray, corners: np.ndarray, weights: np.ndarray) -> sp.csr_matrix:
+        """``displacement_probes`` at points given in elements of the whole device: ``whole_device_mesh``'s cells
+        ``cells`` (n,), each point the combination ``weights`` (n, m) of the cell's vertices at positions ``corners``
+        (n, m) of its VTK list, taken in reference coordinates: read in that element by its own map (a curved
+        element's point on its curved face, where the vertices' chord may cross a ring's hole), no point search."""
+        elements, vertex, sign = solved_elements(self, cells, corners)
+        reference = self.u_basis.mesh.refdom.p  # (3, vertices of the reference cell)
+        local = np.einsum("nm,dnm->dn", weights, reference[:, vertex])
+        P = sp.diags(sign.ravel()) @ self._displacement_probing.at(elements, local)
+        return sp.hstack([P, sp.csr_matrix((P.shape[0], self.n_phi))], format="csr")
+
     def potential_probes(self, points: np.ndarray) -> sp.csr_matrix:
         """(n, ndofs) matrix giving the electric potential [V] at ``points`` (n, 3) [m] from a full DOF vector
         (zero outside the poled parts, which carry no potential unknowns)."""
@@ -195,13 +206,6 @@ class Model(PiezoUnknowns):
         from skfem import Basis
 
         return probing(Basis(self.u_basis.mesh, element_for(self.scene.mesh), intorder=1))
-
-    def holds(self, points: np.ndarray) -> np.ndarray:
-        """Whether each of ``points`` (n, 3) [m] of the whole device lies in one of its parts (their exact shapes,
-        widened by 1e-9 of the device's size), as the probes (``displacement_probes``) require: a point on a facet
-        of a curved wall may lie outside (the chord of a ring's inner wall crosses the hole)."""
-        p, _ = fold(self.scene, np.asarray(points, dtype=float).reshape(-1, 3).T)
-        return self._holders(p)[0].any(axis=1)
 
     def _holders(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
         """(n, parts) whether each part holds each point of ``p`` (3, n) within ``step``; the parts' centres

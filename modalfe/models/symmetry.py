@@ -62,6 +62,30 @@ def unfold(scene, points: np.ndarray, *fields: np.ndarray) -> tuple[np.ndarray, 
     return (points, *fields)
 
 
+# a mirrored cell's vertex list: position j holds the image of the copied cell's vertex MIRRORED_ORDER[j] (VTK order),
+# which keeps its volume positive (an involution: the copied cell's position of the image's j is MIRRORED_ORDER[j] too)
+MIRRORED_ORDER = {12: np.array([1, 0, 3, 2, 5, 4, 7, 6]), 10: np.array([1, 0, 2, 3])}
+
+
+def solved_elements(model, cells: np.ndarray, corners: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(the solved mesh's element (n,), the local vertex number (n, m) in it, the displacement components' sign
+    (3, n)) of ``whole_device_mesh``'s cells ``cells`` (n,) and vertex positions ``corners`` (n, m) in their VTK
+    lists: a mirrored copy is its solved element, vertices reordered (``MIRRORED_ORDER``), components signed by
+    ``image_signs``."""
+    from skfem.io.meshio import HEX_MAPPING
+
+    solved = model.mesh.mesh.t.shape[1]
+    kind = _cells(model)[1]
+    copy = np.asarray(cells) // solved  # bit l: mirrored about plane l (``unfold``'s doubling per plane)
+    vertex = np.array(corners, copy=True)
+    sign = np.ones((3, len(copy)))
+    for level, flip in enumerate(image_signs(model.scene)):
+        image = (copy >> level) & 1 == 1
+        vertex[image] = MIRRORED_ORDER[kind][vertex[image]]
+        sign[:, image] *= flip[:, None]
+    return np.asarray(cells) % solved, (np.array(HEX_MAPPING[:8])[vertex] if kind == 12 else vertex), sign
+
+
 def _cells(model) -> tuple[np.ndarray, int]:
     """(connectivity in VTK order, VTK cell type) of the model's mesh."""
     from skfem.io.meshio import HEX_MAPPING
@@ -87,8 +111,7 @@ def whole_device_mesh(model, fields: dict[str, np.ndarray]):
     fields = {k: v.T.copy() for k, v in fields.items()}  # (n, 3)
     for (k, twice), flip in zip(mirror_planes(scene), image_signs(scene)):
         mirror = mirrored(points.T, k, twice).T
-        flipped = cells[:, [1, 0, 3, 2, 5, 4, 7, 6]] if kind == 12 else cells[:, [1, 0, 2, 3]]
-        cells = np.vstack([cells, flipped + len(points)])  # reordered: mirrored cells keep a positive volume
+        cells = np.vstack([cells, cells[:, MIRRORED_ORDER[kind]] + len(points)])  # volumes kept positive
         points = np.vstack([points, mirror])
         part_id = np.concatenate([part_id, part_id])
         for name, value in fields.items():

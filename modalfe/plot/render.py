@@ -1,12 +1,14 @@
 """Mode shapes in pyvista: the whole device (symmetric models unfolded), deformed, coloured by the
-normal displacement, with nodal lines and the feet, electrodes, clamps, springs and masses marked.
+normal displacement (an in-plane mode, whose normal displacement is near zero, by the displacement's magnitude, as
+its colour bar says), with nodal lines and the feet, electrodes, clamps, springs and masses marked.
 
 Each panel shows the whole device (the camera fits the deformed body and its markers), an x-y-z triad and a
 scale bar; electrodes are drawn as outlines over a translucent fill so that the mode shows through them, clamped
 faces are hatched, feet are labelled by name, and a legend beside the colour bar names every marker. The nodal
-lines are the zero contour of the normal displacement probed on a subdivided surface (the finite-element field at
-the finer points, not its linear interpolation between the drawn vertices), so they are smooth. The title gives the
-mode, its frequency with its stated error, and the model (3-D solid, whole, half or quarter).
+lines are the zero contour of the normal displacement read on a subdivided surface (the finite-element field at
+the finer points, in the element under each, curved walls included, not its linear interpolation between the drawn
+vertices), so they are smooth. The title gives the mode, its frequency with its stated error, and the model (3-D
+solid, whole, half or quarter).
 
 Markers are found on the whole device's surface from the full assembly's face groups (so a half or
 quarter model shows the mirrored feet and electrodes too), carry the mode's displacement so that they
@@ -28,7 +30,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from modalfe.errors import ModalfeError
 from modalfe.models.symmetry import mirror_planes, whole_device_mesh
 
 log = logging.getLogger(__name__)
@@ -36,8 +37,14 @@ log = logging.getLogger(__name__)
 MARKERS = {"foot": "limegreen", "electrode": "gold", "clamp": "black", "spring": "purple", "mass": "orange"}
 LEGEND = {"foot": "foot", "electrode": "electrode", "clamp": "clamp (hatched)", "spring": "spring", "mass": "mass"}
 FILL_OPACITY = 0.25  # electrodes' and clamps' fill: the mode's colours stay readable through it
-SUBDIVISIONS = 2  # nodal lines: each surface triangle split in 4**2, the field probed at the new points
-COLOUR_BAR_TITLE = "normal displacement w\n[m per unit modal\namplitude,\nmass-normalised]"
+SUBDIVISIONS = 2  # nodal lines: each surface triangle split in 2**2, the field read at the new points
+UNITS = "[m per unit modal\namplitude,\nmass-normalised]"
+COLOUR_BAR_TITLES = {"w": f"normal displacement w\n{UNITS}",
+                     "magnitude": f"displacement\nmagnitude\n(in-plane mode)\n{UNITS}"}
+# an in-plane mode: w's rms over the surface's vertices below this share of the displacement's. Measured: bending
+# modes 0.73-0.99 (Cu-Be plate (0,6) 0.93, (2,1) 0.73; glass plate 0.95-0.96; steel ring (2,0) 0.99), the steel ring's
+# in-plane n = 2 0.001, the glass plate's in-plane mode 0.17, where a picture coloured by w shows little but round-off
+IN_PLANE_SHARE = 0.3
 VIEWS = ("iso", "top", "bottom", "iso+bottom")
 LIFT = 2e-3  # markers are lifted off the surface by this fraction of the device's size (no z-fighting)
 
@@ -64,8 +71,10 @@ class Marker:
 
 
 def mode_grid(mode):
-    """``pyvista.UnstructuredGrid`` of the whole device with point data ``displacement`` (mass-
-    normalised mode shape) and ``w`` (its z component), cell data ``part`` (index into field data)."""
+    """``pyvista.UnstructuredGrid`` of the whole device with point data ``displacement`` (mass-normalised mode
+    shape), ``w`` (its z component) and ``magnitude`` (its length), cell data ``part`` (index into field data),
+    ``element`` and ``vertices`` (``whole_device_mesh``'s cell number and the cell's point ids), which the surface's
+    faces carry into the element they bound."""
     import pyvista as pv
 
     model = mode.model
@@ -76,11 +85,22 @@ def mode_grid(mode):
                                np.full(len(cells), kind, dtype=np.uint8), points)
     grid.point_data["displacement"] = fields["displacement"]
     grid.point_data["w"] = fields["displacement"][:, 2]
+    grid.point_data["magnitude"] = np.linalg.norm(fields["displacement"], axis=1)
     grid.cell_data["part"] = part_id
     grid.field_data["part_names"] = np.array(names)
     if mirror_planes(model.scene):  # merge the mirrored copies of the points on the symmetry planes
         grid = grid.clean(tolerance=1e-9 * float(np.ptp(points, axis=0).max()), produce_merge_map=False)
+    grid.cell_data["element"] = np.arange(len(cells))  # clean() keeps the cells and their order
+    grid.cell_data["vertices"] = grid.cell_connectivity.reshape(len(cells), -1)  # after clean(): merged point ids
     return grid
+
+
+def coloured_by(surface) -> str:
+    """The point data a picture is coloured by: ``w`` when the normal displacement carries the mode (its rms over
+    the surface's vertices at least IN_PLANE_SHARE of the displacement's), else ``magnitude`` (an in-plane mode)."""
+    u = surface.point_data["displacement"]
+    share = float(np.sqrt(np.mean(u[:, 2] ** 2) / (np.mean(np.sum(u ** 2, axis=1)) or 1.0)))
+    return "w" if share >= IN_PLANE_SHARE else "magnitude"
 
 
 def marker_kind(scene, group: str) -> str | None:
@@ -228,31 +248,32 @@ def _deformed(poly, scale: float):
     return moved
 
 
-def nodal_lines(mode, surface):
-    """The zero contour of the normal displacement w on ``surface`` with every triangle split in SUBDIVISIONS**2,
-    w probed from the mode's own field at every new point (smooth lines, not the zig-zag of a linear interpolation
-    between the drawn vertices); point data ``displacement`` is the drawn surface's (linear between its vertices), so
-    that the deformed lines lie on the deformed surface drawn. On a curved wall (its facets' chords are not the
-    device's surface), where a flat face's triangle reaches over a ring's hole, or where the probes refuse a point,
-    w is the drawn surface's."""
+def surface_field(mode, surface):
+    """``surface`` (``mode_grid``'s, triangulated) with every triangle split in SUBDIVISIONS**2 (``subdivided``) and
+    point data ``w``, the mode's own field at every new point, read in the element the triangle bounds at the same
+    reference coordinates (a curved element's face, where the drawn chord may cross a ring's hole, included: no
+    point search, no parts' exact shapes asked)."""
     fine = subdivided(surface, SUBDIVISIONS)
-    w = fine.point_data["displacement"][:, 2].copy()
-    flat = fine.point_data["flat"].copy()
-    flat[flat] = mode.model.holds(fine.points[flat])  # a flat face's triangle reaching over a ring's hole
-    try:
-        w[flat] = mode.displacement(fine.points[flat])[:, 2]
-    except (ModalfeError, ValueError) as exc:  # ValueError: skfem's finder, a point outside the mesh's facets
-        log.debug("nodal lines: the drawn w (the field not probed: %s)", exc)
-    fine.point_data["w"] = w
-    return fine.contour([0.0], scalars="w")
+    P = mode.model.element_probes(fine.point_data["element"], fine.point_data["corners"], fine.point_data["weights"])
+    fine.point_data["w"] = np.asarray(P @ mode.shape).reshape(3, -1)[2]
+    return fine
+
+
+def nodal_lines(mode, surface):
+    """The zero contour of the normal displacement w on ``surface`` (``surface_field``: the mode's own field on a
+    subdivided surface, so smooth lines, not the zig-zag of a linear interpolation between the drawn vertices); point
+    data ``displacement`` is the drawn surface's (linear between its vertices), so that the deformed lines lie on the
+    deformed surface drawn."""
+    return surface_field(mode, surface).contour([0.0], scalars="w")
 
 
 def subdivided(surface, n: int):
     """``surface`` triangulated, each triangle split in n**2 on its barycentric lattice, in double precision (VTK's
-    own subdivision returns single-precision points, which land up to 1e-7 of the size outside the device, where a
-    probe refuses them); the triangles do not share their new points (a contour needs no more). Point data
-    ``displacement``: the surface's, interpolated linearly; ``flat``: the point's triangle lies in a plane normal to an
-    axis (a box's face, a disc's top), where the device's exact surface is the triangle's."""
+    own subdivision returns single-precision points, up to 1e-7 of the size off the drawn surface); the triangles do
+    not share their new points (a contour needs no more). Point data ``displacement``: the surface's, interpolated
+    linearly; ``element``: the cell the point's triangle bounds (the surface's cell data, ``mode_grid``), ``corners``
+    (n, 3) the positions of the triangle's corners in that cell's vertex list, ``weights`` (n, 3) the point's
+    barycentric coordinates on them."""
     import pyvista as pv
 
     tri = surface.triangulate()
@@ -268,9 +289,11 @@ def subdivided(surface, n: int):
     fine = pv.PolyData(points, np.column_stack([np.full(len(cells), 3), cells]).ravel())
     fine.point_data["displacement"] = np.einsum("kc,tcd->tkd", bary, tri.point_data["displacement"][triangles])\
         .reshape(-1, 3)
-    normal = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
-    normal /= np.linalg.norm(normal, axis=1, keepdims=True)
-    fine.point_data["flat"] = np.repeat(np.abs(normal).max(axis=1) > 1 - 1e-9, len(lattice))  # to round-off
+    fine.point_data["element"] = np.repeat(tri.cell_data["element"], len(lattice))
+    ids = tri.point_data["vtkOriginalPointIds"][triangles]  # (triangles, 3): the grid's point ids
+    corners = np.argmax(tri.cell_data["vertices"][:, None, :] == ids[:, :, None], axis=2)
+    fine.point_data["corners"] = np.repeat(corners, len(lattice), axis=0)
+    fine.point_data["weights"] = np.tile(bary, (len(corners), 1))
     return fine
 
 
@@ -359,10 +382,11 @@ def render_mode(mode, *, out: str | None = None, window_size=(1000, 650), amplif
     markers = marker_set(mode, faces)  # on the mesh's own facets, which the face groups' facets match
     # triangles: drawn as the nodal lines' subdivision splits them, so that the lines lie on the drawn surface
     surface = faces.triangulate()
-    w = surface.point_data["w"]
-    limit = float(np.abs(w).max()) or 1.0
+    colour = coloured_by(surface)
+    limit = float(np.abs(surface.point_data[colour]).max()) or 1.0
     size = float(np.ptp(surface.points, axis=0).max())
-    nodal = nodal_lines(mode, surface)
+    # an in-plane mode's w is near zero, its zero contour traces round-off: no nodal lines drawn
+    nodal = nodal_lines(mode, surface) if colour == "w" else pv.PolyData()
     bar, bar_text = _scale_bar(surface.bounds, size)
     points, names = named_points(mode)
     plotter = pv.Plotter(off_screen=off_screen, window_size=list(window_size), shape=(1, len(views) + 1),
@@ -379,7 +403,9 @@ def render_mode(mode, *, out: str | None = None, window_size=(1000, 650), amplif
     tube = {"line_width": 4, "render_lines_as_tubes": True}
     for col, v in enumerate(views):
         plotter.subplot(0, col)
-        actor = draw(surface, f"device:{v}", scalars="w", cmap="RdBu_r", clim=[-limit, limit], show_scalar_bar=False)
+        actor = draw(surface, f"device:{v}", scalars=colour, show_scalar_bar=False,
+                     **({"cmap": "RdBu_r", "clim": [-limit, limit]} if colour == "w" else
+                        {"cmap": "viridis", "clim": [0.0, limit]}))
         device_actor = device_actor or actor
         if nodal.n_points:
             draw(nodal, f"nodal:{v}", color="black", line_width=3)
@@ -414,7 +440,7 @@ def render_mode(mode, *, out: str | None = None, window_size=(1000, 650), amplif
                          color="black")
         _set_view(plotter, v)
     plotter.subplot(0, len(views))
-    plotter.add_scalar_bar(COLOUR_BAR_TITLE, mapper=device_actor.mapper, vertical=True, color="black",
+    plotter.add_scalar_bar(COLOUR_BAR_TITLES[colour], mapper=device_actor.mapper, vertical=True, color="black",
                            position_x=0.3, position_y=0.36, width=0.35, height=0.5, title_font_size=11,
                            label_font_size=10, fmt="%.2g")
     kinds = dict.fromkeys(m.kind for m in markers)

@@ -73,13 +73,14 @@ def test_every_foot_and_electrode_is_marked_and_visible_from_its_side(fixture, e
 
 
 def test_colour_bar_has_units_and_sits_beside_the_device(plate):
-    from modalfe.plot.render import COLOUR_BAR_TITLE, render_mode
+    from modalfe.plot.render import COLOUR_BAR_TITLES, render_mode
 
     plotter = render_mode(plate[0], window_size=(600, 300), view="iso")
     try:
-        assert "[m per unit modal" in COLOUR_BAR_TITLE and "mass-normalised" in COLOUR_BAR_TITLE
+        title = COLOUR_BAR_TITLES["w"]  # a bending mode: coloured by the normal displacement
+        assert "[m per unit modal" in title and "mass-normalised" in title
         bars = list(plotter.scalar_bars.values())
-        assert len(bars) == 1 and bars[0].GetTitle() == COLOUR_BAR_TITLE
+        assert len(bars) == 1 and bars[0].GetTitle() == title
         # the device is drawn in the first panel, the bar in the last: their viewports do not overlap
         device, bar = plotter.renderers[0], plotter.renderers[-1]
         assert device.GetViewport()[2] <= bar.GetViewport()[0]
@@ -232,5 +233,84 @@ def test_a_ring_s_electrodes_on_its_curved_walls_are_marked():
         assert {m.group for m in markers} == {"electrode_a", "electrode_b"}
         for i, m in enumerate(markers):
             assert _visible_pixels(plotter, f"marker:{m.group}:{i}:iso") > 20, m.group  # as for the plates above
+    finally:
+        plotter.close()
+
+
+@pytest.fixture(scope="module")
+def ring():
+    """The free steel ring of examples/steel_ring.toml (quadratic hexahedra, curved walls): its in-plane n = 2 pair
+    near 1.56 kHz and its out-of-plane (2,0) pair near 2.50 kHz."""
+    from pathlib import Path
+
+    scene = load_scene(Path(__file__).parents[2] / "examples" / "steel_ring.toml")
+    return solve_modes(scene, near=2e3, count=4, error_estimate=False, fidelity="solid")
+
+
+def _lattice(mode):
+    from modalfe.plot.render import mode_grid, surface_field
+
+    surface = mode_grid(mode).extract_surface(algorithm=None).triangulate()
+    return surface, surface_field(mode, surface)
+
+
+def test_the_field_is_read_at_every_point_of_a_ring_s_surface_curved_walls_included(ring):
+    """Issue 37: the ring's nodal lines were jagged and broken because its field was read at none of the subdivided
+    points (a point of the inner wall's chord lies in the hole: the probes refused the whole set, and the lines fell
+    back to w interpolated linearly between the drawn vertices). Now every point is read in the curved element under
+    it at the same reference coordinates: the vertices' values at the corners, the quadratic field between them."""
+    mode = ring.labelled("(2,0)")
+    surface, fine = _lattice(mode)
+    w, linear = fine.point_data["w"], fine.point_data["displacement"][:, 2]
+    peak = float(np.abs(surface.point_data["w"]).max())
+    corner = fine.point_data["weights"].max(axis=1) == 1.0
+    np.testing.assert_allclose(w[corner], linear[corner], rtol=0, atol=1e-12 * peak)  # the same nodal values
+    # between the corners the old lines' field (linear) is not the mode's: the quadratic part over an element,
+    # measured 2.4 % of the peak here
+    assert np.abs(w[~corner] - linear[~corner]).max() > 1e-2 * peak
+
+
+@pytest.mark.parametrize("fixture", ["plate", "glass"])
+def test_the_field_read_on_the_surface_is_the_mode_s_own_in_the_mirrored_copies_too(fixture, request):
+    """On the box scenes (flat faces: the drawn triangles are the elements' faces) the field read by reference
+    coordinates equals the point probes' at every subdivided point, the half (plate) and quarter (glass) models'
+    mirrored copies included: the elements, their vertices' order and the components' signs are found right."""
+    mode = request.getfixturevalue(fixture)[0]
+    surface, fine = _lattice(mode)
+    peak = float(np.abs(surface.point_data["w"]).max())
+    # the same element's field at the same point by two routes (reference coordinates here, the point search and
+    # the box's affine map there): round-off only, far below the 1e-9 of the peak allowed
+    np.testing.assert_allclose(fine.point_data["w"], mode.displacement(fine.points)[:, 2], rtol=0, atol=1e-9 * peak)
+
+
+def test_a_ring_s_nodal_lines_are_closed_loops(ring):
+    """The (2,0) mode's four nodal lines cross the top face, the walls and the bottom face: each a closed loop around
+    the ring's section (its field is continuous across every drawn triangle), not broken where the walls begin."""
+    from modalfe.plot.render import nodal_lines
+
+    mode = ring.labelled("(2,0)")
+    surface, _ = _lattice(mode)
+    lines = nodal_lines(mode, surface).clean(tolerance=1e-9)  # the triangles' own copies of their shared points
+    lines = lines.connectivity()
+    ends = np.bincount(lines.lines.reshape(-1, 3)[:, 1:].ravel(), minlength=lines.n_points)
+    assert len(np.unique(lines.point_data["RegionId"])) == 4  # n = 2: four nodal diameters
+    assert np.all(ends == 2), f"{int(np.sum(ends != 2))} line ends (a closed loop has none)"
+
+
+def test_an_in_plane_mode_is_coloured_by_its_displacement_s_magnitude(ring, plate):
+    from modalfe.plot.render import COLOUR_BAR_TITLES, coloured_by, mode_grid, render_mode
+
+    in_plane = ring.labelled("n=2")
+    assert coloured_by(mode_grid(plate[0]).extract_surface(algorithm=None)) == "w"  # the plate's (0,6): bending
+    assert coloured_by(mode_grid(ring.labelled("(2,0)")).extract_surface(algorithm=None)) == "w"
+    assert coloured_by(mode_grid(in_plane).extract_surface(algorithm=None)) == "magnitude"
+    plotter = render_mode(in_plane, window_size=(600, 300), view="iso")
+    try:
+        actors = _actors(plotter)
+        device = actors["device:iso"].mapper
+        assert device.array_name == "magnitude" and device.scalar_range[0] == 0.0
+        title = next(iter(plotter.scalar_bars.values())).GetTitle()
+        assert title == COLOUR_BAR_TITLES["magnitude"] and "in-plane mode" in title
+        assert not any(k.startswith("nodal:") for k in actors)  # the zero of a near-zero w is not drawn
     finally:
         plotter.close()

@@ -384,20 +384,46 @@ def _finite(x: float) -> float | None:
     return float(x) if np.isfinite(x) else None
 
 
+PEAK_GRID = (50, 200)  # the face's peak: a grid of its size / 50, then / 200 around the strongest maxima
+PEAK_CANDIDATES = 4
+
+
+def _grid_peak(mode, main) -> tuple[float, tuple[float, float]]:
+    """(max |w|, where) on the top face of a box main part: the coarse grid's ``PEAK_CANDIDATES`` strongest local
+    maxima, each searched again on the fine grid over two coarse spacings around it (the fine grid over the whole
+    face read 16x the points: 24,000 on the Cu-Be plate, 0.9 s)."""
+    from scipy.ndimage import maximum_filter
+
+    from modalfe.response.placement import face_field
+
+    size = max(main.size[:2])
+    xs, ys, W = face_field(mode, part=main.name, side="zmax", spacing=size / PEAK_GRID[0])
+    A = np.abs(W)
+    rows, cols = np.nonzero(maximum_filter(A, size=3, mode="nearest") == A)
+    strongest = np.argsort(-A[rows, cols], kind="stable")[:PEAK_CANDIDATES]
+    best = (-1.0, (0.0, 0.0))
+    reach = 2 * size / PEAK_GRID[0]
+    for i, j in zip(rows[strongest], cols[strongest]):
+        window = ((xs[j] - reach, ys[i] - reach), (xs[j] + reach, ys[i] + reach))
+        fx, fy, F = face_field(mode, part=main.name, side="zmax", spacing=size / PEAK_GRID[1], window=window)
+        k, m = np.unravel_index(np.argmax(np.abs(F)), F.shape)
+        if abs(F[k, m]) > best[0]:
+            best = (float(abs(F[k, m])), (float(fx[m]), float(fy[k])))
+    return best
+
+
 def _face_peak(mode, rom) -> tuple[float, tuple[float, float]]:
     """Largest 0-peak normal amplitude per volt [m/V] on the top face of the main part, and where:
     modal amplitude at resonance |q| = |theta| / (2 zeta omega^2) times the mass-normalised shape. A main part
     that is not a box (a shape, a geometry file's piece) is read at its mesh vertices on the top plane of its
     bounding box (all its vertices when none lies there)."""
-    from modalfe.response.placement import face_field
 
     main = mode.scene.full_assembly().main_part
     theta = abs(rom.force_factor) / np.sqrt(rom.modal_mass)
     q = theta / (2 * rom.zeta * rom.omega**2)
     if "zmax" in main.sides:
-        xs, ys, W = face_field(mode, part=main.name, side="zmax", spacing=max(main.size[:2]) / 200)
-        i, j = np.unravel_index(np.argmax(np.abs(W)), W.shape)
-        return float(q * abs(W[i, j])), (float(xs[j]), float(ys[i]))
+        w, at = _grid_peak(mode, main)
+        return float(q * w), at
     model = mode.model
     mesh = model.mesh.mesh
     vertices = np.unique(mesh.t[:, model.mesh.parts[main.name]])

@@ -25,15 +25,19 @@ class Antinode:
     w: float
 
 
-def face_field(mode: Mode, *, part: str, side: str = "zmin", spacing: float = 0.5e-3):
+def face_field(mode: Mode, *, part: str, side: str = "zmin", spacing: float = 0.5e-3,
+               window: tuple[tuple[float, float], tuple[float, float]] | None = None):
     """Normal displacement of ``mode`` on one face of a part (whole device, symmetry unfolded) on a
-    grid of ``spacing`` [m]: returns (xs, ys, W)."""
+    grid of ``spacing`` [m] (over ``window``, ((x0, y0), (x1, y1)) [m], clipped to the face, where given): returns
+    (xs, ys, W)."""
 
     model = mode.model
     box = model.scene.full_assembly().part(part)
     axis, c, lo, hi = box.face_bounds(side)
     if axis != 2:
         raise SolverError("antinodes: only z faces (zmin, zmax) are supported")
+    if window is not None:
+        lo, hi = np.maximum(lo[:2], window[0]), np.minimum(hi[:2], window[1])
     xs = np.linspace(lo[0], hi[0], max(8, round((hi[0] - lo[0]) / spacing) + 1))
     ys = np.linspace(lo[1], hi[1], max(8, round((hi[1] - lo[1]) / spacing) + 1))
     X, Y = np.meshgrid(xs, ys)

@@ -228,12 +228,12 @@ def modal_losses(modes_list, model, losses: Losses) -> tuple[np.ndarray, np.ndar
         qm = qm_table(model)
         stiff = material_stiffness(model, set(qm))
         n_u = model.n_u
-        K_mech = model.K[:n_u, :n_u]
         eta = np.zeros(len(omega))
         covered = np.zeros(len(omega))
         for i, m in enumerate(modes_list):
             u = m.shape[:n_u]
-            total = float(u @ (K_mech @ u))
+            x = np.r_[u, np.zeros(len(m.shape) - n_u)]  # u^T K_uu u as x^T K x: slicing K_uu out of the quartic
+            total = float(x @ (model.K @ x))  # Cu-Be plate's K took 0.9 s
             for name, K_m in stiff.items():
                 frac = float(u @ (K_m @ u)) / total
                 eta[i] += frac / qm[name]

@@ -275,23 +275,30 @@ def open_circuit_modes(short: Modes | Mode, *, near: float | None = None, count:
     return partner_labels(short, opens) if isinstance(short, Modes) else opens
 
 
-def open_circuit_partner(short: Modes, mode, *, near: float, solver: str = "auto"):
-    """The open-circuit mode of ``mode`` of ``short`` (its antiresonance, ``modalfe.results.coupling.antiresonance``),
-    solved near ``near`` [Hz] with as few modes as hold it: the open circuit raises each mode by its coupling, rarely
-    past another mode, so the partner is among the open modes nearest the shift as many as the short modes at
-    least as near as ``mode``, plus two; where it is not, twice the modes, up to ``short``'s count."""
+# most open-circuit modes sought for one partner where no short-circuit modes size the solve (``open_circuit_partner``)
+PARTNER_COUNT = 16
+
+
+def open_circuit_partner(mode, *, near: float, among: Modes | None = None, solver: str = "auto"):
+    """The open-circuit mode of the short-circuit ``mode`` (its antiresonance, by shape:
+    ``modalfe.results.coupling.antiresonance``), solved on its model near ``near`` [Hz] with as few modes as hold it:
+    the open circuit raises each mode by its coupling, rarely past another mode, so the partner is among the open
+    modes nearest the shift as many as the short modes of ``among`` at least as near as ``mode``, plus two (two
+    without ``among``); where it is not, twice the modes, up to ``among``'s count (``PARTNER_COUNT`` without)."""
     from modalfe.results.coupling import antiresonance
 
     sigma = near**2
-    rank = sum(abs(m.frequency**2 - sigma) <= abs(mode.frequency**2 - sigma) for m in short)
-    count = min(rank + 2, max(len(short), 1))
+    most = max(len(among), 1) if among is not None else PARTNER_COUNT
+    rank = sum(abs(m.frequency**2 - sigma) <= abs(mode.frequency**2 - sigma) for m in among) if among is not None \
+        else 0
+    count = min(rank + 2, most)
     while True:
         try:
-            return antiresonance(mode, open_circuit_modes(short, near=near, count=count, solver=solver))
+            return antiresonance(mode, open_circuit_modes(mode, near=near, count=count, solver=solver))
         except SolverError:
-            if count >= len(short):
+            if count >= most:
                 raise
-            count = min(2 * count, len(short))
+            count = min(2 * count, most)
 
 
 def derived_errors(modes: Modes, mode, values, fine: dict[str, float] | None = None,

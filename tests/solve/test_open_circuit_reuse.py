@@ -117,7 +117,7 @@ def test_the_open_circuit_partner_is_found_among_few_modes_by_shape(monkeypatch)
     asked = []
     solve_open = api.open_circuit_modes
     monkeypatch.setattr(api, "open_circuit_modes", lambda s, **kw: asked.append(kw["count"]) or solve_open(s, **kw))
-    partner = api.open_circuit_partner(short, mode, near=21.7e3)
+    partner = api.open_circuit_partner(mode, among=short, near=21.7e3)
     every = solve_open(short, near=21.7e3, count=10)
     labelled = min((m for m in every if m.label == mode.label), key=lambda m: abs(m.frequency - mode.frequency))
     assert asked and asked[0] < 10

@@ -141,6 +141,16 @@ def solve_modes(
         else:
             modes = solve_at_fidelity(scene, a, fidelity=fidelity, tol=tol, check=check, size_factor=size_factor,
                                       solver=solver, error_estimate=error_estimate, frame=frame)
+    if a.circuit == "open" and len(modes) and "drive" in scene.electrodes.values():
+        # a mode keeps its label in both circuits (issue 35: a piezo cube's open circuit was labelled anew, its coupled
+        # modes lifted past others): each open mode paired by shape with a mode of the short circuit's answer to the
+        # same question on the same discretization takes that mode's label (``partner_labels``)
+        from modalfe.results.coupling import partner_labels
+
+        short = solve_modes(scene, near=a.near, count=a.count, band=a.band, circuit="short", mode=mode,
+                            error_estimate=error_estimate, size_factor=size_factor, solver=solver, frame=frame,
+                            fidelity=fidelity, tol=tol, check=check)
+        modes = partner_labels(short, modes)
     if key is not None:
         resolved.store(key, modes)
     stages = ", ".join(f"{k} {v:.2f} s" for k, v in modes.timings.items() if isinstance(v, float))

@@ -6,10 +6,12 @@ import logging
 import math
 import numbers
 import os
+import weakref
 from dataclasses import replace
 
 import numpy as np
 
+import modalfe.caches as caches
 from modalfe.errors import SceneError, SolverError
 from modalfe.models.estimate import machine_memory
 from modalfe.results.labels import base_label
@@ -285,6 +287,28 @@ def open_circuit_modes(short: Modes | Mode, *, near: float | None = None, count:
     return partner_labels(short, opens) if isinstance(short, Modes) else opens
 
 
+_OPEN_SOLVES: list[tuple] = []  # (model held weakly, near, Modes): the partner search's last open solves, newest first
+_KEPT_OPEN = 4
+caches.register("open-circuit partner solves", _OPEN_SOLVES.clear)
+
+
+def _open_solve(model, near: float, count: int, solver: str) -> Modes:
+    """The open-circuit modes of ``model``, at least ``count`` nearest ``near`` [Hz]: a kept solve at that shift with
+    as many (the partners of a table's modes, sought one by one, from one solve) or a new one, kept."""
+    from modalfe.solve.levels import modes_of
+
+    _OPEN_SOLVES[:] = [kept for kept in _OPEN_SOLVES if kept[0]() is not None]
+    for ref, at, opens in _OPEN_SOLVES:
+        if ref() is model and at == near and len(opens) >= count:
+            return opens
+    analysis = Analysis(near=near, count=count, circuit="open")
+    with single_threaded_blas():
+        opens = modes_of(model, analysis, fidelity="solid", solver=solver)
+    _OPEN_SOLVES.insert(0, (weakref.ref(model), near, opens))
+    del _OPEN_SOLVES[_KEPT_OPEN:]
+    return opens
+
+
 # most open-circuit modes sought for one partner where no short-circuit modes size the solve (``open_circuit_partner``)
 PARTNER_COUNT = 16
 
@@ -304,7 +328,7 @@ def open_circuit_partner(mode, *, near: float, among: Modes | None = None, solve
     count = min(rank + 2, most)
     while True:
         try:
-            return antiresonance(mode, open_circuit_modes(mode, near=near, count=count, solver=solver))
+            return antiresonance(mode, _open_solve(mode.model, near, count, solver))
         except SolverError:
             if count >= most:
                 raise

@@ -12,8 +12,7 @@ import argparse
 from pathlib import Path
 
 from modalfe import solve_modes
-from modalfe.results.coupling import k_eff
-from modalfe.solve.api import open_circuit_partner
+from modalfe.response.forced import open_circuit
 
 SCENE = Path(__file__).with_name("disc_stack.toml")
 
@@ -25,9 +24,9 @@ def main() -> None:
     short = solve_modes(SCENE, fidelity="axisymmetric", harmonics=0, band=(50e3, 300e3), tol=tol)
     print(f"{'mode':<6} {'fr [Hz]':>11} {'stated':>8} {'fa [Hz]':>11} {'k_eff':>7}   ({short.dofs} DOFs)")
     for mode in short:
-        fa = open_circuit_partner(short, mode, near=mode.frequency).frequency
-        print(f"{mode.label:<6} {mode.frequency:>11,.1f} {100 * mode.error_estimate:>7.3f}% {fa:>11,.1f} "
-              f"{k_eff(mode.frequency, fa):>7.4f}")
+        both = open_circuit(mode, among=short, near=mode.frequency)
+        print(f"{mode.label:<6} {mode.frequency:>11,.1f} {100 * mode.error_estimate:>7.3f}% {both.fa:>11,.1f} "
+              f"{both.k_eff:>7.4f}")
 
 if __name__ == "__main__":
     main()

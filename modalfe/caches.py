@@ -6,6 +6,8 @@ What is kept, and until when (``registered()`` lists them):
 - meshes in memory (``modalfe.models.mesh``), and their files on disk (the mesh cache);
 - assembled models, the last few per kind (``modalfe.models.build``);
 - short-circuit factorizations kept for their open circuit (``modalfe.solve.levels``), while their model lives;
+- the open-circuit solves of the partner search (``modalfe.solve.api.open_circuit_partner``), the last few, while
+  their model lives;
 - resolved answers, a few in memory and the newest on disk (``modalfe.solve.resolved``);
 - summaries of imported geometry files, by path and content digest (``modalfe.geometry.imported``);
 - per-material stiffness matrices of live models, for the materials' Qm (``modalfe.response.losses``).

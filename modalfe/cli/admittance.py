@@ -136,6 +136,12 @@ def _admittance(args) -> int:
             print(f"    {c['label']:<13} {c['fr_hz']:10.1f} {c['fa_hz']:10.1f} {c['k_eff']:7.4f} "
                   f"{1e9 * c['C0_F']:9.4g} {c['R1_ohm']:10.4g} {c['L1_H']:10.4g} {1e12 * c['C1_F']:10.4g}  "
                   f"[fr {_known(c['fr_error'])}, L1 {_known(c['L1_error'])}, C1 {_known(c['C1_error'])}]")
+    if result.open_circuit:
+        print("  FE open circuit of each resonance (its open-circuit mode of the same shape on the same model; the "
+              "fa and k_eff of table, forced and the API):")
+        print(f"    {'mode':<13} {'fr [Hz]':>10} {'fa [Hz]':>10} {'k_eff':>7}")
+        for c in result.open_circuit:
+            print(f"    {c['label']:<13} {c['fr_hz']:10.1f} {c['fa_hz']:10.1f} {c['k_eff']:7.4f}")
     print("  [stated errors in brackets, from the frequencies' estimate levels]")
     for flag, path in (("csv", args.csv), ("s1p", args.s1p), ("plot", args.plot)):
         if path:

@@ -472,12 +472,12 @@ def track(rows: list[dict], selector: str) -> list[dict]:
 
 
 def coupling_extra(working) -> dict:
-    """k_eff of the working mode, its fa from the open circuit of the same model paired by shape."""
-    from modalfe.results.coupling import antiresonance, k_eff
-    from modalfe.solve.api import open_circuit_modes
+    """fa [Hz] and k_eff of the working mode from the open circuit of its model, its partner by shape
+    (``modalfe.response.forced.open_circuit``: the one path of ``table``, ``forced`` and ``admittance``)."""
+    from modalfe.response.forced import open_circuit
 
-    open_modes = open_circuit_modes(working, near=working.frequency, count=4)
-    return {"k_eff": k_eff(working.frequency, antiresonance(working, open_modes).frequency)}
+    both = open_circuit(working)
+    return {"fa_hz": both.fa, "k_eff": both.k_eff}
 
 
 def friction_extra(working, *, volts: float = 10.0, preload: float = 3.0, speed: float = 0.01) -> dict:

@@ -61,7 +61,7 @@ def device_report(scene, *, error_estimate: bool = True, fidelity: str = "auto",
     where the scene has a driven electrode (antiresonance and k_eff): at the solid when it answered, else from the
     solid's fa / fr at the cross-check level (``coupling_check_level``). With ``fidelity="auto"`` the working modes
     of the window must meet ``tol``."""
-    from modalfe.response.forced import open_circuit_fa
+    from modalfe.response.forced import open_circuit
     from modalfe.results.coupling import k_eff
     from modalfe.solve.fidelity import coupling_check_level
 
@@ -86,8 +86,8 @@ def device_report(scene, *, error_estimate: bool = True, fidelity: str = "auto",
         fa = coupling = None
         notes = device_notes(family, modes, mode) + ([window.note] if window.note else [])
         if "drive" in family.electrodes.values() and modes.fidelity == "solid":
-            fa = open_circuit_fa(modes, mode, near=mode.frequency if band else wm.near)
-            coupling = k_eff(mode.frequency, fa)
+            both = open_circuit(mode, among=modes, near=mode.frequency if band else wm.near)
+            fa, coupling = both.fa, both.k_eff
         elif "drive" in family.electrodes.values():
             fr_solid, fa_solid = coupling_check_level(modes, mode)
             fa, coupling = mode.frequency * fa_solid / fr_solid, k_eff(fr_solid, fa_solid)

@@ -85,7 +85,9 @@ class Admittance:
     frequency_hz, error_estimate (relative, None: not estimated), theta (modal force per volt [N/(V kg^0.5)]) and
     its loss, and where the answer states errors (``with_stated_errors``) the |Y| maximum nearest the mode
     (``peak_hz``, ``peak_S``) and the minimum above it (``dip_hz``) with their stated errors (``*_error``, as
-    ``theta_error``); ``capacitance_error``: C_S's stated error; notes."""
+    ``theta_error``); ``capacitance_error``: C_S's stated error; notes; ``open_circuit``: per resonance of the band
+    (those with a BVD circuit, ``bvd_circuits``), label, fr_hz and the FE open circuit's fa_hz and k_eff
+    (``modalfe.response.forced.open_circuit``: as ``table``, ``forced`` and the API give them; not the BVD's fa)."""
 
     scene: str
     frequency: np.ndarray
@@ -99,6 +101,7 @@ class Admittance:
     model_Y: Callable[[np.ndarray], np.ndarray] | None = field(default=None, repr=False, compare=False)
     capacitance_error: float = float("nan")
     copies: int = 1
+    open_circuit: tuple[dict, ...] = ()
 
     @property
     def Z(self) -> np.ndarray:  # noqa: N802 (the impedance's own symbol)
@@ -190,7 +193,7 @@ class Admittance:
         return {
             "scene": self.scene, "method": self.method, "losses": list(self.losses), "dofs": self.dofs,
             "capacitance_clamped_F": self.capacitance_clamped, "modes": list(self.modes), "notes": list(self.notes),
-            **self.extrema(), "bvd": self.bvd_circuits(),
+            **self.extrema(), "bvd": self.bvd_circuits(), "open_circuit": list(self.open_circuit),
             "frequency_Hz": self.frequency.tolist(), "Y_real_S": self.Y.real.tolist(), "Y_imag_S": self.Y.imag.tolist(),
             "abs_Z_ohm": np.abs(Z).tolist(), "phase_Z_deg": np.degrees(np.angle(Z)).tolist(),
         }
@@ -238,10 +241,30 @@ def admittance(scene, band: tuple[float, float], points: int, *, damping: str | 
     result = modal_admittance(modes, frequency, losses, residual=residual,
                               note=f"short-circuit modes in [{lo:.6g}, {hi:.6g}] Hz (the band widened {widen:g}x); "
                                    f"resolved: {modes.resolution}")
+    result = with_open_circuit(result, modes)
     if len(modes) and modes.estimate is None:  # no estimate levels kept (the axisymmetric model's p-step, no errors)
         return replace(result, notes=(*result.notes, f"theta, the |Y| extrema and C0: errors not estimated (the answer "
                                                      f"keeps no estimate levels: {modes.estimate_method})"))
     return with_stated_errors(result, modes, losses, residual) if len(modes) else result
+
+
+def with_open_circuit(result: Admittance, modes) -> Admittance:
+    """``result`` with the FE open circuit's fa and k_eff of each resonance that has a BVD circuit: the mode's
+    open-circuit partner by shape on its model (``modalfe.response.forced.open_circuit``, the one path of ``table``,
+    ``forced`` and the API); a resonance whose partner is not found is left out, with a note."""
+    from modalfe.response.forced import open_circuit
+
+    rows, missing = [], []
+    for circuit in result.bvd_circuits():
+        mode = next(m for m in modes if m.label == circuit["label"] and m.frequency == circuit["fr_hz"])
+        try:
+            both = open_circuit(mode, among=modes)
+        except SolverError:
+            missing.append(mode.label)
+            continue
+        rows.append({"label": both.label, "fr_hz": both.fr, "fa_hz": both.fa, "k_eff": both.k_eff})
+    notes = [f"FE open-circuit fa not found for {', '.join(missing)}"] if missing else []
+    return replace(result, open_circuit=tuple(rows), notes=(*result.notes, *notes))
 
 
 def with_stated_errors(result: Admittance, modes, losses: Losses, residual: str) -> Admittance:

@@ -154,7 +154,7 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
     ``modes`` gives for the scene's question about it (``modalfe.solve.api.working_question``), solved at
     ``resolution`` (``solve_modes``' tol, fidelity, error_estimate) on the 3-D solid."""
     from modalfe.response.admittance import clamped_capacitance
-    from modalfe.response.forced import Damping, harmonic_response, open_circuit_fa, reduce, resonant_state
+    from modalfe.response.forced import Damping, harmonic_response, open_circuit, reduce, resonant_state
     from modalfe.response.loads import Load, check_forcing, check_outputs
     from modalfe.response.losses import mode_damping, resolve_losses
     from modalfe.response.stress import limit_loads, part_peaks
@@ -200,7 +200,7 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
     fa, notes_fa = None, ""
     if voltage:
         try:
-            fa = open_circuit_fa(modes, mode, near=question.get("near", mode.frequency))
+            fa = open_circuit(mode, among=modes, near=question.get("near", mode.frequency)).fa
         except SolverError as exc:
             notes_fa = f"open-circuit fa not found ({exc}); the BVD's one-mode fa stands alone"
     amp = {o: float(abs(rom.frf(rom.frequency, o))) for o in rom.shapes}
@@ -267,7 +267,7 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
 
     def level_fa(m) -> float | None:  # fa of a mode's partner on its level, sought as the answer's is (at the shift
         try:  # the level was solved at: its factorization reused)
-            return open_circuit_fa(modes.estimate.level_holding(m), m, near=question.get("near", m.frequency))
+            return open_circuit(m, among=modes.estimate.level_holding(m), near=question.get("near", m.frequency)).fa
         except SolverError:
             return None
 

@@ -267,19 +267,44 @@ def one_mode_antiresonance(mode: Mode) -> float:
     return mode.frequency * math.sqrt(1 + theta**2 / (mode.omega**2 * capacitance))
 
 
-def open_circuit_fa(modes, mode: Mode, *, near: float | None = None) -> float:
-    """fa [Hz] of ``mode`` (one of the short-circuit ``modes``): its open-circuit partner by shape on the same model
-    (``modalfe.solve.api.open_circuit_partner``), sought at ``near`` (the short circuit's shift: its factorization
-    reused) and else where the one-mode circuit puts it (a strongly coupled mode's fa lies past other modes: a disc's
-    R1); the same answer for ``table``, ``forced`` and the API. SolverError where neither holds it."""
-    from modalfe.solve.api import open_circuit_partner
+@dataclass(frozen=True)
+class OpenCircuit:
+    """A mode in both circuits, from the FE open circuit of its own model: ``label`` (the short-circuit mode's: a mode
+    keeps its label in both circuits), ``fr`` [Hz] (short circuit), ``fa`` [Hz] (its open-circuit partner by shape,
+    ``modalfe.results.coupling.antiresonance``) and ``k_eff`` = sqrt((fa^2 - fr^2) / fa^2) (IEEE Std 176-1987,
+    eq. 100). Not the one-mode circuit's fa (``ReducedModel.antiresonance``, the BVD's)."""
 
-    if near is not None:
+    label: str
+    fr: float
+    fa: float
+
+    @property
+    def k_eff(self) -> float:
+        """Effective coupling factor from fr and fa (``modalfe.results.coupling.k_eff``)."""
+        return k_eff(self.fr, self.fa)
+
+
+def open_circuit(mode: Mode, *, among=None, near: float | None = None) -> OpenCircuit:
+    """``mode`` (short circuit) in open circuit: the one path by which ``table``, ``forced``, ``admittance``,
+    ``report`` and the Python API (``sweep``'s ``coupling_extra``) give a mode's fa and k_eff. Its open-circuit
+    partner by shape on the same model (``modalfe.solve.api.open_circuit_partner``; ``among``: the short-circuit
+    ``Modes`` holding ``mode``, to size the solve), sought at ``near`` [Hz] (default: the shift of its model's kept
+    short-circuit solve, ``modalfe.solve.levels.short_circuit_pencil``: that factorization reused) and else where the
+    one-mode circuit puts it (a strongly coupled mode's fa lies past other modes: a disc's R1). Whichever shift finds
+    it, the partner is the one mode of that shape. SolverError where neither holds it."""
+    from modalfe.solve.api import open_circuit_partner
+    from modalfe.solve.levels import short_circuit_pencil
+
+    if near is None:
+        kept = short_circuit_pencil(mode.model)[2]
+        near = None if kept is None else math.sqrt(max(kept[1], 0.0)) / (2 * math.pi)
+    if near:
         try:
-            return open_circuit_partner(modes, mode, near=near).frequency
+            return OpenCircuit(mode.label, mode.frequency, open_circuit_partner(mode, among=among, near=near).frequency)
         except SolverError:
             pass
-    return open_circuit_partner(modes, mode, near=one_mode_antiresonance(mode)).frequency
+    fa = open_circuit_partner(mode, among=among, near=one_mode_antiresonance(mode)).frequency
+    return OpenCircuit(mode.label, mode.frequency, fa)
 
 
 def reduce(mode: Mode, *, outputs, damping: Damping, reference: str | None = None, load=None) -> ReducedModel:

@@ -20,9 +20,8 @@ import numpy as np
 
 from modalfe.errors import SceneError, SolverError
 from modalfe.response.loads import rigid_translation
-from modalfe.results.coupling import antiresonance, k_eff
+from modalfe.results.coupling import k_eff
 
-OPEN_MARGIN = 1.1  # the open-circuit band reaches 10 % higher (fa - fr is a few % for k_eff up to ~0.4)
 CSV_COLUMNS = (
     "index", "label", "frequency_Hz", "error_estimate_rel", "meff_x_kg", "meff_y_kg", "meff_z_kg",
     "cum_fraction_x", "cum_fraction_y", "cum_fraction_z", "gamma_x_sqrtkg", "gamma_y_sqrtkg", "gamma_z_sqrtkg",
@@ -116,12 +115,12 @@ def mode_table(scene, *, near: float | None = None, count: int | None = None,
     """The mode table of ``scene`` (3-D solid, or the axisymmetric model where auto answers with it or it is asked:
     its n >= 1 modes stand for pairs, meff_y the twin's): ``count`` modes nearest ``near`` [Hz] or every mode in
     ``band`` (default: the scene's analysis), the answer ``modes`` gives for that question at ``resolution``
-    (``solve_modes``' tol, fidelity, error_estimate). fa from one open-circuit solve on the same model, each short
-    mode's partner by shape (``modalfe.results.coupling.antiresonance``); a partner past that band is sought where
-    ``forced`` seeks it (``modalfe.response.forced.open_circuit_fa``). Each number of a row that depends on the
+    (``solve_modes``' tol, fidelity, error_estimate). fa and k_eff of each mode from the open circuit of its model,
+    its partner by shape, as ``forced``, ``admittance`` and the API give them (``modalfe.response.forced.open_circuit``,
+    one path). Each number of a row that depends on the
     discretization has its stated error from the frequencies' estimate levels (``derived_errors``)."""
-    from modalfe.response.forced import open_circuit_fa
-    from modalfe.solve.api import REVOLVED, derived_errors, open_circuit_modes, solid_modes
+    from modalfe.response.forced import open_circuit
+    from modalfe.solve.api import REVOLVED, derived_errors, solid_modes
 
     short = solid_modes(scene, needs="the mode table", near=near, count=count, band=band, takes=REVOLVED,
                         **resolution)
@@ -142,12 +141,7 @@ def mode_table(scene, *, near: float | None = None, count: int | None = None,
                      f"own directions; the solved part's value is listed)")
     notes.append("effective mass m = (phi^T M r_d)^2 for mass-normalised phi (Chopra 2012, sec. 13.2.5); "
                  "cumulative fractions of the total mass over the modes listed, in frequency order")
-    opens = ()
     if driven:
-        if band is not None:
-            opens = open_circuit_modes(short, band=(band[0], OPEN_MARGIN * band[1]))
-        else:
-            opens = open_circuit_modes(short, near=near or scene.analysis.near, count=len(short) + 2)
         notes.append("fa: the open-circuit mode of the same shape on the same model (largest mass-weighted MAC); "
                      "k_eff = sqrt(1 - fr^2/fa^2), IEEE Std 176-1987")
         load = model.voltage_load(1.0)
@@ -159,26 +153,21 @@ def mode_table(scene, *, near: float | None = None, count: int | None = None,
     gamma, total = effective_masses(short)
     meff = gamma**2
     cum = np.cumsum(meff, axis=0) / np.where(total > 0, total, np.inf)
-    level_opens: dict[int, object] = {id(model): opens}  # each model's open circuit, solved once
-
-    def fa_of(m, opens) -> float | None:
-        """fa of ``m`` from the open circuit of its model ``opens``, else sought where ``forced`` seeks it."""
+    def fa_of(m) -> float | None:
+        """fa of ``m`` (of the answer or of an estimate level), or None where no open mode has its shape."""
         try:
-            return antiresonance(m, opens).frequency
-        except SolverError:  # its partner lies past the band (a strongly coupled mode): sought as forced seeks it
-            try:
-                return open_circuit_fa(short if m.model is model else short.estimate.level_holding(m), m)
-            except SolverError:
-                return None
+            return open_circuit(m, among=short if m.model is model else short.estimate.level_holding(m)).fa
+        except SolverError:
+            return None
 
-    def numbers(m, opens) -> dict[str, float]:
+    def numbers(m) -> dict[str, float]:
         """The numbers of a row that depend on the discretization: effective masses, fa, k_eff, force factor."""
         shape = m.shape
         g = (m.model.M @ rigid_translations(m.model).T).T @ shape
         out = {f"meff_{d}": float(g[k] ** 2) for k, d in enumerate("xyz")
                if g[k] ** 2 >= SIGNIFICANT_MASS * total[k]}
         if driven:
-            fa = fa_of(m, opens)
+            fa = fa_of(m)
             if fa is None:
                 return out
             out.update(fa=fa, k_eff=k_eff(m.frequency, fa))
@@ -190,24 +179,17 @@ def mode_table(scene, *, near: float | None = None, count: int | None = None,
                 del out["k_eff"], out["force_factor"]
         return out
 
-    def at_level(m) -> dict[str, float]:  # a mode's partner on an estimate level, its open circuit solved once
-        if driven and id(m.model) not in level_opens:
-            level_opens[id(m.model)] = (open_circuit_modes(m, band=(band[0], OPEN_MARGIN * band[1])) if band
-                                        else open_circuit_modes(m, near=near or scene.analysis.near,
-                                                                count=len(short) + 6))
-        return numbers(m, level_opens.get(id(m.model)))
-
     rows = []
     for i, m in enumerate(short):
         fa = ke = theta = force = None
-        fine = numbers(m, opens)  # the row's fa and the numbers its errors are of, computed once
+        fine = numbers(m)  # the row's fa and the numbers its errors are of, computed once
         if driven:
             fa = fine.get("fa")
             ke = k_eff(m.frequency, fa) if fa is not None and m.frequency > 0 else None
             theta = float(m.shape @ load)
             umax = float(np.max(np.abs(model.nodal_displacement(m.shape))))
             force = theta / umax if umax > 0 else None
-        errors = derived_errors(short, m, at_level, fine, eigenvalues=("fa",)) if m.frequency > 0 else {}
+        errors = derived_errors(short, m, numbers, fine, eigenvalues=("fa",)) if m.frequency > 0 else {}
         meff_errors = [e for name, (e, _) in errors.items() if name.startswith("meff_")]
         rows.append({
             "index": m.index, "label": m.label, "frequency_Hz": m.frequency, "error_estimate_rel": m.error_estimate,

@@ -6,10 +6,12 @@ import logging
 import math
 import numbers
 import os
+import weakref
 from dataclasses import replace
 
 import numpy as np
 
+import modalfe.caches as caches
 from modalfe.errors import SceneError, SolverError
 from modalfe.models.estimate import machine_memory
 from modalfe.results.labels import base_label
@@ -141,6 +143,16 @@ def solve_modes(
         else:
             modes = solve_at_fidelity(scene, a, fidelity=fidelity, tol=tol, check=check, size_factor=size_factor,
                                       solver=solver, error_estimate=error_estimate, frame=frame)
+    if a.circuit == "open" and len(modes) and "drive" in scene.electrodes.values():
+        # a mode keeps its label in both circuits (issue 35: a piezo cube's open circuit was labelled anew, its coupled
+        # modes lifted past others): each open mode paired by shape with a mode of the short circuit's answer to the
+        # same question on the same discretization takes that mode's label (``partner_labels``)
+        from modalfe.results.coupling import partner_labels
+
+        short = solve_modes(scene, near=a.near, count=a.count, band=a.band, circuit="short", mode=mode,
+                            error_estimate=error_estimate, size_factor=size_factor, solver=solver, frame=frame,
+                            fidelity=fidelity, tol=tol, check=check)
+        modes = partner_labels(short, modes)
     if key is not None:
         resolved.store(key, modes)
     stages = ", ".join(f"{k} {v:.2f} s" for k, v in modes.timings.items() if isinstance(v, float))
@@ -275,23 +287,52 @@ def open_circuit_modes(short: Modes | Mode, *, near: float | None = None, count:
     return partner_labels(short, opens) if isinstance(short, Modes) else opens
 
 
-def open_circuit_partner(short: Modes, mode, *, near: float, solver: str = "auto"):
-    """The open-circuit mode of ``mode`` of ``short`` (its antiresonance, ``modalfe.results.coupling.antiresonance``),
-    solved near ``near`` [Hz] with as few modes as hold it: the open circuit raises each mode by its coupling, rarely
-    past another mode, so the partner is among the open modes nearest the shift as many as the short modes at
-    least as near as ``mode``, plus two; where it is not, twice the modes, up to ``short``'s count."""
+_OPEN_SOLVES: list[tuple] = []  # (model held weakly, near, Modes): the partner search's last open solves, newest first
+_KEPT_OPEN = 4
+caches.register("open-circuit partner solves", _OPEN_SOLVES.clear)
+
+
+def _open_solve(model, near: float, count: int, solver: str) -> Modes:
+    """The open-circuit modes of ``model``, at least ``count`` nearest ``near`` [Hz]: a kept solve at that shift with
+    as many (the partners of a table's modes, sought one by one, from one solve) or a new one, kept."""
+    from modalfe.solve.levels import modes_of
+
+    _OPEN_SOLVES[:] = [kept for kept in _OPEN_SOLVES if kept[0]() is not None]
+    for ref, at, opens in _OPEN_SOLVES:
+        if ref() is model and at == near and len(opens) >= count:
+            return opens
+    analysis = Analysis(near=near, count=count, circuit="open")
+    with single_threaded_blas():
+        opens = modes_of(model, analysis, fidelity="solid", solver=solver)
+    _OPEN_SOLVES.insert(0, (weakref.ref(model), near, opens))
+    del _OPEN_SOLVES[_KEPT_OPEN:]
+    return opens
+
+
+# most open-circuit modes sought for one partner where no short-circuit modes size the solve (``open_circuit_partner``)
+PARTNER_COUNT = 16
+
+
+def open_circuit_partner(mode, *, near: float, among: Modes | None = None, solver: str = "auto"):
+    """The open-circuit mode of the short-circuit ``mode`` (its antiresonance, by shape:
+    ``modalfe.results.coupling.antiresonance``), solved on its model near ``near`` [Hz] with as few modes as hold it:
+    the open circuit raises each mode by its coupling, rarely past another mode, so the partner is among the open
+    modes nearest the shift as many as the short modes of ``among`` at least as near as ``mode``, plus two (two
+    without ``among``); where it is not, twice the modes, up to ``among``'s count (``PARTNER_COUNT`` without)."""
     from modalfe.results.coupling import antiresonance
 
     sigma = near**2
-    rank = sum(abs(m.frequency**2 - sigma) <= abs(mode.frequency**2 - sigma) for m in short)
-    count = min(rank + 2, max(len(short), 1))
+    most = max(len(among), 1) if among is not None else PARTNER_COUNT
+    rank = sum(abs(m.frequency**2 - sigma) <= abs(mode.frequency**2 - sigma) for m in among) if among is not None \
+        else 0
+    count = min(rank + 2, most)
     while True:
         try:
-            return antiresonance(mode, open_circuit_modes(short, near=near, count=count, solver=solver))
+            return antiresonance(mode, _open_solve(mode.model, near, count, solver))
         except SolverError:
-            if count >= len(short):
+            if count >= most:
                 raise
-            count = min(2 * count, len(short))
+            count = min(2 * count, most)
 
 
 def derived_errors(modes: Modes, mode, values, fine: dict[str, float] | None = None,

@@ -115,9 +115,10 @@ def test_the_open_circuit_partner_is_found_among_few_modes_by_shape(monkeypatch)
     short = solve_modes(scene, near=21.7e3, count=10, fidelity="solid", error_estimate=False)
     mode = short.nearest(21.7e3)
     asked = []
-    solve_open = api.open_circuit_modes
-    monkeypatch.setattr(api, "open_circuit_modes", lambda s, **kw: asked.append(kw["count"]) or solve_open(s, **kw))
-    partner = api.open_circuit_partner(short, mode, near=21.7e3)
+    solve_open, solve_few = api.open_circuit_modes, api._open_solve
+    monkeypatch.setattr(api, "_open_solve", lambda model, near, count, solver: asked.append(count)
+                        or solve_few(model, near, count, solver))
+    partner = api.open_circuit_partner(mode, among=short, near=21.7e3)
     every = solve_open(short, near=21.7e3, count=10)
     labelled = min((m for m in every if m.label == mode.label), key=lambda m: abs(m.frequency - mode.frequency))
     assert asked and asked[0] < 10

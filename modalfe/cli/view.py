@@ -64,6 +64,7 @@ def log_timings(modes, seconds: float) -> None:
 def _show(args) -> int:
     from modalfe.errors import SolverError
     from modalfe.plot.render import animate_mode, render_mode
+    from modalfe.plot.render_process import RenderProcess
     from modalfe.results.labels import check_selector
     from modalfe.results.modes import select
     from modalfe.solve.api import seek, working_question
@@ -78,27 +79,46 @@ def _show(args) -> int:
             return {"near": args.near or seek(scene)[1]}
         return working_question(scene, selector, args.near)
 
-    scene, modes = _modes(args, question)
-    if index:
-        if int(args.mode) >= len(modes):
-            raise SolverError(f"--mode: index {args.mode} out of range (0-{len(modes) - 1})")
-        mode = modes[int(args.mode)]
-    else:
-        mode = select(modes, *seek(scene, selector, args.near))
     interactive = args.out is None and bool(os.environ.get("DISPLAY"))
-    out = args.out or (None if interactive else f"{scene.name}.png")
-    start = time.perf_counter()
-    if out and Path(out).suffix.lower() == ".gif":
-        animate_mode(mode, out, view=args.view)
-    else:
-        plotter = render_mode(mode, out=out, view=args.view, off_screen=not interactive)
-        if interactive:
-            plotter.show()
+    gif = args.out is not None and Path(args.out).suffix.lower() == ".gif"
+    # a PNG: drawn by a second process that loads VTK while this one solves (``render_process``)
+    drawer = None if interactive or gif else RenderProcess()
+    try:
+        scene, modes = _modes(args, question)
+        if index:
+            if int(args.mode) >= len(modes):
+                raise SolverError(f"--mode: index {args.mode} out of range (0-{len(modes) - 1})")
+            mode = modes[int(args.mode)]
+        else:
+            mode = select(modes, *seek(scene, selector, args.near))
+        out = args.out or (None if interactive else f"{scene.name}.png")
+        start = time.perf_counter()
+        if gif:
+            animate_mode(mode, out, view=args.view)
+        elif drawer is not None:
+            _render_png(drawer, mode, out, args.view)
+        else:
+            render_mode(mode, out=out, view=args.view, off_screen=False).show()
+    finally:
+        if drawer is not None:
+            drawer.close()
     log.info("rendered in %.2f s", time.perf_counter() - start)
     if out:
         print(f"{scene.name}: {mode.label} at {mode.frequency:.2f} Hz (stated error {stated(mode.error_estimate)}) "
               f"-> {out}")
     return 0
+
+
+def _render_png(drawer, mode, out: str, view: str) -> None:
+    """``mode`` drawn into ``out`` by the second process, else (it failed: said in the log) here."""
+    from modalfe.plot.render import render_mode
+    from modalfe.plot.render_process import RenderProcessError
+
+    try:
+        drawer.render(mode, out, view)
+    except RenderProcessError as exc:
+        log.info("%s; drawing in this process", exc)
+        render_mode(mode, out=out, view=view, off_screen=True).close()
 
 
 def _export(args) -> int:

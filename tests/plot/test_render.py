@@ -314,3 +314,25 @@ def test_an_in_plane_mode_is_coloured_by_its_displacement_s_magnitude(ring, plat
         assert not any(k.startswith("nodal:") for k in actors)  # the zero of a near-zero w is not drawn
     finally:
         plotter.close()
+
+
+def test_a_second_process_draws_the_same_picture_as_this_one(plate, tmp_path):
+    # ``show``'s PNG comes from a process that loaded VTK while the solve ran: the same pixels as drawn here
+    from PIL import Image
+
+    from modalfe.plot.render import render_mode
+    from modalfe.plot.render_process import RenderProcess
+
+    here, there = tmp_path / "here.png", tmp_path / "there.png"
+    render_mode(plate[0], out=str(here), view="iso+bottom").close()
+    RenderProcess().render(plate[0], str(there), "iso+bottom")
+    assert np.array_equal(np.asarray(Image.open(here)), np.asarray(Image.open(there)))
+
+
+def test_a_failed_second_process_says_why(plate, tmp_path):
+    # a picture it cannot write (no such folder) comes back as RenderProcessError with the reason, for ``show`` to
+    # draw in its own process (where the same failure is the user's error)
+    from modalfe.plot.render_process import RenderProcess, RenderProcessError
+
+    with pytest.raises(RenderProcessError, match="rendering process failed"):
+        RenderProcess().render(plate[0], str(tmp_path / "missing" / "x.png"), "iso")

@@ -110,9 +110,11 @@ def _tune(args) -> int:
         extras = [f"maximizing {args.maximize}"] if args.maximize else []
         if objective:  # the contact as each design's is: at the target, the feet the outputs name sharing the load
             from modalfe.contact.chain import feet_among
+            from modalfe.design.outcome import LeastVoltage
 
             at = objective.contact.tuned(targets[0][1], feet_among(scene.drive.outputs))
-            extras.append(f"minimizing {replace(objective, contact=at).describe()}")
+            verb = "minimizing" if isinstance(objective, LeastVoltage) else "maximizing"
+            extras.append(f"{verb} {replace(objective, contact=at).describe()}")
         extras += [f"separation >= {separation:.2%}"] if separation else []
         extras += ["feet re-placed on the antinodes"] if replace_feet else []
         print(f"{scene.name}: tuning {goals} within {args.tol:.2%} by {', '.join(names)}"

@@ -1,14 +1,14 @@
-"""Processes for timing the chain's outcome and map from outside (farm-bench): each prints what it computed and the
-in-process seconds of the timed step; ``--skip`` does everything but that step (the baseline of a pair).
+"""Processes for timing the chain's outcome and map from outside: each prints what it computed and the in-process
+seconds of the timed step; ``--skip`` does everything but that step (the baseline of a pair). Time each process whole,
+A and B in turn, and take the median of A less the median of B, e.g. with ``/usr/bin/time -v``:
 
-    farm-bench -n 5 -- python studies/haptic_speed.py outcome --rom ROM.json --voltage 12.7 \\
-        --vs 'python studies/haptic_speed.py outcome --rom ROM.json --voltage 12.7 --skip'
-    farm-bench -n 3 --timeout 900 -- python studies/haptic_speed.py map --scene glass_plate --voltage 23 \\
-        --vs 'python studies/haptic_speed.py map --scene glass_plate --voltage 23 --skip'
+    /usr/bin/time -v python studies/haptic_speed.py outcome --rom ROM.json --voltage 12.7
+    /usr/bin/time -v python studies/haptic_speed.py outcome --rom ROM.json --voltage 12.7 --skip
+    /usr/bin/time -v python studies/haptic_speed.py map --scene glass_plate --voltage 23        # and --skip
 
 ``outcome``: a reduced model saved by ``modalfe forced --save-rom`` and the amplitude's stated error (``--error``)
 joined to the foot at 3 N, 1 cm/s (seed 001) or the finger (``--finger``), the outcome at ``--voltage`` (three
-contact solves: the amplitude and its two error ends). ``map``: the scene's working mode (cached solve) and the
+contact states: the amplitude and its two error ends). ``map``: the scene's working mode (cached solve) and the
 finger, the map over ``--points`` points of the top face.
 """
 

@@ -7,6 +7,7 @@ import math
 import os
 import re
 import sys
+from collections.abc import Mapping
 from pathlib import Path
 
 from modalfe.errors import SceneError
@@ -245,6 +246,54 @@ def parse_fraction(flag: str, text: str) -> float:
     if not (math.isfinite(value) and 0 < value < 1):
         raise SceneError(f"{flag}: expected a fraction in (0, 1) or a percentage, e.g. 3%, got '{text}'")
     return value
+
+
+def parse_outcome(flag: str, text: str, kinds: Mapping[str, str]):
+    """``KIND GIVEN=X [preload=N] [speed=M/S] [contact=foot|finger]`` -> (KIND, X, contact model), ``kinds``: KIND ->
+    the name of its given number (``reduction``: a fraction or a percentage; ``volts``: a positive voltage); the
+    contact ``modalfe.contact.chain.FootContact`` (seed 000's, default) or ``FingerContact`` (seed 004's) at that
+    preload [N] and sliding speed [m/s]. SceneError naming ``flag`` otherwise (before any solve)."""
+    from modalfe.contact.chain import FingerContact, FootContact
+    from modalfe.contact.finger import FingerParameters
+    from modalfe.errors import ContactError
+
+    form = " or ".join(f'"{k} {g}={g[0].upper()}"' for k, g in kinds.items())
+    form += ", then [preload=N] [speed=M/S] [contact=foot|finger]"
+    kind, *pairs = text.split() or [""]
+    given = kinds.get(kind)
+    if given is None:
+        raise SceneError(f"{flag}: expected {form}, got '{text}'")
+    fields = {}
+    for pair in pairs:
+        key, sep, value = pair.partition("=")
+        if not sep or key not in (given, "preload", "speed", "contact") or key in fields:
+            raise SceneError(f"{flag}: '{pair}' is not one of {given}=, preload=, speed=, contact= (each once); "
+                             f"expected {form}")
+        fields[key] = value
+    if given not in fields:
+        raise SceneError(f"{flag}: give {given}={given[0].upper()}; expected {form}")
+    text_value = fields.pop(given)
+    if given == "reduction":
+        value = parse_fraction(f"{flag} reduction", text_value)
+    else:
+        try:
+            value = float(text_value)
+        except ValueError:
+            raise SceneError(f"{flag}: {given} must be a number, got '{text_value}'") from None
+        if not (math.isfinite(value) and value > 0):
+            raise SceneError(f"{flag}: {given} must be positive, got '{text_value}'")
+    contact = fields.pop("contact", "foot")
+    if contact not in ("foot", "finger"):
+        raise SceneError(f"{flag}: contact must be foot or finger, got '{contact}'")
+    try:
+        numbers = {k: float(v) for k, v in fields.items()}
+    except ValueError:
+        raise SceneError(f"{flag}: preload and speed must be numbers, got '{text}'") from None
+    try:
+        model = FootContact(**numbers) if contact == "foot" else FingerContact(FingerParameters().with_(**numbers))
+    except ContactError as exc:
+        raise SceneError(f"{flag}: {exc}") from None
+    return kind, value, model
 
 
 def parse_bound(text: str) -> tuple[str, tuple[float, float]]:

@@ -16,6 +16,7 @@ from modalfe.cli.options import (
     parse_bound,
     parse_fraction,
     parse_names,
+    parse_outcome,
     parse_overrides,
     parse_target,
     positive_int,
@@ -43,9 +44,11 @@ def register(sub) -> None:
                    help=f"relative distance to the targets, the resolved model's stated error included (default "
                         f"{DEFAULT_TOL:g}, as every command; the model is resolved to {RESOLVED_SHARE:g} of it)")
     p.add_argument("--maximize", choices=("k_eff",), help="maximize the first target mode's coupling k_eff")
-    p.add_argument("--objective", metavar='"volts-for reduction=R [preload=N] [speed=M/S] [contact=foot|finger]"',
-                   help="minimize the drive voltage at which the first target mode gives the friction reduction R "
-                        "(fraction or %%) at the output that moves most, through the contact model (foot: seed "
+    p.add_argument("--objective", metavar='"volts-for reduction=R | reduction-at volts=V [preload=N] [speed=M/S] '
+                                          '[contact=foot|finger]"',
+                   help="volts-for: minimize the drive voltage at which the first target mode gives the friction "
+                        "reduction R (fraction or %%) at the output that moves most; reduction-at: maximize the "
+                        "friction reduction there at the drive voltage V [V]; through the contact model (foot: seed "
                         "000's, default; finger: seed 004's) at that preload [N] and sliding speed [m/s]; the final "
                         "design's outcome is computed on the resolved model")
     p.add_argument("--separation", metavar="FRACTION|PERCENT%",
@@ -107,9 +110,11 @@ def _tune(args) -> int:
         extras = [f"maximizing {args.maximize}"] if args.maximize else []
         if objective:  # the contact as each design's is: at the target, the feet the outputs name sharing the load
             from modalfe.contact.chain import feet_among
+            from modalfe.design.outcome import LeastVoltage
 
             at = objective.contact.tuned(targets[0][1], feet_among(scene.drive.outputs))
-            extras.append(f"minimizing {replace(objective, contact=at).describe()}")
+            verb = "minimizing" if isinstance(objective, LeastVoltage) else "maximizing"
+            extras.append(f"{verb} {replace(objective, contact=at).describe()}")
         extras += [f"separation >= {separation:.2%}"] if separation else []
         extras += ["feet re-placed on the antinodes"] if replace_feet else []
         print(f"{scene.name}: tuning {goals} within {args.tol:.2%} by {', '.join(names)}"
@@ -149,6 +154,8 @@ def _tune(args) -> int:
                                "voltage_v": result.verified.voltage, "amplitude_m": result.verified.amplitude,
                                "voltage_error": _number(result.verified.voltage_error),
                                "outcome": result.outcome.to_json()}
+        elif result.outcome is not None:
+            out["verified"] = {"outcome": result.outcome.to_json()}
         if table is not None:
             out["starts"] = [{"start": s, "error": str(r)} if isinstance(r, BaseException) else
                              {"start": s, "converged": r.converged, "reason": r.reason, "parameters": r.final.values,
@@ -165,7 +172,7 @@ def _tune(args) -> int:
             start = "not reached" if first is None else f"{first.k_eff:.5f} at the first design on the targets"
             gain = "" if first is None else f" ({100 * (final.k_eff / first.k_eff - 1):+.2f} %)"
             print(f"k_eff {result.iterates[0].k_eff:.5f} at the start, {start}, {final.k_eff:.5f} final{gain}")
-        if result.verified is not None:
+        if result.outcome is not None:
             _print_verified(result)
         if final.feet:
             print(f"feet: {feet_text(final.feet)}")
@@ -179,40 +186,12 @@ def _tune(args) -> int:
 
 
 def parse_objective(text: str):
-    """``volts-for reduction=R [preload=N] [speed=M/S] [contact=foot|finger]`` -> ``LeastVoltage``; SceneError
-    naming --objective otherwise (before any solve)."""
-    from modalfe.contact.chain import FingerContact, FootContact
-    from modalfe.contact.finger import FingerParameters
-    from modalfe.design.outcome import LeastVoltage
-    from modalfe.errors import ContactError
+    """``volts-for reduction=R [preload=N] [speed=M/S] [contact=foot|finger]`` -> ``LeastVoltage``,
+    ``reduction-at volts=V [...]`` -> ``ReductionAt``; SceneError naming --objective otherwise (before any solve)."""
+    from modalfe.design.outcome import LeastVoltage, ReductionAt
 
-    form = ('"volts-for reduction=R [preload=N] [speed=M/S] [contact=foot|finger]", e.g. '
-            '"volts-for reduction=0.6141 preload=3 speed=0.01"')
-    kind, *pairs = text.split()
-    if kind != "volts-for":
-        raise SceneError(f"--objective: expected {form}, got '{text}'")
-    fields = {}
-    for pair in pairs:
-        key, sep, value = pair.partition("=")
-        if not sep or key not in ("reduction", "preload", "speed", "contact") or key in fields:
-            raise SceneError(f"--objective: '{pair}' is not one of reduction=, preload=, speed=, contact= (each once); "
-                             f"expected {form}")
-        fields[key] = value
-    if "reduction" not in fields:
-        raise SceneError(f"--objective: give reduction=R; expected {form}")
-    reduction = parse_fraction("--objective reduction", fields.pop("reduction"))
-    kind = fields.pop("contact", "foot")
-    if kind not in ("foot", "finger"):
-        raise SceneError(f"--objective: contact must be foot or finger, got '{kind}'")
-    try:
-        numbers = {k: float(v) for k, v in fields.items()}
-    except ValueError:
-        raise SceneError(f"--objective: preload and speed must be numbers, got '{text}'") from None
-    try:
-        contact = FootContact(**numbers) if kind == "foot" else FingerContact(FingerParameters().with_(**numbers))
-    except ContactError as exc:
-        raise SceneError(f"--objective: {exc}") from None
-    return LeastVoltage(reduction, contact)
+    kind, value, contact = parse_outcome("--objective", text, {"volts-for": "reduction", "reduction-at": "volts"})
+    return LeastVoltage(value, contact) if kind == "volts-for" else ReductionAt(value, contact)
 
 
 def _print_verified(result) -> None:
@@ -221,13 +200,19 @@ def _print_verified(result) -> None:
     v, o = result.verified, result.outcome
     first = result.iterates[0]
     last = next(it for it in reversed(result.iterates) if not it.resolved and it.accepted)
-    print(f"voltage for {v.reduction:.2%} at {last.output}: {first.volts:.4g} V at the start, {last.volts:.4g} V at "
-          f"the last design on the scene's own mesh ({100 * (last.volts / first.volts - 1):+.2f} %)")
-    stated = f" [{100 * v.voltage_error:.3g} %]" if math.isfinite(v.voltage_error) else ""
-    print(f"verified on the resolved model: {v.voltage:.4g} V{stated} at {v.output} ({1e9 * v.amplitude:.4g} nm "
-          f"0-peak); there reduction {o.reduction:.2%} (range {o.reduction_range[0]:.2%}-{o.reduction_range[1]:.2%} "
-          f"from the amplitude's stated error), flight {o.flight_ratio:.3g} %, current {1e3 * o.current:.4g} mA, "
-          f"power {1e3 * o.power:.4g} mW, rise time {1e3 * o.rise_time:.3g} ms")
+    if v is not None:
+        print(f"voltage for {v.reduction:.2%} at {last.output}: {first.volts:.4g} V at the start, {last.volts:.4g} V "
+              f"at the last design on the scene's own mesh ({100 * (last.volts / first.volts - 1):+.2f} %)")
+        stated = f" [{100 * v.voltage_error:.3g} %]" if math.isfinite(v.voltage_error) else ""
+        where = f"{v.voltage:.4g} V{stated} at {v.output} ({1e9 * v.amplitude:.4g} nm 0-peak); there"
+    else:
+        print(f"reduction at {o.voltage:.4g} V at {last.output}: {first.reduction:.2%} at the start, "
+              f"{last.reduction:.2%} at the last design on the scene's own mesh")
+        stated = f" [{100 * o.amplitude_error:.3g} %]" if math.isfinite(o.amplitude_error) else ""
+        where = f"{o.voltage:.4g} V at {o.output} ({1e9 * o.amplitude:.4g} nm 0-peak{stated}):"
+    print(f"verified on the resolved model: {where} reduction {o.reduction:.2%} (range {o.reduction_range[0]:.2%}-"
+          f"{o.reduction_range[1]:.2%} from the amplitude's stated error), flight {o.flight_ratio:.3g} %, current "
+          f"{1e3 * o.current:.4g} mA, power {1e3 * o.power:.4g} mW, rise time {1e3 * o.rise_time:.3g} ms")
 
 
 def _reproduce(final) -> list[str]:
@@ -250,6 +235,7 @@ def _line(k: int, it, targets) -> str:
         text += f"  k_eff {it.k_eff:.5f}"
     if math.isfinite(it.volts):
         text += f"  {1e9 * it.amplitude_per_volt:.4g} nm/V at {it.output}, {it.volts:.4g} V"
+        text += f", reduction {it.reduction:.2%}" if math.isfinite(it.reduction) else ""
     if math.isfinite(it.separation):
         text += f"  separation {it.separation:.2%}"
     if it.feet:
@@ -283,7 +269,8 @@ def _iterate_json(it) -> dict:
             "separation": _number(it.separation), "feet": [list(f) for f in it.feet], "solves": it.solves,
             "seconds": it.seconds, "accepted": it.accepted, "notes": list(it.notes), "resolved": it.resolved,
             "stated_errors": [_number(e) for e in it.errors], "volts": _number(it.volts),
-            "amplitude_per_volt_m": _number(it.amplitude_per_volt), "output": it.output or None}
+            "amplitude_per_volt_m": _number(it.amplitude_per_volt), "output": it.output or None,
+            "reduction": _number(it.reduction)}
 
 
 def _number(x: float) -> float | None:

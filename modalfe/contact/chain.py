@@ -90,6 +90,10 @@ class FootContact:
         reduction = 1.0 - o.friction_force / static
         return ContactState(float(amplitude), reduction, o.flight_ratio, o.friction_uncertainty * (1 - reduction))
 
+    def states(self, amplitudes) -> list[ContactState]:
+        """``state`` at each of ``amplitudes`` [m, 0-peak] (each one independent)."""
+        return [self.state(w) for w in amplitudes]
+
     def table(self, amplitudes: np.ndarray, progress: bool = False) -> list[ContactState]:
         """States at each amplitude (``foot.simulate_contact``: each one independent); ``progress``: a tqdm bar."""
         c = simulate_contact(amplitudes, preload=self.preload, speed=self.speed, parameters=self.parameters,
@@ -120,6 +124,12 @@ class FingerContact:
         flight 100 - contact [%]."""
         o = finger_steady_state(2 * amplitude, self.frequency, parameters=self.parameters)
         return ContactState(float(amplitude), 1.0 - o.friction_ratio, 100.0 - o.contact_ratio, o.uncertainty)
+
+    def states(self, amplitudes) -> list[ContactState]:
+        """States at each of ``amplitudes`` [m, 0-peak]: one alone is ``state``'s; several are continued from the
+        smallest (``table``: the next one's march starts on its neighbour's attractor, ``finger.WARM_MARCH_PERIODS``
+        instead of ``MARCH_PERIODS`` from rest; an outcome's W (1 -+ e) and W)."""
+        return [self.state(amplitudes[0])] if len(amplitudes) == 1 else self.table(np.asarray(amplitudes))
 
     def table(self, amplitudes: np.ndarray, progress: bool = False) -> list[ContactState]:
         """States at each amplitude, each continued from its smaller neighbour (``finger.simulate_finger``);
@@ -239,12 +249,9 @@ class HapticChain:
         output = output or self.output
         W = self.amplitude(voltage, output)
         e = self.error(f"amplitude:{output}")
-        here = self.reduction_at(W)
-        if math.isfinite(e):
-            ends = [here.reduction] + [self.reduction_at(W * f).reduction for f in (max(1 - e, 0.0), 1 + e)]
-            span = (min(ends), max(ends))
-        else:
-            span = (here.reduction, here.reduction)
+        states = self.contact.states([W] + ([W * max(1 - e, 0.0), W * (1 + e)] if math.isfinite(e) else []))
+        here = states[0]
+        span = (min(s.reduction for s in states), max(s.reduction for s in states))
         current, current_error, power, power_error = self._drawn(float(voltage))
         return Outcome(float(voltage), output, W, e, here.reduction, span, here.uncertainty, here.flight_ratio,
                        current, current_error, power, power_error, self.rom.envelope_time_constant,

@@ -379,11 +379,15 @@ def find_orbit(period_map: Callable[..., tuple[np.ndarray, np.ndarray | None]], 
         i = int(np.argmax(np.abs(lam)))
         if abs(lam[i]) > 1 and abs(lam[i].imag) < 1e-12:
             start = first.state + 0.05 * vec[:, i].real * scale / np.linalg.norm(vec[:, i].real)
+    # the first half of the march in one call (no states kept: an arc is not cut at each period's end, a third of the
+    # march's cost), the second half period by period, where a recurrence is looked for
+    head = march_periods // 2
     states = [start if march_from is None else np.asarray(march_from, float)]
-    for _ in range(march_periods):
+    if head:
+        states = [period_map(head, states[0], False)[0]]
+    for _ in range(march_periods - head):
         states.append(period_map(1, states[-1], False)[0])
-    marched = np.array(states) / scale
-    tail = marched[len(marched) // 2:]
+    tail = np.array(states) / scale
     for k in range(2, max_period + 1):
         if len(tail) <= k:
             break

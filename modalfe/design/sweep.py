@@ -30,6 +30,7 @@ import os
 import tempfile
 import time
 from collections.abc import Callable, Iterator, Mapping, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -91,8 +92,16 @@ def definition(scene_ref, base: Mapping | None, selector: str, near: float, coun
     name, digest = scene_identity(scene_ref, scene)
     return {"scene": name, "scene_sha256": digest, "overrides": json.loads(_canonical(dict(base or {}))),
             "selector": str(selector), "near_hz": float(near), "count": int(count),
-            "extra_fn": f"{extra.__module__}.{extra.__qualname__}" if extra is not None else "",
+            "extra_fn": _extra_name(extra),
             "resolution": json.loads(_canonical(dict(resolution or {})))}
+
+
+def _extra_name(extra: Callable | None) -> str:
+    """What names an extra computation in a sweep's definition: a function's module and name, or a callable
+    object's ``key`` (its parameters included: another voltage is another sweep)."""
+    if extra is None:
+        return ""
+    return getattr(extra, "key", None) or f"{extra.__module__}.{extra.__qualname__}"
 
 
 def point_id(params: Mapping, context: Mapping | None = None) -> str:
@@ -122,7 +131,7 @@ def evaluate_point(scene_ref: str, params: dict, base: dict, selector: str, near
     from modalfe.errors import SolverError
     from modalfe.results.modes import select
     from modalfe.scene import load_scene
-    from modalfe.solve.api import solid_modes, sought_near, working_question
+    from modalfe.solve.api import solid_modes, working_question
 
     start = time.perf_counter()
     row = {"params": params, "status": "ok", "label": "", "frequency_hz": None, "error_estimate": None,
@@ -131,7 +140,7 @@ def evaluate_point(scene_ref: str, params: dict, base: dict, selector: str, near
         scene = load_scene(scene_ref, **{**base, **params})
         # sought where the scene's working mode of that selector is: the scene's own question about it, as ``modes``
         # and ``forced`` ask it (one answer); elsewhere the window of ``count`` modes around ``near``
-        own = selector in {wm.selector for wm in scene.working_modes} and near == sought_near(scene, selector)
+        own = asks_own_question(scene, selector, near)
         question = working_question(scene, selector) if own else {"near": near, "count": count, "mode": selector}
         modes = solid_modes(scene, needs="the sweep", **question, **(resolution or {}))
         full = scene.full_assembly()
@@ -165,6 +174,14 @@ def evaluate_point(scene_ref: str, params: dict, base: dict, selector: str, near
         row["status"] = f"error: {type(exc).__name__}: {_one_line(exc)}"
     row["seconds"] = time.perf_counter() - start
     return row
+
+
+def asks_own_question(scene, selector: str, near: float) -> bool:
+    """Whether a sweep point asks the scene's own question about its working mode ``selector`` sought ``near`` [Hz]
+    (as ``modes`` and ``forced`` ask it), rather than a window of modes around ``near``."""
+    from modalfe.solve.api import sought_near
+
+    return selector in {wm.selector for wm in scene.working_modes} and near == sought_near(scene, selector)
 
 
 def _sampled(values: np.ndarray) -> list[float]:
@@ -497,3 +514,30 @@ def friction_extra(working, *, volts: float = 10.0, preload: float = 3.0, speed:
     return {"amplitude_per_volt_m": chain.amplitude_per_volt(), "friction_reduction": o.reduction,
             "flight_ratio_percent": o.flight_ratio, "current_a": o.current, "power_w": o.power,
             "rise_time_s": o.rise_time, "volts": volts}
+
+
+@dataclass(frozen=True)
+class OutcomeColumns:
+    """A sweep's extra columns: the felt outcome at ``voltage`` [V] through ``contact`` (``FootContact`` or
+    ``FingerContact``), as ``friction`` and ``finger`` give it for a scene: the chain of ``forced``'s reduced model
+    of the working mode (``modalfe.contact.chain.haptic_chain``: the selector and near of the sweep, at its
+    ``resolution``, the point's solve read back) with the amplitude's stated error, so the reduction comes with its
+    range (``Outcome.to_json``'s columns)."""
+
+    voltage: float
+    contact: object
+    selector: str
+    near: float
+    resolution: tuple = ()  # (name, value) pairs of ``solve_modes``' keywords
+
+    @property
+    def key(self) -> str:
+        return f"{__name__}.OutcomeColumns({self.voltage!r} V, {self.contact.describe()})"
+
+    def __call__(self, working) -> dict:
+        from modalfe.contact.chain import haptic_chain
+
+        scene = working.scene  # the point's question, so that its solve is read back
+        near = None if asks_own_question(scene, self.selector, self.near) else self.near
+        chain = haptic_chain(scene, self.contact, selector=self.selector, near=near, **dict(self.resolution))
+        return chain.outcome(self.voltage).to_json()

@@ -38,6 +38,9 @@ Unknowns are x = ln |p| (a relative change of each parameter; signs are kept). A
   own mode, so its row d ln f / d ln p is a constraint row that the projection P removes: on the targets the
   contact model's frequency slope drops out and the ascent is P d ln A / d ln p exactly; W_R is evaluated at each
   design's own frequency for V. Off the targets, restoration alone (as for k_eff).
+* ``maximize=ReductionAt(voltage, contact)``: the largest friction reduction R(W = V A, f) at the drive voltage V,
+  same output and A; the gradient is (dR / d ln W)(d ln A / d ln p) (dR / d ln W by a central difference of the
+  contact model's steady state, ``modalfe.design.outcome``), its frequency term removed by the same projection.
 * trust region: no parameter moves by more than ``MAX_RELATIVE_STEP`` of itself (radius ln 1.2), then ``bounds``.
 * the device holds together: a step whose scene the builder or the scene checks refuse (a ceramic or foot off
   the plate, parts apart) is halved until it is accepted, up to ``MAX_HALVINGS`` times, and the reason is logged.
@@ -57,7 +60,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from modalfe.design.feet import builder_parameters_of, feet_on_mode_antinodes, feet_text, has_feet, scene_feet
-from modalfe.design.outcome import LeastVoltage, least_voltage
+from modalfe.design.outcome import OUTCOME_OBJECTIVES, LeastVoltage, ReductionAt, outcome_at
 from modalfe.errors import SceneError, SolverError
 from modalfe.response.sensitivity import check_parameters, frequency_sensitivities, parameter_value, with_values
 from modalfe.results.labels import check_selector
@@ -118,15 +121,21 @@ class Iterate:
     notes: tuple[str, ...] = ()
     errors: tuple[float, ...] = ()  # each target mode's stated relative error (NaN: not estimated, own mesh)
     resolved: bool = False  # solved on the resolved model (``tune``'s second stage), else the scene's own mesh
-    volts: float = math.nan  # ``LeastVoltage``: the voltage it asks of this design [V] (NaN: not that objective)
-    amplitude_per_volt: float = math.nan  # ``LeastVoltage``: A at the output that moves most [m/V, 0-peak]
-    output: str = ""  # ``LeastVoltage``: that output
+    # an outcome objective (``modalfe.design.outcome``): the voltage it asks of this design (``LeastVoltage``) or
+    # is given (``ReductionAt``) [V], A at the output that moves most [m/V, 0-peak], that output, the reduction at
+    # that voltage and the merit maximized (NaN, "": not such an objective)
+    volts: float = math.nan
+    amplitude_per_volt: float = math.nan
+    output: str = ""
     sought: tuple[float, ...] = ()  # the frequencies [Hz] each target's mode was sought near
+    reduction: float = math.nan
+    outcome_merit: float = math.nan
 
     @property
     def merit(self) -> float:
-        """What a maximizing run maximizes: ln k_eff, or -ln V for ``LeastVoltage`` (NaN: neither)."""
-        return math.log(self.k_eff) if math.isfinite(self.k_eff) else -math.log(self.volts)
+        """What a maximizing run maximizes: ln k_eff, or an outcome objective's merit (-ln V for ``LeastVoltage``,
+        the reduction for ``ReductionAt``; NaN: neither)."""
+        return math.log(self.k_eff) if math.isfinite(self.k_eff) else self.outcome_merit
 
 
 @dataclass(frozen=True)
@@ -141,9 +150,10 @@ class TuningResult:
     reason: str
     scene: object
     final: Iterate  # the design in ``scene``
-    maximize: str | LeastVoltage | None = None
-    # ``LeastVoltage``: the chain (``modalfe.contact.chain.haptic_chain``) at the final design on the resolved model:
-    # the voltage for the required reduction (``VoltageFor``) and the outcome at that voltage (``Outcome``)
+    maximize: str | LeastVoltage | ReductionAt | None = None
+    # an outcome objective: the chain (``modalfe.contact.chain.haptic_chain``) at the final design on the resolved
+    # model: for ``LeastVoltage`` the voltage for the required reduction (``VoltageFor``), and the outcome
+    # (``Outcome``) at that voltage or at ``ReductionAt``'s
     verified: object = None
     outcome: object = None
 
@@ -182,12 +192,14 @@ class _Point:
 
 
 def tune(scene, targets: Sequence[FrequencyTarget], parameters: Sequence[str], *, tol: float = DEFAULT_TOL,
-         bounds: Mapping[str, tuple[float, float]] | None = None, maximize: str | LeastVoltage | None = None,
-         separation: float | None = None, replace_feet: bool = False, max_iterations: int = 12,
+         bounds: Mapping[str, tuple[float, float]] | None = None,
+         maximize: str | LeastVoltage | ReductionAt | None = None, separation: float | None = None,
+         replace_feet: bool = False, max_iterations: int = 12,
          progress: Callable[[int, Iterate], None] | None = None, resolution: Mapping | None = None) -> TuningResult:
     """Change ``parameters`` (``frequency_sensitivities`` names, real and non-zero) until every target mode lies
-    within ``tol`` (relative) of its frequency, optionally maximizing k_eff of the first (``maximize="k_eff"``) or
-    minimizing the voltage for a friction reduction (``maximize=LeastVoltage(...)``), keeping its
+    within ``tol`` (relative) of its frequency, optionally maximizing k_eff of the first (``maximize="k_eff"``),
+    minimizing the voltage for a friction reduction (``maximize=LeastVoltage(...)``) or maximizing the reduction at a
+    voltage (``maximize=ReductionAt(...)``), keeping its
     ``separation`` from its neighbours and its feet on its antinodes (module docstring). ``bounds``: name ->
     (low, high) [its unit]. ``progress(k, iterate)`` after each evaluation (kept or rejected).
 
@@ -226,18 +238,23 @@ def tune(scene, targets: Sequence[FrequencyTarget], parameters: Sequence[str], *
     if maximize:
         reason += f"; {_goal(maximize)} on the scene's own mesh ({cheap.reason})"
     result = replace(checked, iterates=cheap.iterates + checked.iterates, reason=reason, maximize=maximize)
-    if isinstance(maximize, LeastVoltage):
+    if isinstance(maximize, OUTCOME_OBJECTIVES):
         from modalfe.contact.chain import haptic_chain
 
         chain = haptic_chain(result.scene, maximize.contact, selector=targets[0].label,
                              near=result.final.sought[0], **resolved)  # the final iterate's solve, read back
-        verified = chain.voltage_for(maximize.reduction)
-        result = replace(result, verified=verified, outcome=chain.outcome(verified.voltage))
+        if isinstance(maximize, LeastVoltage):
+            verified = chain.voltage_for(maximize.reduction)
+            result = replace(result, verified=verified, outcome=chain.outcome(verified.voltage))
+        else:
+            result = replace(result, outcome=chain.outcome(maximize.voltage))
     return result
 
 
-def _goal(maximize: str | LeastVoltage) -> str:
+def _goal(maximize: str | LeastVoltage | ReductionAt) -> str:
     """What a maximizing run does, in words."""
+    if isinstance(maximize, ReductionAt):
+        return "the reduction at the voltage maximized"
     return "k_eff maximized" if maximize == "k_eff" else "the voltage for the reduction minimized"
 
 
@@ -367,6 +384,8 @@ def _worse(it: Iterate, best: Iterate) -> str:
     """Why a maximizing iterate on the targets is rejected."""
     if math.isfinite(it.k_eff):
         return f"k_eff {it.k_eff:.5f} is below the best {best.k_eff:.5f}"
+    if it.outcome_merit == it.reduction:  # ``ReductionAt``
+        return f"the reduction {it.reduction:.4%} is below the best {best.reduction:.4%}"
     return f"{it.volts:.4g} V is above the best {best.volts:.4g} V"
 
 
@@ -402,17 +421,19 @@ def _check(scene, targets, names, tol, bounds, maximize, separation, replace_fee
         if value == 0 or not lo <= value <= hi:
             raise SceneError(f"{name}: {value:g} cannot be tuned (must be non-zero and within its bounds "
                              f"{lo:g}-{hi:g})")
-    if not (maximize in (None, "k_eff") or isinstance(maximize, LeastVoltage)):
-        raise SceneError(f"maximize: k_eff or a LeastVoltage objective, got {maximize!r}")
+    if not (maximize in (None, "k_eff") or isinstance(maximize, OUTCOME_OBJECTIVES)):
+        raise SceneError(f"maximize: k_eff or an outcome objective (LeastVoltage, ReductionAt), got {maximize!r}")
     if maximize and "drive" not in scene.electrodes.values():
         raise SceneError(f'maximize: {"k_eff" if maximize == "k_eff" else "a voltage"} needs a driven electrode '
                          f'(electrodes.GROUP = "drive")')
-    if isinstance(maximize, LeastVoltage):
+    if isinstance(maximize, OUTCOME_OBJECTIVES):
         from modalfe.contact.chain import Contact
         from modalfe.response.loads import check_outputs
 
-        if not 0 < maximize.reduction < 1:
+        if isinstance(maximize, LeastVoltage) and not 0 < maximize.reduction < 1:
             raise SceneError(f"objective: the reduction must lie strictly between 0 and 1, got {maximize.reduction:g}")
+        if isinstance(maximize, ReductionAt) and not (math.isfinite(maximize.voltage) and maximize.voltage > 0):
+            raise SceneError(f"objective: the voltage must be positive, got {maximize.voltage:g}")
         if not isinstance(maximize.contact, Contact):
             raise SceneError(f"objective: the contact must be a FootContact or FingerContact, got {maximize.contact!r}")
         if not scene.drive.outputs:
@@ -446,15 +467,15 @@ def _evaluate(scene, targets, names, near, maximize, separation, replace_feet, n
     """Solve ``scene`` near each target (maximizing k_eff, the open circuit of the same model beside the first): on
     its own mesh, where one solve serves every target inside its span of modes, or, with ``resolved``
     (``solve_modes`` keywords), each target on the model ``modes`` resolves that mode on; take the sensitivities
-    (``jacobian`` given: its rows instead, no sensitivities, no ``maximize`` nor ``separation``; ``LeastVoltage``:
-    the first target's with its amplitude's, ``modalfe.design.outcome.least_voltage``), re-place the feet
+    (``jacobian`` given: its rows instead, no sensitivities, no ``maximize`` nor ``separation``; an outcome objective:
+    the first target's with its amplitude's, ``modalfe.design.outcome.outcome_at``), re-place the feet
     (``replace_feet``: a solve without feet, ``modalfe.design.feet.feet_on_mode_antinodes``) and build the iterate."""
     from modalfe.solve.api import open_circuit_modes, solid_modes, working_question
 
     need_k = maximize == "k_eff"
-    least = maximize if isinstance(maximize, LeastVoltage) else None
-    volts = apv = math.nan
-    output, g = "", None
+    wanted = maximize if isinstance(maximize, OUTCOME_OBJECTIVES) else None
+    felt = None  # ``outcome_at`` of the first target's mode
+    g = None
     start = time.perf_counter()
     solves: list = []  # (modes, Sensitivities)
     rows, found = [], []
@@ -475,8 +496,9 @@ def _evaluate(scene, targets, names, near, maximize, separation, replace_feet, n
                 extra = 1
             if jacobian is not None:
                 sens = None
-            elif least is not None and i == 0:
-                volts, apv, output, g, sens = least_voltage(scene, modes, t.label, f, names, least)
+            elif wanted is not None and i == 0:
+                felt = outcome_at(scene, modes, t.label, f, names, wanted)
+                g, sens = felt.gradient, felt.sensitivities
             else:
                 sens = frequency_sensitivities(modes, names, open_modes=open_modes)
             solves.append((modes, sens))
@@ -519,7 +541,10 @@ def _evaluate(scene, targets, names, near, maximize, separation, replace_feet, n
                       tuple(dict(zip(names, row.tolist())) for row in J), k, gap,
                       scene_feet(scene) if has_feet(scene) else (), len(solves) + extra, time.perf_counter() - start,
                       True, tuple(notes), tuple(float(mode.error_estimate) for mode, _, _ in found),
-                      resolved is not None, volts, apv, output, tuple(near))
+                      resolved is not None, sought=tuple(near))
+    if felt is not None:
+        iterate = replace(iterate, volts=felt.volts, amplitude_per_volt=felt.amplitude_per_volt, output=felt.output,
+                          reduction=felt.reduction, outcome_merit=felt.merit)
     return _Point(scene, iterate, r, J, neighbours, g, placed)
 
 

@@ -79,6 +79,25 @@ def test_finger_outcome_is_the_simulators_at_the_chains_amplitude(bar):
     assert outcome.flight_ratio == pytest.approx(100 - orbit.contact_ratio, rel=1e-12)
 
 
+def test_finger_outcome_with_an_error_is_the_simulators_curve_at_its_three_amplitudes(bar):
+    """With a stated error the finger's three states (W, W (1 -+ e)) are solved as ``simulate_finger`` solves a
+    curve, each continued from its smaller neighbour (``FingerContact.states``): the outcome is that curve's."""
+    from modalfe.contact.finger import simulate_finger
+
+    _, fig = bar
+    e = 0.1
+    chain = chain_from_rom(fig.rom, FingerContact(), output="end", errors={"amplitude:end": e})
+    volts = 0.5e-6 / fig.amplitude_per_volt["end"]
+    outcome = chain.outcome(volts)
+    W = volts * fig.amplitude_per_volt["end"]
+    curve = simulate_finger(2 * W * np.array([1.0, 1 - e, 1 + e]), fig.rom.frequency)
+    # the same calls in the same order: equal to rounding
+    assert outcome.reduction == pytest.approx(1 - curve.friction_ratio[0], rel=1e-12)
+    assert outcome.reduction_range == pytest.approx((1 - curve.friction_ratio.max(), 1 - curve.friction_ratio.min()),
+                                                    rel=1e-12)
+    assert outcome.reduction_range[0] < outcome.reduction < outcome.reduction_range[1]  # the curve rises there
+
+
 def test_circuit_and_rise_time_are_the_reduced_models(bar):
     _, fig = bar
     outcome = foot_chain(fig).outcome(10.0)

@@ -64,7 +64,6 @@ def log_timings(modes, seconds: float) -> None:
 def _show(args) -> int:
     from modalfe.errors import SolverError
     from modalfe.plot.render import animate_mode, render_mode
-    from modalfe.plot.render_process import RenderProcess
     from modalfe.results.labels import check_selector
     from modalfe.results.modes import select
     from modalfe.solve.api import seek, working_question
@@ -82,7 +81,7 @@ def _show(args) -> int:
     interactive = args.out is None and bool(os.environ.get("DISPLAY"))
     gif = args.out is not None and Path(args.out).suffix.lower() == ".gif"
     # a PNG: drawn by a second process that loads VTK while this one solves (``render_process``)
-    drawer = None if interactive or gif else RenderProcess()
+    drawer = None if interactive or gif else _drawer()
     try:
         scene, modes = _modes(args, question)
         if index:
@@ -95,10 +94,10 @@ def _show(args) -> int:
         start = time.perf_counter()
         if gif:
             animate_mode(mode, out, view=args.view)
-        elif drawer is not None:
-            _render_png(drawer, mode, out, args.view)
-        else:
+        elif interactive:
             render_mode(mode, out=out, view=args.view, off_screen=False).show()
+        else:
+            _render_png(drawer, mode, out, args.view)
     finally:
         if drawer is not None:
             drawer.close()
@@ -109,12 +108,26 @@ def _show(args) -> int:
     return 0
 
 
+def _drawer():
+    """The second process that will draw the PNG (``modalfe.plot.render_process``), None where it cannot start."""
+    from modalfe.plot.render_process import RenderProcess, RenderProcessError
+
+    try:
+        return RenderProcess()
+    except RenderProcessError as exc:
+        log.info("%s; drawing in this process", exc)
+        return None
+
+
 def _render_png(drawer, mode, out: str, view: str) -> None:
-    """``mode`` drawn into ``out`` by the second process, else (it failed: said in the log) here."""
+    """``mode`` drawn into ``out`` by the second process (``drawer``), else (None, or it failed: said in the log)
+    here."""
     from modalfe.plot.render import render_mode
     from modalfe.plot.render_process import RenderProcessError
 
     try:
+        if drawer is None:
+            raise RenderProcessError("no rendering process")
         drawer.render(mode, out, view)
     except RenderProcessError as exc:
         log.info("%s; drawing in this process", exc)

@@ -12,12 +12,14 @@ its own process.
 
 from __future__ import annotations
 
+import os
 import pickle
 import struct
 import subprocess
 import sys
 import traceback
 from dataclasses import replace
+from pathlib import Path
 
 from modalfe.errors import ModalfeError
 
@@ -27,12 +29,19 @@ class RenderProcessError(ModalfeError):
 
 
 class RenderProcess:
-    """The rendering process, started at construction; ``render`` once, then it exits."""
+    """The rendering process, started at construction (RenderProcessError where it cannot be); ``render`` once, then
+    it exits."""
 
     def __init__(self) -> None:
-        self._process = subprocess.Popen([sys.executable, "-m", "modalfe.plot.render_process"],
-                                          stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-                                          stderr=subprocess.DEVNULL)
+        # this process' modalfe first on the path, whatever put it on this one's (an editable install of another copy)
+        here = str(Path(__file__).resolve().parents[2])
+        env = {**os.environ, "PYTHONPATH": os.pathsep.join(p for p in (here, os.environ.get("PYTHONPATH")) if p)}
+        try:
+            self._process = subprocess.Popen([sys.executable, "-m", "modalfe.plot.render_process"],
+                                              stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                              stderr=subprocess.DEVNULL, env=env)
+        except OSError as exc:
+            raise RenderProcessError(f"the rendering process could not start: {exc}") from None
 
     def render(self, mode, out: str, view: str) -> None:
         """Draw ``mode`` with ``view`` into the PNG ``out`` in the second process; RenderProcessError if it did not."""

@@ -41,3 +41,24 @@ def test_an_upper_case_extension_is_written(tmp_path, capsys, name):
     magic = {".png": b"\x89PNG", ".gif": b"GIF8"}[out.suffix.lower()]
     assert out.read_bytes().startswith(magic)
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted(["bimorph.toml", name])  # no temporary left
+
+
+@pytest.mark.parametrize("broken", ["start", "render"])
+def test_a_rendering_process_that_fails_leaves_the_picture_to_this_one(tmp_path, monkeypatch, caplog, broken):
+    # the PNG is drawn by a second process started before the solve; where it cannot start or fails, show draws it
+    # itself and says why in the log
+    import logging
+
+    from modalfe.plot import render_process
+
+    def fail(*args, **kwargs):
+        raise render_process.RenderProcessError(f"stand-in failure at {broken}")
+
+    monkeypatch.setattr(render_process.RenderProcess, "__init__" if broken == "start" else "render", fail)
+    scene = tmp_path / "bimorph.toml"
+    scene.write_text(BIMORPH)
+    out = tmp_path / "m.png"
+    with caplog.at_level(logging.INFO, logger="modalfe.cli.view"):
+        assert main(["show", str(scene), "--out", str(out)]) == 0
+    assert out.read_bytes().startswith(b"\x89PNG")
+    assert f"stand-in failure at {broken}; drawing in this process" in caplog.text

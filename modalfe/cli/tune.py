@@ -73,8 +73,9 @@ def register(sub) -> None:
 def _tune(args) -> int:
     from modalfe.design.feet import feet_text, has_feet
     from modalfe.design.multistart import latin_hypercube
+    from modalfe.design.tune_checks import check_variables
     from modalfe.design.tune_starts import TuneTask, best_result
-    from modalfe.design.tuning import FrequencyTarget, check_variables, tune
+    from modalfe.design.tuning import FrequencyTarget, tune
     from modalfe.scene import load_scene
     from modalfe.scene.writing import scene_to_toml
 

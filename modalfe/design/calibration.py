@@ -31,7 +31,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from modalfe.design.measurements import Measurement
-from modalfe.design.tuning import check_variables
+from modalfe.design.tune_checks import check_variables
 from modalfe.errors import SceneError, SolverError
 from modalfe.response.sensitivity import (
     frequency_sensitivities,

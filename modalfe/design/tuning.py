@@ -59,21 +59,16 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from modalfe.design.feet import builder_parameters_of, feet_on_mode_antinodes, feet_text, has_feet, scene_feet
+from modalfe.design.feet import feet_on_mode_antinodes, feet_text, has_feet, scene_feet
 from modalfe.design.outcome import OUTCOME_OBJECTIVES, LeastVoltage, ReductionAt, outcome_at
+from modalfe.design.tune_checks import check_tune_inputs, check_variables
 from modalfe.errors import SceneError, SolverError
-from modalfe.response.sensitivity import check_parameters, frequency_sensitivities, parameter_value, with_values
-from modalfe.results.labels import check_selector
+from modalfe.response.sensitivity import frequency_sensitivities, parameter_value, with_values
 from modalfe.results.modes import select
 from modalfe.solve.api import DEFAULT_TOL, solve_modes
 
 MAX_RELATIVE_STEP = 0.2  # trust region: no parameter moves by more than this fraction of itself in one iterate
 TUNE_COUNT = 6  # modes asked of each solve around a target (enough to find it by label when neighbours move)
-# a varied parameter must survive this relative change both ways, before any solve and at every design (
-# ``check_variables``): the sensitivities perturb it by sensitivity.RELATIVE_STEP (3e-5), and a part edge closer to
-# another's than this meshes as a sliver (a ceramic 11.7 um from the plate's end, 2e-4 of the length, made one that
-# stalled the point probes' inverse map and then could not be perturbed: docs/tuning.md)
-PROBE_STEP = 1e-3
 MAX_HALVINGS = 6  # a step the scene refuses is halved at most this often (down to 1/64)
 # maximising k_eff: stop when the projected gradient promises less than 0.1 % of k_eff over the trust radius, or
 # the radius has shrunk below 0.5 % of each parameter (the modal sensitivities' own error is ~1e-4 relative,
@@ -217,7 +212,7 @@ def tune(scene, targets: Sequence[FrequencyTarget], parameters: Sequence[str], *
     there are the result's ``verified`` and ``outcome``, with their stated errors."""
     targets = tuple(targets)
     names = list(dict.fromkeys(parameters))
-    _check(scene, targets, list(parameters), tol, bounds, maximize, separation, replace_feet)
+    check_tune_inputs(scene, targets, list(parameters), tol, bounds, maximize, separation, replace_feet)
     options = {"targets": targets, "names": names, "tol": tol, "bounds": dict(bounds or {}),
                "separation": separation, "replace_feet": replace_feet, "max_iterations": max_iterations}
     cheap = _descend(scene, maximize=maximize, resolved=None, progress=progress, **options)
@@ -395,71 +390,6 @@ def broyden(J: np.ndarray, s: np.ndarray, dr: np.ndarray) -> np.ndarray:
     577); ``J`` itself for a null step."""
     ss = float(s @ s)
     return J if ss == 0 else J + np.outer(dr - J @ s, s) / ss
-
-
-def _check(scene, targets, names, tol, bounds, maximize, separation, replace_feet) -> None:
-    """SceneError naming the first bad argument (before any solve)."""
-    if not targets:
-        raise SceneError("target: give one or more LABEL=HZ")
-    for t in targets:
-        check_selector(t.label, "target")  # its form, before any solve
-        if not (math.isfinite(t.frequency) and t.frequency > 0):
-            raise SceneError(f"target: must be a positive frequency in Hz, got {t.frequency}")
-    if len({t.label for t in targets}) != len(targets):
-        raise SceneError("target: give each mode label once")
-    if not names or len(set(names)) != len(names) or not all(isinstance(n, str) and n for n in names):
-        raise SceneError("vary: give one or more distinct parameters")
-    if not (math.isfinite(tol) and 0 < tol < 0.5):
-        raise SceneError(f"tol: must lie in (0, 0.5), got {tol}")
-    check_variables(scene, names)
-    unknown = sorted(set(bounds or {}) - set(names))
-    if unknown:
-        raise SceneError(f"bounds: {unknown[0]} is not among the parameters varied {names}")
-    for name in names:  # the steps are relative (in ln |p|): a start at 0 or outside its bounds cannot move in
-        value = parameter_value(scene, name)
-        lo, hi = (bounds or {}).get(name, (-math.inf, math.inf))
-        if value == 0 or not lo <= value <= hi:
-            raise SceneError(f"{name}: {value:g} cannot be tuned (must be non-zero and within its bounds "
-                             f"{lo:g}-{hi:g})")
-    if not (maximize in (None, "k_eff") or isinstance(maximize, OUTCOME_OBJECTIVES)):
-        raise SceneError(f"maximize: k_eff or an outcome objective (LeastVoltage, ReductionAt), got {maximize!r}")
-    if maximize and "drive" not in scene.electrodes.values():
-        raise SceneError(f'maximize: {"k_eff" if maximize == "k_eff" else "a voltage"} needs a driven electrode '
-                         f'(electrodes.GROUP = "drive")')
-    if isinstance(maximize, OUTCOME_OBJECTIVES):
-        from modalfe.contact.chain import Contact
-        from modalfe.response.loads import check_outputs
-
-        if isinstance(maximize, LeastVoltage) and not 0 < maximize.reduction < 1:
-            raise SceneError(f"objective: the reduction must lie strictly between 0 and 1, got {maximize.reduction:g}")
-        if isinstance(maximize, ReductionAt) and not (math.isfinite(maximize.voltage) and maximize.voltage > 0):
-            raise SceneError(f"objective: the voltage must be positive, got {maximize.voltage:g}")
-        if not isinstance(maximize.contact, Contact):
-            raise SceneError(f"objective: the contact must be a FootContact or FingerContact, got {maximize.contact!r}")
-        if not scene.drive.outputs:
-            raise SceneError("objective: the scene has no outputs to read the amplitude at (drive.outputs)")
-        check_outputs(scene, scene.drive.outputs)
-    if separation is not None and not (math.isfinite(separation) and 0 < separation < 1):
-        raise SceneError(f"separation: must lie in (0, 1) (a fraction of the frequency), got {separation}")
-    if replace_feet and "feet" not in builder_parameters_of(scene):
-        raise SceneError(f"replace_feet: the scene '{scene.name}' has no feet to place (its device takes no "
-                         f"'feet')")
-
-
-def check_variables(scene, names: Sequence[str]) -> None:
-    """SceneError naming the first of ``names`` that ``frequency_sensitivities`` cannot take or whose small change
-    (``PROBE_STEP`` of itself, up and down) the scene refuses, before any solve: cube_plate's ``width`` in its half
-    model moves the y mid-plane while the ceramic rows stay at their y, so the ceramics lose their mirror images;
-    the message then suggests solving the whole device."""
-    check_parameters(scene, names)
-    for name in names:
-        value = parameter_value(scene, name)
-        try:
-            for sign in (1, -1):  # the sensitivities' central differences move it both ways
-                with_values(scene, {name: value * (1 + sign * PROBE_STEP) if value else sign * PROBE_STEP})
-        except SceneError as exc:
-            hint = "; solve the whole device: --set 'symmetry=[]'" if str(exc).startswith("symmetry") else ""
-            raise SceneError(f"vary: {name} cannot change in '{scene.name}' ({exc}){hint}") from None
 
 
 def _evaluate(scene, targets, names, near, maximize, separation, replace_feet, notes, resolved=None,

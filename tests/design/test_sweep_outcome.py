@@ -36,10 +36,13 @@ def test_sweep_reports_the_chains_outcome_as_columns(tmp_path, capsys):
         expected = haptic_chain(scene, FootContact(preload=3.0, speed=0.01), selector=LABEL, near=NEAR,
                                 error_estimate=False).outcome(VOLTS).to_json()
         got = r["extra"]
-        # the same question read back and the same chain: equal to rounding (the CSV keeps 17 digits)
-        assert got["friction_reduction"] == pytest.approx(expected["friction_reduction"], rel=1e-9)
-        assert got["friction_reduction_range"] == pytest.approx(expected["friction_reduction_range"], rel=1e-9)
-        assert got["amplitude_error"] == pytest.approx(expected["amplitude_error"], rel=1e-9, nan_ok=True)
+        # the same question solved again and the same chain: equal to the solves' accuracy, not to rounding. PARDISO
+        # on two threads sums in an order that varies (8e-15 apart between two factorizations of one matrix), which
+        # the Lanczos vectors (ARPACK tol 1e-8) and the orbit's Newton (scaled residual 1e-11) carry to ~1e-9:
+        # measured 8e-10 on the amplitude, 3.8e-9 on the reduction; a wrong point or chain differs by percents
+        assert got["friction_reduction"] == pytest.approx(expected["friction_reduction"], rel=1e-7)
+        assert got["friction_reduction_range"] == pytest.approx(expected["friction_reduction_range"], rel=1e-7)
+        assert got["amplitude_error"] == pytest.approx(expected["amplitude_error"], rel=1e-7, nan_ok=True)
         reductions.append(got["friction_reduction"])
     assert min(reductions) > 0.05 and reductions[0] != reductions[1]  # on the curve's rise, and the design moves it
     assert main(args) == 0  # resumed: the table already holds both points

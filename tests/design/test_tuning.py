@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from modalfe.design.multistart import INLINE, latin_hypercube, run_starts
+from modalfe.design.tune_checks import check_variables
 from modalfe.design.tune_starts import TuneTask, best_result
 from modalfe.design.tuning import (
     RESOLVED_SHARE,
@@ -20,7 +21,6 @@ from modalfe.design.tuning import (
     _met,
     _Point,
     _step,
-    check_variables,
     tune,
 )
 from modalfe.errors import SceneError, SolverError

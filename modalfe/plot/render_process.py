@@ -23,8 +23,6 @@ from pathlib import Path
 
 from modalfe.errors import ModalfeError
 
-NICE = 10  # the second process' niceness
-
 
 class RenderProcessError(ModalfeError):
     """The second process did not render the picture (its reason in the message)."""
@@ -68,7 +66,6 @@ class RenderProcess:
 def _serve() -> int:
     """The second process: imports and a first plotter now, then one mode read from stdin drawn; b"ok" or the
     traceback on stdout."""
-    os.nice(NICE)  # the solve's threads first: the imports fill the cycles they leave
     import pyvista as pv
 
     from modalfe.plot.render import quiet_vtk, render_mode

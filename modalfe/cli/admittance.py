@@ -50,6 +50,7 @@ def register(sub) -> None:
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene parameter")
     p.add_argument("--json", action="store_true")
     solve_options(p)
+    add_html_option(p)
     p.set_defaults(func=_table)
 
 
@@ -179,6 +180,7 @@ def _table(args) -> int:
     table = mode_table(scene, near=args.near, count=args.count, band=band, **solve_keywords(args))
     if args.csv:
         table.write_csv(args.csv)
+    scene_page(args, scene)
     if args.json:
         print(json.dumps(table.to_json(), indent=2))
         return 0

@@ -17,6 +17,7 @@ from modalfe.cli.options import (
     solve_keywords,
     solve_options,
 )
+from modalfe.cli.page import add_html_option, scene_page
 from modalfe.errors import ModalfeError, SceneError
 
 
@@ -39,6 +40,7 @@ def register(sub) -> None:
     p.add_argument("--workers", type=positive_int, help="LocalCluster worker processes (default: one per start, at "
                    "most the CPU count)")
     solve_options(p)
+    add_html_option(p)
     scene_options(p, _calibrate)
 
 
@@ -61,6 +63,7 @@ def _calibrate(args) -> int:
         starts = [result]
     else:
         result, starts = _multistart(args, scene, measured, names, bounds)
+    scene_page(args, result.scene)  # the calibrated scene's
     if args.json:
         print(json.dumps(_document(scene, result, starts), indent=2))
     else:

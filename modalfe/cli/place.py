@@ -7,6 +7,7 @@ import logging
 import time
 
 from modalfe.cli.options import frequency, positive_float, solve_options
+from modalfe.cli.page import add_html_option, scene_page
 
 log = logging.getLogger(__name__)
 DEFAULT_CONTACT_STIFFNESS = 9.7e6  # N/m per foot, seed 000 appendix (modalfe.contact.foot_model.KN)
@@ -25,6 +26,7 @@ def register(subparsers) -> None:
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene parameter")
     p.add_argument("--json", action="store_true", help="one JSON document on stdout")
     solve_options(p)
+    add_html_option(p)
     p.set_defaults(func=_place)
 
 
@@ -62,6 +64,7 @@ def _place(args) -> int:
               "shift_from_feet_hz": placement.shift_from_feet, "shift_from_contact_hz": placement.shift_from_contact,
               "contact_stiffness_n_per_m": placement.contact_stiffness, "seconds": seconds,
               "set": "--set feet=[" + ", ".join(f"[{x:.6g}, {y:.6g}]" for x, y in placement.feet) + "]"}
+    scene_page(args, scene.with_overrides(feet=placement.feet))  # the placed design's
     if args.json:
         print(json.dumps(result, indent=2))
         return 0

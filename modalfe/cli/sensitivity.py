@@ -15,6 +15,7 @@ from modalfe.cli.options import (
     solve_keywords,
     solve_options,
 )
+from modalfe.cli.page import add_html_option, scene_page
 from modalfe.errors import SceneError
 
 
@@ -37,6 +38,7 @@ def register(sub) -> None:
     p.add_argument("--outputs", help="with --amplitude: comma-separated face groups or mean:GROUP (default: the "
                    "scene's)")
     solve_options(p)
+    add_html_option(p)
     scene_options(p, _sensitivity)
 
 
@@ -74,6 +76,7 @@ def _sensitivity(args) -> int:
              "parameters": {name: {"df_dp": _number(found.dfrequency[i, j]), "dlnf_dlnp": _number(found.relative[i, j]),
                                    "dk_eff_dp": _number(found.dk_eff[i, j])} for j, name in enumerate(names)}}
             for i, mode in enumerate(modes)]
+    scene_page(args, scene)
     if args.json:
         print(json.dumps({"scene": scene.name, "dofs": modes.dofs, "circuit": modes.circuit,
                           "values": dict(zip(names, found.values.tolist())),

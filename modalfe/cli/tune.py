@@ -24,6 +24,7 @@ from modalfe.cli.options import (
     solve_keywords,
     solve_options,
 )
+from modalfe.cli.page import add_html_option, scene_page
 from modalfe.errors import SceneError
 from modalfe.progress import is_shown
 
@@ -67,6 +68,7 @@ def register(sub) -> None:
                                                         "(default: one per start, at most the CPU count)")
     p.add_argument("--out", metavar="DESIGN.toml", help="write the final design as a scene file")
     solve_options(p, tol=False)
+    add_html_option(p)
     scene_options(p, _tune)
 
 
@@ -142,6 +144,7 @@ def _tune(args) -> int:
     final = result.final
     if args.out is not None:
         Path(args.out).write_text(scene_to_toml(result.scene), encoding="utf-8")
+    scene_page(args, result.scene)  # the tuned design's
     if args.json:
         out = {"scene": scene.name, "targets": [{"label": t.label, "target_hz": t.frequency, "frequency_hz": f}
                                                 for t, f in zip(goals, final.frequencies)],

@@ -8,6 +8,7 @@ import time
 from pathlib import Path
 
 from modalfe.cli.options import frequency, positive_int, solve_options, stated
+from modalfe.cli.page import add_html_option, scene_page
 
 log = logging.getLogger(__name__)
 
@@ -25,6 +26,7 @@ def register(subparsers) -> None:
                         "on the lower face) show as well as those on top")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene parameter")
     solve_options(p)
+    add_html_option(p)
     p.set_defaults(func=_show)
 
     p = subparsers.add_parser("export", help="write every computed mode to a VTU file (quadratic cells, part "
@@ -36,6 +38,7 @@ def register(subparsers) -> None:
     p.add_argument("--count", type=positive_int)
     p.add_argument("--set", action="append", metavar="KEY=VALUE")
     solve_options(p)
+    add_html_option(p)
     p.set_defaults(func=_export)
 
 
@@ -102,6 +105,7 @@ def _show(args) -> int:
         if drawer is not None:
             drawer.close()
     log.info("rendered in %.2f s", time.perf_counter() - start)
+    scene_page(args, scene)
     if out:
         print(f"{scene.name}: {mode.label} at {mode.frequency:.2f} Hz (stated error {stated(mode.error_estimate)}) "
               f"-> {out}")
@@ -139,6 +143,7 @@ def _export(args) -> int:
 
     scene, modes = _modes(args, lambda scene: {"near": args.near, "count": args.count})
     path = export_vtu(modes, args.vtu)
+    scene_page(args, scene)
     print(f"{scene.name}: {len(modes)} modes -> {path} (quadratic cells, part names; per mode displacement [m] and "
           f"potential [V] at the nodes, strain, stress, von Mises and electric field as cell means; each mode's "
           f"stated error), frequency table -> {table_path(path)}")

@@ -73,7 +73,11 @@ def test_chromium_renders_the_page_with_every_picture_decoded(page, tmp_path):
 
 @pytest.mark.parametrize("command", [["report", "--scene", "ciliary_beam"], ["modes", "ciliary_beam"],
                                      ["forced", "ciliary_beam"],
-                                     ["admittance", "ciliary_beam", "--band", "2e4", "3e4"]])
+                                     ["admittance", "ciliary_beam", "--band", "2e4", "3e4"],
+                                     ["table", "ciliary_beam"], ["show", "ciliary_beam", "--out", "x.png"],
+                                     ["export", "ciliary_beam", "--vtu", "x.vtu"], ["place", "cube_plate"],
+                                     ["sensitivity", "ciliary_beam", "--vary", "length"],
+                                     ["tune", "ciliary_beam", "--target", "bending-z 6=23.2e3", "--vary", "length"]])
 def test_html_naming_a_file_is_refused_before_any_solve(command, tmp_path, capsys, monkeypatch):
     import modalfe.solve.api as api
 
@@ -86,3 +90,14 @@ def test_html_naming_a_file_is_refused_before_any_solve(command, tmp_path, capsy
     taken.write_text("")
     assert main([*command, "--html", str(taken)]) == 2
     assert "error: --html: " in capsys.readouterr().err  # one line naming the flag
+
+
+@pytest.mark.parametrize("command", [["table"], ["show", "--out", "m.png"], ["export", "--vtu", "m.vtu"]])
+def test_every_command_that_solves_writes_the_scene_s_page(command, tmp_path, monkeypatch, capsys):
+    # ``--html DIR`` on any command that solves a scene, as on modes, forced and admittance (the report's page)
+    monkeypatch.chdir(tmp_path)
+    folder = tmp_path / "page"
+    assert main([command[0], "ciliary_beam", *command[1:], "--no-error-estimate", "--html", str(folder)]) == 0
+    page = (folder / "index.html").read_text()
+    assert "ciliary_beam" in page and f"modalfe {command[0]} ciliary_beam" in page
+    assert f"design page: {folder / 'index.html'}" in capsys.readouterr().out

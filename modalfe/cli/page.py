@@ -94,7 +94,7 @@ def _forced_plots(scene, folder: Path, keywords: dict, notes: list[str]) -> list
         return []
     paths = write_forced_plots(fig, str(folder / f"{scene.name}_forced.png"), 1.0)
     captions = [f"forced response of {fig.rom.label} per {fig.load_unit} ({fig.load_description}), "
-                f"{fig.rom.damping_description} ({fig.damping_source}); fr dotted",
+                f"{fig.rom.damping_description} ({fig.damping_source}); fr and fa dotted",
                 "electrical admittance of the working mode's reduced model (its BVD circuit), fr and fa dotted"]
     return [Picture(Path(p).name, c) for p, c in zip(paths, captions)]
 

@@ -133,7 +133,8 @@ def plot_sweep(table: dict[str, np.ndarray], x: str, y: str, *, group: str | Non
 
 def write_forced_plots(fig, path: str, volts: float) -> list[str]:
     """FRF (reduced model, and full FE when computed) at ``path``, and for a voltage drive the admittance beside it
-    (``<stem>_admittance.<ext>``), fr and fa marked (fa: the open-circuit mode's, else the reduced model's BVD);
+    (``<stem>_admittance.<ext>``), fr and fa marked on both (fa: the open-circuit mode's, else the reduced model's BVD;
+    a force, pressure or acceleration drive's FRF: fr);
     returns the paths written."""
     curves = {"reduced model": volts * fig.frf}
     if fig.frf_full is not None:
@@ -145,11 +146,11 @@ def write_forced_plots(fig, path: str, volts: float) -> list[str]:
         plot_frf(fig.frequency, {k: c / volts for k, c in curves.items()}, marks={"fr": fig.rom.frequency},
                  ylabel=f"amplitude at {fig.rom.reference} [m/{unit}]", title=title).savefig(path, dpi=110)
         return [path]
+    fa = fig.antiresonance or fig.rom.antiresonance  # where the open circuit would put the resonance
     frf = plot_frf(fig.frequency, curves, ylabel=f"amplitude at {fig.rom.reference} [m] at {volts:g} V", title=title,
-                   marks={"fr": fig.rom.frequency})
+                   marks={"fr": fig.rom.frequency, "fa": fa})
     stem, dot, ext = path.rpartition(".")
     frf.savefig(path, dpi=110)
-    fa = fig.antiresonance or fig.rom.antiresonance
     admittance = f"{stem}_admittance.{ext}" if dot else f"{path}_admittance"
     plot_admittance(fig.frequency, fig.admittance, title=title, label="reduced model (the working mode's BVD)",
                     marks={"fr": fig.rom.frequency, "fa": fa}).savefig(admittance, dpi=110)

@@ -129,13 +129,13 @@ def _admittance(args) -> int:
                 print(f"      |Y| max {r['peak_S']:.4g} S [{_stated(r, 'peak_S')}] at {r['peak_hz']:.1f} Hz "
                       f"[{_stated(r, 'peak_hz')}]{dip}")
     if circuits:
-        print("  BVD circuit of each resonance (IEEE Std 176-1987; C0: the rest of Y at fr, blocked capacitance and "
-              "the other modes):")
-        print(f"    {'mode':<13} {'fr [Hz]':>10} {'fa [Hz]':>10} {'k_eff':>7} {'C0 [nF]':>9} {'R1 [ohm]':>10} "
+        print("  BVD circuit of each resonance (IEEE Std 176-1987; C0 at fr: the rest of Y at fr, the clamped "
+              "capacitance and the other modes, docs/capacitance.md):")
+        print(f"    {'mode':<13} {'fr [Hz]':>10} {'fa [Hz]':>10} {'k_eff':>7} {'C0 at fr [nF]':>13} {'R1 [ohm]':>10} "
               f"{'L1 [H]':>10} {'C1 [pF]':>10}")
         for c in circuits:
             print(f"    {c['label']:<13} {c['fr_hz']:10.1f} {c['fa_hz']:10.1f} {c['k_eff']:7.4f} "
-                  f"{1e9 * c['C0_F']:9.4g} {c['R1_ohm']:10.4g} {c['L1_H']:10.4g} {1e12 * c['C1_F']:10.4g}  "
+                  f"{1e9 * c['C0_at_fr_F']:13.4g} {c['R1_ohm']:10.4g} {c['L1_H']:10.4g} {1e12 * c['C1_F']:10.4g}  "
                   f"[fr {_known(c['fr_error'])}, L1 {_known(c['L1_error'])}, C1 {_known(c['C1_error'])}]")
     if result.open_circuit:
         print("  FE open circuit of each resonance (its open-circuit mode of the same shape on the same model; the "

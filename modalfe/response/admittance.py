@@ -161,8 +161,9 @@ class Admittance:
         """The Butterworth-Van Dyke circuit of each resonance in the band (IEEE Std 176-1987, fig. 3): its motional
         branch is the mode's own term of the modal sum, copies theta^2 / (omega_r^2 - omega^2 + i omega 2 pi width):
         L1 = 1 / (copies theta^2) [H], C1 = copies theta^2 / omega_r^2 [F], R1 = 2 pi width L1 [ohm] (width: the
-        half-power width at the mode, ``width_hz``); C0 [F] is the rest of the admittance at fr, Im(Y - Y_branch) /
-        omega_r (the blocked capacitance and every other mode's share); fa_hz = fr sqrt(1 + C1 / C0), k_eff from fr
+        half-power width at the mode, ``width_hz``); its shunt, "C0 at fr" [F] (``C0_at_fr_F``: not the forced
+        response's C0 of the BVD, the free capacitance less C1), is the rest of the admittance at fr, Im(Y - Y_branch) /
+        omega_r (the clamped capacitance and every other mode's share); fa_hz = fr sqrt(1 + C1 / C0), k_eff from fr
         and fa. Stated errors composed to first order from theta's and fr's (L1: 2 theta, C1: 2 theta + 2 fr; none
         for R1 and C0's share of the other modes: the loss is a stated input). Only resonances with k_eff^2 above
         ``BVD_MIN_COUPLING``; none without the modal terms (direct FE)."""
@@ -176,13 +177,13 @@ class Admittance:
             w = 2 * np.pi * fr
             L1, C1 = 1.0 / (self.copies * theta**2), self.copies * theta**2 / w**2
             R1 = 2 * np.pi * row["width_hz"] * L1
-            branch = bvd_admittance({"C0_F": 0.0, "R1_ohm": R1, "L1_H": L1, "C1_F": C1}, fr)[0]
+            branch = bvd_admittance({"C0_at_fr_F": 0.0, "R1_ohm": R1, "L1_H": L1, "C1_F": C1}, fr)[0]
             C0 = float((self.model_Y(fr)[0] - branch).imag / w)
             if not C0 > 0 or C1 / (C0 + C1) < BVD_MIN_COUPLING:
                 continue
             fa = fr * math.sqrt(1 + C1 / C0)
             err_f, err_t = row["error_estimate"], row.get("theta_error")
-            out.append({"label": row["label"], "fr_hz": fr, "fa_hz": fa, "k_eff": k_eff(fr, fa), "C0_F": C0,
+            out.append({"label": row["label"], "fr_hz": fr, "fa_hz": fa, "k_eff": k_eff(fr, fa), "C0_at_fr_F": C0,
                         "R1_ohm": R1, "L1_H": L1, "C1_F": C1, "fr_error": err_f,
                         "L1_error": None if err_t is None else 2 * err_t,
                         "C1_error": None if err_t is None or err_f is None else 2 * err_t + 2 * err_f})
@@ -422,7 +423,7 @@ def bvd_admittance(circuit: Mapping, frequency) -> np.ndarray:
     """Y [S] (complex) at ``frequency`` [Hz] of a Butterworth-Van Dyke circuit (``Admittance.bvd_circuits``): C0 in
     parallel with R1, L1 and C1 in series, Y = i omega C0 + 1 / (R1 + i omega L1 + 1 / (i omega C1))."""
     w = 2 * np.pi * np.atleast_1d(np.asarray(frequency, dtype=float))
-    return 1j * w * circuit["C0_F"] + 1.0 / (circuit["R1_ohm"] + 1j * w * circuit["L1_H"]
+    return 1j * w * circuit["C0_at_fr_F"] + 1.0 / (circuit["R1_ohm"] + 1j * w * circuit["L1_H"]
                                              + 1.0 / (1j * w * circuit["C1_F"]))
 
 

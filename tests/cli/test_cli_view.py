@@ -1,6 +1,8 @@
 """`modalfe show`: a mode named by label is sought near that working mode, a label's form is checked before the
 solve, and an upper-case extension writes the file it names (issue 35)."""
 
+from pathlib import Path
+
 import pytest
 
 from modalfe.cli.main import main
@@ -41,3 +43,18 @@ def test_an_upper_case_extension_is_written(tmp_path, capsys, name):
     magic = {".png": b"\x89PNG", ".gif": b"GIF8"}[out.suffix.lower()]
     assert out.read_bytes().startswith(magic)
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted(["bimorph.toml", name])  # no temporary left
+
+
+@pytest.mark.skipif(not Path("/proc/self").is_dir(), reason="needs /proc: a folder no one, root included, writes in")
+def test_an_out_file_that_cannot_be_created_is_refused_before_the_solve(tmp_path, monkeypatch, capsys):
+    # issue 35 (work thrown away late): `show --out /proc/m.png` rendered for 5 s, then failed naming no flag. The
+    # folder passes os.access for root; creating the file is the check, made before the solve
+    def no_solve(*_args, **_kw):
+        raise AssertionError("solved before refusing")
+
+    monkeypatch.setattr("modalfe.solve.api.solve_modes", no_solve)
+    scene = tmp_path / "bimorph.toml"
+    scene.write_text(BIMORPH)
+    assert main(["show", str(scene), "--out", "/proc/modalfe-show.png"]) == 2
+    assert capsys.readouterr().err.strip().startswith("modalfe: error: --out: '/proc/modalfe-show.png' cannot be "
+                                                      "written")

@@ -2,6 +2,7 @@
 stack of one or two coarse boxes (a piezo or metal layer, optionally on a metal base, optionally clamped at one end),
 built with ``scene_from_dict`` and solved on its own mesh (``error_estimate=False``: ~0.1 s a solve).
 
+- linearity: an output per N (per Pa) does not depend on the force's (pressure's) size;
 - invariance: the device turned (``frame``), moved (every part's origin) or laid along another axis (its coordinates
   permuted) has the same mesh, spectrum and labels;
 - honest range: a shift far above what the mesh resolves is refused, naming ``near``, before any solve;
@@ -15,6 +16,7 @@ from __future__ import annotations
 import hashlib
 import itertools
 import json
+import numbers
 import os
 import subprocess
 import sys
@@ -22,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, Phase, given, settings
+from hypothesis import HealthCheck, Phase, given, reject, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
@@ -158,6 +160,66 @@ def test_a_device_turned_moved_or_laid_on_another_axis_has_the_same_spectrum(dev
 @given(device=devices(), angles=ANGLES, offset=OFFSETS, data=st.data())
 def test_a_device_turned_moved_or_laid_on_another_axis_has_the_same_spectrum_many(device, angles, offset, data):
     _check_invariance(device, angles, offset, data.draw(st.sampled_from(_axes_for(device))))
+
+
+def _close(a, b, rtol: float) -> bool:
+    """Two JSON answers the same: numbers to ``rtol``, everything else equal."""
+    if isinstance(a, dict):
+        return a.keys() == b.keys() and all(_close(a[k], b[k], rtol) for k in a)
+    if isinstance(a, (list, tuple)):
+        return len(a) == len(b) and all(_close(x, y, rtol) for x, y in zip(a, b))
+    if isinstance(a, numbers.Real) and not isinstance(a, bool):
+        return bool(np.isclose(a, b, rtol=rtol, atol=0.0)) or (np.isnan(a) and np.isnan(b))
+    return a == b
+
+
+def _check_linearity(device: dict, kind: str, direction, scale: float) -> None:
+    # clamped: on a free device a load with a resultant drives its rigid-body modes, and the solve beside resonance
+    # (GMRES to a relative residual) leaves per-N outputs that differ by up to 3e-4 between load sizes (measured,
+    # 0.001 N .. 871 N); an open question, not this law's
+    device = {**device, "faces": {**device["faces"], "end": [f"{device['parts'][-1]['name']}.xmin"]},
+              "clamps": {"end": "xyz"}}
+    modes = _spectrum(device)
+    value = list(direction) if kind == "force" else [1.0]
+
+    def forced(mode, size: float) -> dict:
+        load = {"kind": kind, "group": "upper", "value": [size * v for v in value]}
+        return forced_figures(scene_from_dict(device), selector=mode.label, near=mode.frequency, outputs=("upper",),
+                              load=load, error_estimate=False).to_json()
+
+    for mode in (m for m, elastic in zip(modes, _elastic(modes, device["analysis"]["near"])) if elastic):
+        try:
+            unit = forced(mode, 1.0)
+        except SolverError as exc:  # an in-plane mode has no motion along the face's normal at its centre
+            assert "sits on a node" in str(exc)
+            continue
+        curve = next(v for k, v in unit["curve"].items() if k.startswith("abs_frf_m_per"))
+        if abs(unit["peak_amplitude_per_load_m"]) < 1e-9 * max(curve):
+            continue  # a load the mode does not feel (a twist under a pressure): its figures are round-off
+        # per N (per Pa), the reduced model, curve, outputs and the load's own description are the unit load's; to
+        # 1e-6: the solve beside resonance is GMRES to a relative residual (``SHIFTED_RESIDUAL``), whose iterates
+        # differ between right-hand sides of different size (measured 2.6e-9 relative)
+        assert _close(forced(mode, scale), unit, rtol=1e-6), (mode.label, scale)
+        return
+    reject()  # no mode moves the output (measured: never among the generated devices' first elastic modes)
+
+
+DIRECTIONS = st.tuples(*[st.sampled_from([-1.0, 0.0, 0.5, 1.0])] * 3).filter(any)
+SCALES = st.floats(1e-3, 1e3)
+
+
+@settings(max_examples=8, deadline=None, phases=NO_SHRINK, suppress_health_check=CHEAP_ENOUGH)
+@given(device=devices(), kind=st.sampled_from(["force", "pressure"]), direction=DIRECTIONS, scale=SCALES)
+def test_a_per_unit_output_does_not_depend_on_the_loads_size(device, kind, direction, scale):
+    # issue 35: outputs "per N" doubled when the force doubled (`forced --force tip=0,0,2`: "2 N/N")
+    _check_linearity(device, kind, direction, scale)
+
+
+@pytest.mark.slow
+@settings(max_examples=40, deadline=None, phases=NO_SHRINK, suppress_health_check=CHEAP_ENOUGH)
+@given(device=devices(), kind=st.sampled_from(["force", "pressure"]), direction=DIRECTIONS, scale=SCALES)
+def test_a_per_unit_output_does_not_depend_on_the_loads_size_many(device, kind, direction, scale):
+    _check_linearity(device, kind, direction, scale)
 
 
 class _SolvedError(Exception):

@@ -126,6 +126,12 @@ def check_output_path(flag: str, path: str, *, create_parents: bool = False) -> 
             raise SceneError(f"{flag}: '{path}' is not writable")
     elif not os.access(parent, os.W_OK | os.X_OK):
         raise SceneError(f"{flag}: folder '{parent}' is not writable")
+    elif p.parent.exists():  # root passes os.access everywhere: creating the file tells (/proc, a read-only mount)
+        try:
+            p.open("xb").close()
+        except OSError as exc:
+            raise SceneError(f"{flag}: '{path}' cannot be written ({exc.strerror})") from None
+        p.unlink()
 
 
 def check_output_paths(args: argparse.Namespace) -> None:
@@ -281,7 +287,7 @@ def parse_outcome(flag: str, text: str, kinds: Mapping[str, str]):
         except ValueError:
             raise SceneError(f"{flag}: {given} must be a number, got '{text_value}'") from None
         if not (math.isfinite(value) and value > 0):
-            raise SceneError(f"{flag}: {given} must be positive, got '{text_value}'")
+            raise SceneError(f"{flag}: {given} must be a positive finite number, got '{text_value}'")
     contact = fields.pop("contact", "foot")
     if contact not in ("foot", "finger"):
         raise SceneError(f"{flag}: contact must be foot or finger, got '{contact}'")

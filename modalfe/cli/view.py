@@ -9,6 +9,7 @@ from pathlib import Path
 
 from modalfe.cli.options import frequency, positive_int, solve_options, stated
 from modalfe.cli.page import add_html_option, scene_page
+from modalfe.errors import SceneError
 
 log = logging.getLogger(__name__)
 
@@ -135,7 +136,10 @@ def _render_png(drawer, mode, out: str, view: str) -> None:
         drawer.render(mode, out, view)
     except RenderProcessError as exc:
         log.info("%s; drawing in this process", exc)
-        render_mode(mode, out=out, view=view, off_screen=True).close()
+        try:
+            render_mode(mode, out=out, view=view, off_screen=True).close()
+        except OSError as exc:  # the file became unwritable during the solve (checked before it)
+            raise SceneError(f"--out: '{out}' cannot be written ({exc.strerror or exc})") from None
 
 
 def _export(args) -> int:

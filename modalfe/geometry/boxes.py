@@ -33,7 +33,7 @@ def boxes(*, parts: Sequence[Mapping], faces: Mapping[str, Sequence[str]] | None
         built.append(
             Box(str(spec["name"]), str(spec.get("region", spec["name"])), spec["material"]
                 if isinstance(spec["material"], str) else str(spec["material"]),
-                origin, tuple(o + s for o, s in zip(origin, size)), int(spec.get("poling", 0)))
+                origin, tuple(o + s for o, s in zip(origin, size)), _poling(spec.get("poling", 0), where))
         )
     groups = {}
     for group, refs in (faces or {}).items():
@@ -45,6 +45,15 @@ def boxes(*, parts: Sequence[Mapping], faces: Mapping[str, Sequence[str]] | None
                 raise SceneError(f"faces.{group}: '{face.part}.{face.side}' is not 'part.side' with side in {SIDES}")
         groups[group] = tuple(entries)
     return Assembly(tuple(built), groups)
+
+
+def _poling(value, where: str) -> int:
+    """A box's poling sign along z: 1 or "+z", -1 or "-z", 0 (a box's poling runs between its z faces)."""
+    signs = {0: 0, 1: 1, -1: -1, "0": 0, "+z": 1, "-z": -1}
+    if isinstance(value, bool) or not isinstance(value, (int, str)) or value not in signs:
+        raise SceneError(f"{where}.poling: a box is poled along z only (1 or '+z', -1 or '-z', 0), got {value!r}; "
+                         f"lay its thickness along z")
+    return signs[value]
 
 
 def _triple(value, field: str) -> tuple[float, float, float]:

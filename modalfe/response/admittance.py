@@ -49,6 +49,7 @@ from modalfe.response.losses import (
 )
 from modalfe.results.coupling import k_eff
 from modalfe.results.modes import Modes
+from modalfe.scene.checks import check_ground
 from modalfe.scene.scene import Analysis
 
 WIDEN = 1.25  # modes solved in [f1 / WIDEN, f2 * WIDEN]: the nearest ones outside the band stay dynamic
@@ -228,6 +229,7 @@ def admittance(scene, band: tuple[float, float], points: int, *, damping: str | 
     losses = resolve_losses(scene, damping=damping, tan_delta=tan_delta, per_mode=per_mode)
     if "drive" not in scene.electrodes.values():
         raise SceneError("electrodes: the scene has no driven electrode; an admittance needs one")
+    check_ground(scene, "electrodes")
     if not (math.isfinite(widen) and widen >= 1):
         raise SceneError(f"widen: must be >= 1, got {widen:g}")
     lo, hi = band[0] / widen, band[1] * widen

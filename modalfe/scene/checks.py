@@ -62,6 +62,22 @@ def check_electrodes(assembly, roles: dict[str, str]) -> None:
             g = sorted(shorted)[0]
             raise SceneError(f"electrodes.{g}: covers both {' and '.join(p.poling_faces)} faces of the poled part "
                              f"'{p.name}' (it shorts the part: no field through it)")
+        low, high = ({roles[g]: g for g in sorted(covering[side])} for side in p.poling_faces)
+        same = sorted(set(low) & set(high))  # two groups of one role: one potential on both faces
+        if same:
+            role = same[0]
+            raise SceneError(f"electrodes.{high[role]}: on the {p.poling_faces[1]} face of the poled part '{p.name}' "
+                             f"and '{low[role]}' on its {p.poling_faces[0]} face are both {role}: one potential on "
+                             f"both faces, no field through it; make one of them the other role")
+
+
+def check_ground(scene, field: str) -> None:
+    """A voltage drives a field only against a ground: SceneError naming ``field`` when the scene's electrodes
+    have none (the driven ones alone fix no potential difference: the response is zero, to round-off)."""
+    if "drive" in scene.electrodes.values() and "ground" not in scene.electrodes.values():
+        drives = sorted(g for g, role in scene.electrodes.items() if role == "drive")
+        raise SceneError(f"{field}: the scene has no ground electrode: a voltage on {', '.join(drives)} alone "
+                         f"drives no field through the piezo (its other faces float); make an electrode ground")
 
 
 def _same(key, r: _Rect | None, key2, s: _Rect | None, tol: float) -> bool:

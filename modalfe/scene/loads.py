@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from modalfe.errors import SceneError
+from modalfe.scene.checks import check_ground
 
 KINDS = ("voltage", "force", "pressure", "base-acceleration")
 UNITS = {"voltage": "V", "force": "N", "pressure": "Pa", "base-acceleration": "m/s^2"}
@@ -134,6 +135,7 @@ def check_load(scene, load: Load) -> None:
             raise SceneError("drive.load: the scene has no driven electrode to apply a voltage to; give a force, "
                              "pressure or base acceleration (--force GROUP=FX,FY,FZ, --pressure GROUP=P, "
                              "--base-acceleration z, or drive.load)")
+        check_ground(scene, "electrodes")
         return
     full = scene.full_assembly()
     if load.kind in ("force", "pressure") and load.group not in full.faces:

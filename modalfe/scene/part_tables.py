@@ -3,9 +3,9 @@
 One ``[[parts]]`` table per part, its ``shape`` one of ``box`` (the default: origin, size), ``cylinder``
 (centre of its base, axis, radius, height), ``ring`` (centre, axis, inner, outer, height) or ``extrusion``
 (outline of [u, v] vertices, optional holes (polygons) and circles ([u, v, radius] round holes), axis, base,
-height); all take name, material, region and poling (0, 1, -1, "+x" ... "-z", and "radial" / "-radial" for
-rings). Lengths in the file's units, scaled to metres here; the shapes themselves check their geometry
-(``modalfe.geometry.shapes``).
+height); all take name, material, region and poling (0, 1, -1, "+x" ... "-z" (a box: along z only), and
+"radial" / "-radial" for rings). Lengths in the file's units, scaled to metres here; the shapes themselves check
+their geometry (``modalfe.geometry.shapes``).
 
 A scene whose ``[geometry] file`` names a CAD, ``.geo`` or ``.msh`` file has part tables of another form
 (``imported_parts``): ``group`` (the file's physical volume), material, region, poling, and for radial poling

@@ -1,9 +1,11 @@
 """`modalfe show`: a mode named by label is sought near that working mode, a label's form is checked before the
 solve, and an upper-case extension writes the file it names (issue 35)."""
 
+from pathlib import Path
+
 import pytest
 
-from modalfe.cli.main import main
+from modalfe.cli.main import build_parser, main
 from modalfe.errors import SolverError
 from tests.hostile.cases import BIMORPH
 
@@ -19,6 +21,7 @@ def test_a_working_mode_named_by_label_is_sought_near_its_own_frequency(monkeypa
         asked.append((kw.get("near"), kw.get("band"), kw.get("mode")))
         raise SolverError("stand-in solve: only what it was asked matters")
 
+    build_parser()  # every command's module imported before the patch: none may bind the stand-in (tune's does)
     monkeypatch.setattr("modalfe.solve.api.solve_modes", solve)
     band = (1.0, 1500.0)  # honeycomb_tile's analysis band
     for argv, question in ((["--mode", "(1,1)"], (None, band, "(1,1)")),
@@ -62,3 +65,18 @@ def test_a_rendering_process_that_fails_leaves_the_picture_to_this_one(tmp_path,
         assert main(["show", str(scene), "--out", str(out)]) == 0
     assert out.read_bytes().startswith(b"\x89PNG")
     assert f"stand-in failure at {broken}; drawing in this process" in caplog.text
+
+
+@pytest.mark.skipif(not Path("/proc/self").is_dir(), reason="needs /proc: a folder no one, root included, writes in")
+def test_an_out_file_that_cannot_be_created_is_refused_before_the_solve(tmp_path, monkeypatch, capsys):
+    # issue 35 (work thrown away late): `show --out /proc/m.png` rendered for 5 s, then failed naming no flag. The
+    # folder passes os.access for root; creating the file is the check, made before the solve
+    def no_solve(*_args, **_kw):
+        raise AssertionError("solved before refusing")
+
+    monkeypatch.setattr("modalfe.solve.api.solve_modes", no_solve)
+    scene = tmp_path / "bimorph.toml"
+    scene.write_text(BIMORPH)
+    assert main(["show", str(scene), "--out", "/proc/modalfe-show.png"]) == 2
+    assert capsys.readouterr().err.strip().startswith("modalfe: error: --out: '/proc/modalfe-show.png' cannot be "
+                                                      "written")

@@ -54,4 +54,5 @@ def test_a_bad_outcome_is_refused_in_one_line_before_any_solve(tmp_path, capsys)
     # the parser is tune --objective's (modalfe.cli.options.parse_outcome; its cases: test_tuning_outcome.py)
     assert main(["sweep", "cube_plate", "--param", "length=0.06:0.064:2", "--out", str(tmp_path / "s.csv"),
                  "--outcome", "reduction volts=0"]) == 2
-    assert capsys.readouterr().err.strip() == "modalfe: error: --outcome: volts must be positive, got '0'"
+    assert capsys.readouterr().err.strip() == ("modalfe: error: --outcome: volts must be a positive finite number, "
+                                               "got '0'")

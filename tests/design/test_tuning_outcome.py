@@ -123,7 +123,7 @@ def test_cli_prints_the_iterates_voltages_and_the_verified_outcome(tmp_path, cap
     ("volts-for reduction=0.6 contact=hand", "--objective: contact must be foot or finger"),
     ("volts-for reduction=0.6 voltage=3", "--objective: 'voltage=3' is not one of"),
     ("reduction-at reduction=0.6", "--objective: 'reduction=0.6' is not one of"),
-    ("reduction-at volts=-2", "--objective: volts must be positive"),
+    ("reduction-at volts=-2", "--objective: volts must be a positive finite number"),
     ("reduction-at preload=3", "--objective: give volts=V"),
 ])
 def test_bad_objectives_are_refused_in_one_line(tmp_path, capsys, objective, message):

@@ -940,6 +940,84 @@ ISSUE_35_TRUST = [
     _file("tube-labels", "labels", TUBE, "", expect="ok", check=_labelled),
 ]
 
+# issue 35, today's features: tune --objective, sweep --outcome (one parser, ``parse_outcome``), the admittance's FE
+# open-circuit table, show's second rendering process; and what they met on the way
+TUNE = ("tune", "{file}", "--target", "bending-z 1=900", "--vary", "materials.steel.E", "--objective")
+SWEEP = ("sweep", "{file}", "--param", "materials.steel.E=190e9:210e9:2", "--out", "{tmp}/s.csv", "--outcome")
+ADMITTANCE = ("admittance", "{file}", "--band", "400", "700", *SOLVE)
+
+
+def _open_circuit_rows(out: str) -> list[tuple[float, float, float]]:
+    """(fr, fa, k_eff) of the admittance's "FE open circuit" table."""
+    lines = out.splitlines()
+    start = next(i for i, line in enumerate(lines) if "FE open circuit" in line) + 2
+    rows = []
+    for line in lines[start:]:
+        words = line.split()  # the label, which may hold spaces, then fr, fa, k_eff
+        try:
+            fr, fa, k = (float(w) for w in words[-3:]) if len(words) >= 4 else ()
+        except ValueError:
+            break
+        rows.append((fr, fa, k))
+    return rows
+
+
+def _fa_above_fr(out: str) -> bool:
+    rows = _open_circuit_rows(out)
+    return bool(rows) and all(fa >= fr and 0 < k < 1 for fr, fa, k in rows)
+
+
+def _shaped_box(poling: str) -> str:
+    """A free PZT-4 box poled by ``poling`` beside a Cu-Be disc: a scene with shapes (mm)."""
+    return (f'name = "shaped"\nunits = "mm"\nanalysis = {{near = 50000.0, count = 4}}\n'
+            f'parts = [{{name = "bar", material = "PZT-4", origin = [0, 0, 0], size = [10, 4, 1], '
+            f'poling = "{poling}"}}, {{name = "disc", shape = "cylinder", material = "CuBe", centre = [5, 2, 1], '
+            f'axis = "z", radius = 1.5, height = 0.5}}]\n')
+
+
+NEW_FEATURES = [
+    *[_bimorph(f"tune-objective-{id}", (*TUNE, text), field) for id, text, field in [
+        ("empty", "", "--objective: expected"),
+        ("volts-missing", "reduction-at", "--objective: give volts=V"),
+        ("volts-word", "reduction-at volts=abc", "--objective: volts must be a number"),
+        ("volts-negative", "reduction-at volts=-5", "--objective: volts must be a positive finite number"),
+        ("volts-nan", "reduction-at volts=nan", "--objective: volts must be a positive finite number"),
+        ("volts-inf", "reduction-at volts=inf", "--objective: volts must be a positive finite number"),
+        ("volts-twice", "reduction-at volts=50 volts=60", "--objective: 'volts=60' is not one of"),
+        ("preload-negative", "reduction-at volts=50 preload=-3", "--objective: preload: must be >= 0"),
+        ("preload-inf", "reduction-at volts=50 preload=inf", "--objective: preload: must be finite"),
+        ("contact-bad", "reduction-at volts=50 contact=bad", "--objective: contact must be foot or finger"),
+        ("reduction-over-one", "volts-for reduction=150%", "--objective reduction: expected a fraction"),
+        ("no-outputs", "reduction-at volts=50", "objective: the scene has no outputs"),
+    ]],
+    _bimorph("tune-objective-and-maximize", (*TUNE, "reduction-at volts=50", "--maximize", "k_eff"),
+             "--objective: give it or --maximize"),
+    *[_bimorph(f"sweep-outcome-{id}", (*SWEEP, text), field) for id, text, field in [
+        ("volts-missing", "reduction", "--outcome: give volts=V"),
+        ("volts-word", "reduction volts=x", "--outcome: volts must be a number"),
+        ("volts-overflow", "reduction volts=1e400", "--outcome: volts must be a positive finite number"),
+        ("tune-kind", "volts-for reduction=0.5", "--outcome: expected"),
+        ("no-space", "reduction=0.5", "--outcome: expected"),
+        ("contact-glass", "reduction volts=10 contact=glass", "--outcome: contact must be foot or finger"),
+        ("preload-word", "reduction volts=10 preload=abc", "--outcome: preload and speed must be numbers"),
+        ("preload-negative", "reduction volts=10 preload=-1", "--outcome: preload: must be >= 0"),
+        ("speed-negative", "reduction volts=10 speed=-1", "--outcome: speed: must be >= 0"),
+    ]],
+    _bimorph("admittance-open-circuit-table", ADMITTANCE, "", expect="ok", check=_fa_above_fr),
+    _bimorph("admittance-no-ground", ADMITTANCE, "electrodes: the scene has no ground electrode",
+             files={"bimorph.toml": BIMORPH.replace('electrode_bottom = "ground"\n', "")}),
+    _bimorph("forced-no-ground", ("forced", "{file}", *SOLVE), "electrodes: the scene has no ground electrode",
+             files={"bimorph.toml": BIMORPH.replace('electrode_bottom = "ground"\n', "")}),
+    _bimorph("admittance-both-faces-driven", ADMITTANCE, "electrodes.electrode_top: on the zmax face",
+             files={"bimorph.toml": BIMORPH.replace('electrode_bottom = "ground"', 'electrode_bottom = "drive"')}),
+    _bimorph("show-out-in-proc", ("show", "{file}", "--out", "/proc/modalfe-hostile.png"), "--out"),
+    _bimorph("show-out-in-sys", ("show", "{file}", "--out", "/sys/modalfe-hostile.png"), "--out"),
+    _file("box-poled-along-x-among-shapes", "scene file", _shaped_box("+x"), "parts[0].poling: a box is poled along z"),
+    _file("box-poled-radial-among-shapes", "scene file", _shaped_box("radial"), "parts[0].poling"),
+    _file("box-poled-plus-z-among-shapes", "scene file", _shaped_box("+z"), "", expect="ok",
+          check=lambda out: "Hz" in out),
+]
+
 CASES: list[Case] = [*SCENE_FILES, *MATERIALS, *FLAGS, *SETS, *PATHS, *SWEEPS, *API, *ELECTRODES_AND_MODELS,
                      *TEXT, *INTERRUPTS_AND_CACHES, *DESIGN, *ISSUE_35,
-                     *ISSUE_35_TRUST]
+                     *ISSUE_35_TRUST, *NEW_FEATURES]

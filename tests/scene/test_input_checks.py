@@ -85,3 +85,21 @@ def test_size_estimate_bounds_the_real_mesh_and_refuses_absurd_requests(monkeypa
     monkeypatch.setenv("MODALFE_MAX_MEMORY", "1e6")
     with pytest.raises(SceneError, match=r"^mesh: too large"):
         build_model(load_scene("tile_eq5", **{"mesh.elements_per_wavelength": 7.0}), "solid")
+
+
+@pytest.mark.parametrize("role", ["drive", "ground"])
+def test_one_potential_on_both_faces_of_a_poled_part_is_refused(role):
+    # issue 35 (hostile suite): both faces of a patch driven gave an admittance of ~0 S and a k_eff of 0.11 from
+    # round-off. Two electrode groups of one role on a part's two poled faces short it like one group does
+    patch = {"name": "patch", "material": "PZT-5A", "origin": [0, 0, 1], "size": [10, 4, 0.2], "poling": 1}
+    other = "ground" if role == "drive" else "drive"
+    scene = {"units": "mm", "analysis": {"near": 1000.0, "count": 2},
+             "parts": [{"name": "beam", "material": "CuBe", "origin": [0, 0, 0], "size": [20, 4, 1]}, patch,
+                       {**patch, "name": "patch_2", "origin": [12, 0, 1], "size": [6, 4, 0.2]}],
+             "faces": {"top": ["patch.zmax"], "bottom": ["patch.zmin"], "other": ["patch_2.zmax"]},
+             "electrodes": {"top": role, "bottom": role, "other": other}}
+    with pytest.raises(SceneError, match=rf"^electrodes\.top: on the zmax face of the poled part 'patch' and 'bottom' "
+                                         rf"on its zmin face are both {role}"):
+        scene_from_dict(scene)
+    scene["electrodes"]["bottom"] = other  # across the part: its field
+    assert dict(scene_from_dict(scene).electrodes)["bottom"] == other

@@ -292,9 +292,10 @@ _KEPT_OPEN = 4
 caches.register("open-circuit partner solves", _OPEN_SOLVES.clear)
 
 
-def _open_solve(model, near: float, count: int, solver: str) -> Modes:
+def _open_solve(model, near: float, count: int, solver: str, known) -> Modes:
     """The open-circuit modes of ``model``, at least ``count`` nearest ``near`` [Hz]: a kept solve at that shift with
-    as many (the partners of a table's modes, sought one by one, from one solve) or a new one, kept."""
+    as many (the partners of a table's modes, sought one by one, from one solve) or a new one, kept, started from the
+    short-circuit modes ``known`` of the same model (``modalfe.solve.levels.modes_of``)."""
     from modalfe.solve.levels import modes_of
 
     _OPEN_SOLVES[:] = [kept for kept in _OPEN_SOLVES if kept[0]() is not None]
@@ -303,7 +304,7 @@ def _open_solve(model, near: float, count: int, solver: str) -> Modes:
             return opens
     analysis = Analysis(near=near, count=count, circuit="open")
     with single_threaded_blas():
-        opens = modes_of(model, analysis, fidelity="solid", solver=solver)
+        opens = modes_of(model, analysis, fidelity="solid", solver=solver, known=known)
     _OPEN_SOLVES.insert(0, (weakref.ref(model), near, opens))
     del _OPEN_SOLVES[_KEPT_OPEN:]
     return opens
@@ -328,7 +329,8 @@ def open_circuit_partner(mode, *, near: float, among: Modes | None = None, solve
     count = min(rank + 2, most)
     while True:
         try:
-            return antiresonance(mode, _open_solve(mode.model, near, count, solver))
+            return antiresonance(mode, _open_solve(mode.model, near, count, solver,
+                                                   among if among is not None else (mode,)))
         except SolverError:
             if count >= most:
                 raise

@@ -296,12 +296,12 @@ def counted_factorization(A: sp.spmatrix, *, solver: str = "auto") -> tuple[int,
         except (RuntimeError, ValueError) as exc:
             log.warning("pardiso inertia failed (%s): using SuperLU", exc)
         else:
-            iparm = factor.iparm
-            positive, negative, perturbed = int(iparm[21]), int(iparm[22]), int(iparm[13])
-            if perturbed == 0 and positive + negative == n:
+            negative = pardiso_inertia(factor, n)
+            if negative is not None:
                 return negative, factor
+            iparm = factor.iparm
             log.info("pardiso perturbed %d pivots (inertia %d + %d of %d): SuperLU counts instead",
-                     perturbed, positive, negative, n)
+                     int(iparm[13]), int(iparm[21]), int(iparm[22]), n)
     from scipy.sparse.linalg import splu
 
     try:
@@ -315,6 +315,16 @@ def counted_factorization(A: sp.spmatrix, *, solver: str = "auto") -> tuple[int,
     if not np.all(np.isfinite(d)) or np.min(np.abs(d)) <= 1e-14 * np.max(np.abs(d)):
         raise SolverError("the shifted matrix is singular to working precision (a zero pivot); move the shift")
     return int(np.sum(d < 0)), None
+
+
+def pardiso_inertia(solve, n: int) -> int | None:
+    """The negative eigenvalue count of the (n, n) matrix a PARDISO factorization ``solve`` factored (the signs of its
+    D, iparm(23)), None where it perturbed pivots, its inertia does not add up to n, or ``solve`` is not a PARDISO
+    factorization (then nothing certifies a count)."""
+    iparm = getattr(solve, "iparm", None)
+    if iparm is None or int(iparm[13]) != 0 or int(iparm[21]) + int(iparm[22]) != n:
+        return None
+    return int(iparm[22])
 
 
 class _PardisoFactor:

@@ -116,8 +116,8 @@ def test_the_open_circuit_partner_is_found_among_few_modes_by_shape(monkeypatch)
     mode = short.nearest(21.7e3)
     asked = []
     solve_open, solve_few = api.open_circuit_modes, api._open_solve
-    monkeypatch.setattr(api, "_open_solve", lambda model, near, count, solver: asked.append(count)
-                        or solve_few(model, near, count, solver))
+    monkeypatch.setattr(api, "_open_solve", lambda model, near, count, solver, known: asked.append(count)
+                        or solve_few(model, near, count, solver, known))
     partner = api.open_circuit_partner(mode, among=short, near=21.7e3)
     every = solve_open(short, near=21.7e3, count=10)
     labelled = min((m for m in every if m.label == mode.label), key=lambda m: abs(m.frequency - mode.frequency))

@@ -34,6 +34,12 @@ from modalfe.scene.scene import check_underdamped
 # outputs whose normal motion is within this fraction of the largest count as equal when the reference is
 # chosen: symmetric outputs differ by the solver's rounding (~1e-10), real differences are >1e-3
 REFERENCE_TIE = 1e-6
+# a reference whose normal motion is below this share of the outputs' largest motion sits on a node: the Lanczos
+# vectors meet a relative 1e-8 on the eigenvalue (``modalfe.solve.eigen``'s tolerance), which leaves a vector's error
+# at about that over the relative gap to the next mode (~1e-2 between a device's modes), so a smaller component is
+# rounding (a symmetric cantilever's sideways bending at its upper face: 1e-12 in one run, 3e-9 in another) and the
+# reduced model would divide by it
+NODE_BELOW = 1e-6
 # the reduced model's JSON: /2 adds device_mass (issue 37); a /1 file reads with device_mass unknown (NaN)
 ROM_FORMAT = "modalfe.ReducedModel/2"
 ROM_FORMATS_READ = ("modalfe.ReducedModel/1", ROM_FORMAT)
@@ -307,6 +313,17 @@ def open_circuit(mode: Mode, *, among=None, near: float | None = None) -> OpenCi
     return OpenCircuit(mode.label, mode.frequency, fa)
 
 
+def _check_driven(mode: Mode, load, theta: float) -> None:
+    """SolverError where ``load``'s modal force on ``mode`` is rounding: below ``NODE_BELOW`` of the sum of its terms'
+    sizes (a sideways force on a symmetric plate's bending mode, a pressure on a twisting one), the figures per unit
+    load would be rounding too."""
+    T, F = beside_resonance(mode, load)[:2]
+    terms = float(np.abs(free_values(T, mode.shape) * F).sum())
+    if abs(theta) < NODE_BELOW * terms:
+        raise SolverError(f"load: the {load.describe()} does not drive mode {mode.label} (its modal force is "
+                          f"{abs(theta) / terms:.0e} of its terms: rounding, the load is orthogonal to the mode)")
+
+
 def reduce(mode: Mode, *, outputs, damping: Damping, reference: str | None = None, load=None) -> ReducedModel:
     """Reduced model of ``mode`` (short circuit, bound to its model) at the named ``outputs``; the
     ``reference`` output (default: the one with the largest normal motion) carries the modal mass.
@@ -318,6 +335,8 @@ def reduce(mode: Mode, *, outputs, damping: Damping, reference: str | None = Non
     T, _, _, x_v, x_d, _ = beside_resonance(mode, load)
     probes = output_operators(model, outputs)
     theta, modal_d, capacitance = _charge(mode, load)  # residual of the other modes: one solve beside resonance
+    if load is not None and load.kind != "voltage":
+        _check_driven(mode, load, theta)
     omega_r = mode.omega
     phi = {name: P @ mode.shape for name, P in probes.items()}
     if reference is None:  # the output that moves most; among equals (symmetric feet) the first listed, so the
@@ -331,7 +350,7 @@ def reduce(mode: Mode, *, outputs, damping: Damping, reference: str | None = Non
     voltage = load is None or load.kind == "voltage"
     capacitance = capacitance if voltage else 0.0
     ref = phi[reference][2]
-    if abs(ref) < 1e-12 * max(np.abs(np.concatenate(list(phi.values())))):
+    if abs(ref) < NODE_BELOW * max(np.abs(np.concatenate(list(phi.values())))):
         raise SolverError(f"outputs: the reference '{reference}' sits on a node of mode {mode.label}")
     zeta = damping.ratio(omega_r)
     check_underdamped("damping", zeta, f" at {mode.frequency:.6g} Hz")

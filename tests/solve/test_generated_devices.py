@@ -190,12 +190,10 @@ def _check_linearity(device: dict, kind: str, direction, scale: float) -> None:
     for mode in (m for m, elastic in zip(modes, _elastic(modes, device["analysis"]["near"])) if elastic):
         try:
             unit = forced(mode, 1.0)
-        except SolverError as exc:  # an in-plane mode has no motion along the face's normal at its centre
-            assert "sits on a node" in str(exc)
+        except SolverError as exc:  # an in-plane mode has no motion along the face's normal at its centre, a
+            # sideways force does not drive a symmetric device's bending mode: refused, never rounding as figures
+            assert "sits on a node" in str(exc) or "does not drive" in str(exc)
             continue
-        curve = next(v for k, v in unit["curve"].items() if k.startswith("abs_frf_m_per"))
-        if abs(unit["peak_amplitude_per_load_m"]) < 1e-9 * max(curve):
-            continue  # a load the mode does not feel (a twist under a pressure): its figures are round-off
         # per N (per Pa), the reduced model, curve, outputs and the load's own description are the unit load's; to
         # 1e-6: the solve beside resonance is GMRES to a relative residual (``SHIFTED_RESIDUAL``), whose iterates
         # differ between right-hand sides of different size (measured 2.6e-9 relative)

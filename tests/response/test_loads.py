@@ -202,3 +202,25 @@ def test_the_reduced_model_per_newton_does_not_scale_with_the_force(bimorph_mode
     assert given_rom.amplitude_per_volt() == pytest.approx(unit_rom.amplitude_per_volt(), rel=1e-9)
     assert given_rom.drive_load == unit_rom.drive_load and given_rom.load_unit == "N"
     assert abs(unit_rom.force_factor) == pytest.approx(1.0, rel=0.05)  # a tip force on the tip's own motion
+
+
+def test_a_load_that_does_not_drive_the_mode_is_refused_not_answered_in_round_off():
+    """A uniform pressure on a cantilever plate's twisting mode (antisymmetric across the plate's width) has no modal
+    force: its figures per Pa would be rounding (issue 35: 2.6e-22 m/Pa answered). Refused, naming the load; the
+    bending mode beside it is answered."""
+    from modalfe.errors import SolverError
+    from modalfe.response.forced import Damping, reduce
+    from modalfe.solve.api import solve_modes
+
+    scene = scene_from_dict({
+        "name": "twist", "units": "mm",
+        "parts": [{"name": "plate", "material": "Al-5052", "origin": [0, 0, 0], "size": [30, 10, 1]}],
+        "faces": {"upper": ["plate.zmax"], "root": ["plate.xmin"]}, "clamps": {"root": "xyz"},
+        "analysis": {"near": 3e3, "count": 4}, "mesh": {"max_size": 2.5e-3, "min_layers": 1}})
+    modes = solve_modes(scene, error_estimate=False)
+    pressure = Load("pressure", "upper", (1.0,))
+    twisting = modes.labelled("(1,0)")  # one nodal line along the length: the first twisting mode
+    with pytest.raises(SolverError, match="does not drive mode"):
+        reduce(twisting, outputs=("upper",), damping=Damping(Q=100), load=pressure)
+    bending = modes.labelled("(0,0)")
+    assert abs(reduce(bending, outputs=("upper",), damping=Damping(Q=100), load=pressure).force_factor) > 0

@@ -82,10 +82,10 @@ def _show(args) -> int:
             return {"near": args.near or seek(scene)[1]}
         return working_question(scene, selector, args.near)
 
-    interactive = args.out is None and bool(os.environ.get("DISPLAY"))
-    gif = args.out is not None and Path(args.out).suffix.lower() == ".gif"
-    # a PNG: drawn by a second process that loads VTK while this one solves (``render_process``)
-    drawer = None if interactive or gif else _drawer()
+    interactive, gif = _window_or_gif(args.out)
+    # a PNG: drawn by a second process that loads VTK while this one solves (``render_process``), started with the
+    # command where it could be (``early_drawer``)
+    drawer = None if interactive or gif else (getattr(args, "early_drawer", None) or _drawer())
     try:
         scene, modes = _modes(args, question)
         if index:
@@ -111,6 +111,25 @@ def _show(args) -> int:
         print(f"{scene.name}: {mode.label} at {mode.frequency:.2f} Hz (stated error {stated(mode.error_estimate)}) "
               f"-> {out}")
     return 0
+
+
+def _window_or_gif(out: str | None) -> tuple[bool, bool]:
+    """(drawn in a window, animated into a GIF) for ``show --out out``; else a PNG."""
+    return out is None and bool(os.environ.get("DISPLAY")), out is not None and Path(out).suffix.lower() == ".gif"
+
+
+def early_drawer(argv: list[str]):
+    """The rendering process of ``show`` writing a PNG, started from the command line as typed, before the parser
+    loads the library (~0.6 s of one core on the 2-core machine, which the second process' own loading of VTK then
+    shares; ``_show`` takes it from ``args.early_drawer``); None for any other command, a window, a GIF or help. A
+    command line that then fails to parse only stops it."""
+    words = [w for w in argv if w not in ("-v", "--verbose")]
+    if not words or words[0] != "show" or "-h" in words or "--help" in words:
+        return None
+    out = next((w.split("=", 1)[1] for w in words if w.startswith("--out=")), None)
+    if "--out" in words and words.index("--out") + 1 < len(words):
+        out = words[words.index("--out") + 1]
+    return None if any(_window_or_gif(out)) else _drawer()
 
 
 def _drawer():

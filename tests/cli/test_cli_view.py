@@ -80,3 +80,20 @@ def test_an_out_file_that_cannot_be_created_is_refused_before_the_solve(tmp_path
     assert main(["show", str(scene), "--out", "/proc/modalfe-show.png"]) == 2
     assert capsys.readouterr().err.strip().startswith("modalfe: error: --out: '/proc/modalfe-show.png' cannot be "
                                                       "written")
+
+
+def test_the_rendering_process_starts_with_the_command_only_for_a_png(monkeypatch):
+    """`show` writing a PNG starts its drawing process from the command line as typed, before the parser loads the
+    library; any other command, a GIF, a window or help starts none (``early_drawer``)."""
+    from modalfe.cli import view
+
+    monkeypatch.setattr(view, "_drawer", lambda: "drawer")
+    monkeypatch.delenv("DISPLAY", raising=False)
+    for argv in (["show", "cube_plate"], ["-v", "show", "x.toml", "--out", "m.png"], ["show", "--out=m.PNG", "x"]):
+        assert view.early_drawer(argv) == "drawer", argv
+    for argv in (["modes", "show"], ["show", "x", "--out", "m.gif"], ["show", "--out=m.GIF", "x"], ["show", "-h"],
+                 ["show", "x", "--help"], [], ["export", "x", "--out", "m.png"]):
+        assert view.early_drawer(argv) is None, argv
+    monkeypatch.setenv("DISPLAY", ":0")
+    assert view.early_drawer(["show", "x"]) is None  # a window: drawn in this process
+    assert view.early_drawer(["show", "x", "--out", "m.png"]) == "drawer"

@@ -18,6 +18,12 @@ bound, and the largest of the bounds of the windows tried (what ``finger_steady_
 
     python studies/finger_uncertainty.py batches --amplitude 3.2e-6 --periods 100000
     python studies/finger_uncertainty.py batches --amplitude 5e-6 --periods 300000
+
+``foot``: the same question for seed 000's foot at its rattling stress case (kn 1e9 N/m, W 10 nm, Fn 1 N, the
+open point of docs/contact.md): 16 time averages after marches of 400, 405, ... 475 periods from rest (the
+foot has no start state to continue from), their scatter against the RMS stated uncertainty of <Rt>.
+
+    python studies/finger_uncertainty.py foot
 """
 
 from __future__ import annotations
@@ -28,17 +34,7 @@ import time
 
 import numpy as np
 
-from modalfe.contact.finger import (
-    AVERAGE_TOL,
-    BATCH_DECAY_TIMES,
-    BATCHES,
-    MAX_AVERAGE_PERIODS,
-    FingerParameters,
-    _FingerDynamics,
-    _sums,
-    advance,
-    finger_steady_state,
-)
+from modalfe.contact.finger import FingerParameters, _FingerDynamics, _sums, advance, finger_steady_state
 from modalfe.contact.kernel import batch_ratio, touchdown_times
 
 
@@ -94,6 +90,8 @@ def sequence(num: np.ndarray, den: np.ndarray, first: int) -> tuple[float, float
     """The run cut into consecutive averages as ``finger_steady_state`` cuts them (windows doubling from ``first``
     periods while their bound exceeds AVERAGE_TOL): RMS stated / std of the averages, stating the stopping window's
     bound, then the largest of the tried windows' bounds scaled to the window; and the number of averages."""
+    from modalfe.contact.finger import AVERAGE_TOL, BATCHES, MAX_AVERAGE_PERIODS  # (here: coverage runs on older trees)
+
     pos, ratios, own, largest = 0, [], [], []
     while True:
         window, tried = first, []
@@ -114,15 +112,34 @@ def sequence(num: np.ndarray, den: np.ndarray, first: int) -> tuple[float, float
             len(ratios))
 
 
+def foot_coverage(repeats: int) -> dict:
+    """The rattling foot's time averages after marches of 400 + 5 i periods (i < repeats): mean <Rt> [N], their
+    std, the RMS stated uncertainty [N] and the windows' lengths [periods]."""
+    from modalfe.contact.foot import FootParameters, steady_state
+
+    params = FootParameters().with_(kn=1e9)
+    orbits = [steady_state(1e-8, preload=1.0, parameters=params, march_periods=400 + 5 * i) for i in range(repeats)]
+    r = np.array([o.friction_mean for o in orbits])
+    u = np.array([o.friction_uncertainty * o.friction_mean for o in orbits])
+    return {"mean": r.mean(), "observed": r.std(ddof=1), "stated": math.sqrt(np.mean(u ** 2)),
+            "periods": sorted(o.periods for o in orbits)}
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("what", choices=("coverage", "batches"))
+    parser.add_argument("what", choices=("coverage", "batches", "foot"))
     parser.add_argument("--frequency", type=float, default=66e3)
     parser.add_argument("--amplitude", default="0.8e-6,1.2e-6,1.6e-6,2.4e-6,3.2e-6,5e-6", help="um pp list [m]")
     parser.add_argument("--repeats", type=int, default=16, help="coverage: chained averages per amplitude")
     parser.add_argument("--periods", type=int, default=100000, help="batches: length of the long run")
     args = parser.parse_args(argv)
     amplitudes = [float(a) for a in args.amplitude.split(",")]
+    if args.what == "foot":
+        c = foot_coverage(args.repeats)
+        print(f"rattling foot (kn 1e9 N/m, 10 nm, 1 N), {args.repeats} averages: <Rt> {c['mean']:.4g} N, observed std "
+              f"{c['observed']:.3g} N, stated {c['stated']:.3g} N, stated/observed {c['stated'] / c['observed']:.2f}; "
+              f"windows {c['periods']} periods")
+        return 0
     if args.what == "coverage":
         print(f"{args.frequency / 1e3:g} kHz, {args.repeats} chained averages per amplitude")
         print(f"{'A [um pp]':>9} {'method':>8} {'mu_US/mu':>9} {'observed':>9} {'stated':>9} {'stated/obs':>10} "
@@ -133,6 +150,8 @@ def main(argv: list[str] | None = None) -> int:
             print(f"{a * 1e6:9.2f} {c['method']:>8} {c['mean']:9.4f} {c['observed']:9.2e} {c['stated']:9.2e} "
                   f"{ratio:10.2f} {c['periods']:8.0f} {c['seconds']:6.2f}")
         return 0
+    from modalfe.contact.finger import BATCH_DECAY_TIMES, BATCHES
+
     for a in amplitudes:
         num, den = period_sums(a, args.frequency, args.periods)
         shapes = [(10, 15)] + [(BATCHES, n) for n in (71, 142, 284, 568)]  # the former estimate's, then ours

@@ -155,7 +155,7 @@ def test_friction_at_zero_speed_prints_no_negative_zero_and_a_reduction_in_range
 
 def test_finger_table_and_json_state_each_points_method(capsys):
     # Every point says how it was obtained: "periodic kT" (a stable orbit of period k T) or
-    # "average +- u" (a time average and its standard error), in the table and in the JSON.
+    # "average +- u" (a time average and its uncertainty), in the table and in the JSON.
     assert run(["finger", "--frequency", "66e3", "--amplitude", "0.5e-6,0.75e-6,1.2e-6"]) == 0
     out = capsys.readouterr().out
     assert "periodic 1T" in out and "periodic 2T" in out and "average +- " in out

@@ -172,9 +172,9 @@ def finger_steady_state(amplitude_pp: float, frequency: float, *, parameters: Fi
     start : a state to march from before the search for k >= 2 and a time average (default: the
     period-1 orbit, disturbed along its unstable direction); march_periods : the march's length
     (default MARCH_PERIODS, or WARM_MARCH_PERIODS from a ``start``); max_period : N, orbits of period k T,
-    k = 1..N are sought (``kernel.find_orbit``); average_tol : target standard error of a time
-    average's mu_US / mu (the window doubles from BATCHES batches of BATCH_DECAY_TIMES decay times up to
-    MAX_AVERAGE_PERIODS).
+    k = 1..N are sought (``kernel.find_orbit``); average_tol : target of a time average's uncertainty
+    of mu_US / mu (the window doubles from BATCHES batches of BATCH_DECAY_TIMES decay times up to
+    MAX_AVERAGE_PERIODS while its own bound exceeds it; the stated uncertainty: see BATCHES).
     """
     p = parameters if parameters is not None else FingerParameters()
     A = require("amplitude", amplitude_pp, nonnegative=True)
@@ -206,7 +206,9 @@ def finger_steady_state(amplitude_pp: float, frequency: float, *, parameters: Fi
         span = k * T
         ratio, uncertainty, periods = float(t_int.sum() / (p.mu * n_int.sum())), 0.0, k
     else:
-        window, pieces, end = BATCHES * math.ceil(BATCH_DECAY_TIMES * dyn.slowest_decay_time * f), [], 0.0
+        # batches of BATCH_DECAY_TIMES decay times (a lightly damped finger's capped: the window's limit in one)
+        batch = math.ceil(min(BATCH_DECAY_TIMES * dyn.slowest_decay_time * f, MAX_AVERAGE_PERIODS / BATCHES))
+        window, pieces, end = BATCHES * batch, [], 0.0
         tried = []  # (bound, window) of each shorter window: its bound exceeded the target
         while True:
             more, x, _ = advance(dyn, end, window * T, x, sensitivity=False)

@@ -11,10 +11,11 @@ the stated uncertainty covers the repeated averages.  Periodic points state 0 an
 ``batches``: one long run (``--periods``, after the steady state's own window), cut into consecutive windows of
 B batches of L periods; per (B, L) the plain batch-means standard error (RMS over the windows) against the std of
 the windows' averages: how far short the estimate falls for lack of long batches, before the confidence factor
-of ``kernel.batch_ratio``.  Then the same run cut into a sequence of averages as ``finger_steady_state`` cuts
-them (the window doubling from ``BATCHES`` batches of ``BATCH_DECAY_TIMES`` decay times while its bound exceeds
-``AVERAGE_TOL``): the RMS stated uncertainty over the std of the averages, stating the stopping window's own
-bound, and the largest of the bounds of the windows tried (what ``finger_steady_state`` states).
+of ``kernel.batch_ratio``; the autocorrelation of the per-period friction.  Then the same run cut into a
+sequence of averages as ``finger_steady_state`` cuts them (the window doubling from ``BATCHES`` batches of
+``BATCH_DECAY_TIMES`` decay times while its bound exceeds ``AVERAGE_TOL``): the RMS stated uncertainty over the
+std of the averages, stating the stopping window's own bound, and the largest of the bounds of the windows tried
+(what ``finger_steady_state`` states).
 
     python studies/finger_uncertainty.py batches --amplitude 3.2e-6 --periods 100000
     python studies/finger_uncertainty.py batches --amplitude 5e-6 --periods 300000
@@ -161,6 +162,11 @@ def main(argv: list[str] | None = None) -> int:
               + ", ".join(f"{b}x{ln}: {r:.2f} ({m})" for b, ln, r, m in cells))
         dyn = _FingerDynamics(FingerParameters(), 2 * math.pi * args.frequency, a / 2)
         first = BATCHES * math.ceil(BATCH_DECAY_TIMES * dyn.slowest_decay_time * args.frequency)
+        ratio = num.sum() / den.sum()
+        z = (num - ratio * den) / den.mean()  # per period, linearized: the deviation of the ratio it carries
+        z -= z.mean()
+        print("  autocorrelation at lags 1, 2, 5, 10, 20, 50 periods: "
+              + ", ".join(f"{z[:-k] @ z[k:] / (len(z) - k) / z.var():.3f}" for k in (1, 2, 5, 10, 20, 50)))
         own, largest, m = sequence(num, den, first)
         print(f"  {m} averages as finger_steady_state cuts them: stated / scatter {own:.2f} (the stopping window's "
               f"bound), {largest:.2f} (the largest of the windows tried)")

@@ -7,7 +7,7 @@ independent brute-force integration of tests/oracles/contact_brute_force.py (sol
 rtol 1e-10, events), started from rest.
 
 Run:  python studies/finger_amplitude_ratio.py [--quick] [--verify] [--out studies/out/finger_amplitude_ratio.png]
-The full run solves 61 + 61 amplitudes (66 kHz: 0-8 um pp, 225 kHz: 0-0.9 um pp) in about 10 s;
+The full run solves 61 + 61 amplitudes (66 kHz: 0-8 um pp, 225 kHz: 0-0.9 um pp) in about 50 s;
 --verify adds about 3 minutes of brute force.
 """
 

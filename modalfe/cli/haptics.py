@@ -131,7 +131,8 @@ def _print(scene, chain, outcomes, needed, hmap, required, written) -> None:
         print(f"  {o.voltage:7.2f} {1e6 * o.amplitude:8.4f} {100 * o.reduction:14.2f} "
               f"{100 * lo:7.2f}-{100 * hi:<7.2f} {100 * o.contact_uncertainty:9.2f} {o.flight_ratio:10.2f} "
               f"{1e3 * o.current:8.4g} {stated(o.current_error):>8} {1e3 * o.power:8.4g} {stated(o.power_error):>8}")
-    print("  [range: the reduction at the amplitude -+ its stated error; +-contact: standard error of a time average]")
+    print("  [range: the reduction at the amplitude -+ its stated error; +-contact: uncertainty of a time average "
+          "(95 % bound)]")
     if needed is not None:
         print(f"  voltage for a {100 * needed.reduction:g} % reduction: {needed.voltage:.3f} V "
               f"[{stated(needed.voltage_error)}] (W = {1e6 * needed.amplitude:.4f} um 0-peak)")

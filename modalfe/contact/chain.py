@@ -51,8 +51,8 @@ SEARCH_RTOL = 1e-4  # relative tolerance of the amplitude found (brentq); far be
 @dataclass(frozen=True)
 class ContactState:
     """The contact model's answer at one amplitude: amplitude W [m, 0-peak]; reduction 1 - F / F0 (the friction
-    removed by the vibration); flight_ratio [%] (time off the surface per period); uncertainty: standard error of
-    the reduction (a time average; 0 on a periodic orbit)."""
+    removed by the vibration); flight_ratio [%] (time off the surface per period); uncertainty: upper 95 % bound on
+    the standard error of the reduction (a time average; 0 on a periodic orbit)."""
 
     amplitude: float
     reduction: float
@@ -148,10 +148,10 @@ class Outcome:
 
     voltage [V]; output: where the contact sits; amplitude W there [m, 0-peak]; amplitude_error: its stated
     relative error (NaN: none stated); reduction: 1 - F / F0 at W; reduction_range: its extremes at W,
-    W (1 - amplitude_error) (not below 0) and W (1 + amplitude_error); contact_uncertainty: standard error of the
-    reduction from a time-averaged contact state; flight_ratio [%]; current: amplitude of the drive current [A];
-    power: mean electrical power drawn [W]; rise_time: the amplitude's time constant Q / (pi f) [s]; *_error: stated
-    relative errors (NaN: none).
+    W (1 - amplitude_error) (not below 0) and W (1 + amplitude_error); contact_uncertainty: upper 95 % bound on the
+    standard error of the reduction from a time-averaged contact state; flight_ratio [%]; current: amplitude of the
+    drive current [A]; power: mean electrical power drawn [W]; rise_time: the amplitude's time constant
+    Q / (pi f) [s]; *_error: stated relative errors (NaN: none).
     """
 
     voltage: float

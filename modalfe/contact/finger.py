@@ -25,10 +25,11 @@ duration: a tangency of ``f_Nsc`` with zero is no flight and restarts nothing.
 Steady state, by ``kernel.find_orbit``: periodic orbits of period k T (k = 1..``max_period``) found
 directly by shooting on k T with the exact monodromy, accepted only when stable (every Floquet
 multiplier inside the unit circle); only when there is none the result is a time average, with its
-standard error by batch means.  Each result says which: ``FingerOrbit.method`` is ``"periodic kT"`` or
-``"average +- u"``.  At 66 kHz the finger is on a period-1 orbit up to ~0.66 um pp, on a period-2 orbit
-from there to ~0.79 um pp (the period-1 orbit loses stability through a multiplier -1), and above
-that it bounces irregularly (no stable orbit up to 8 T; a 1500-period march shows no recurrence).
+stated uncertainty (an upper 95 % bound on its standard error, by batch means).  Each result says which:
+``FingerOrbit.method`` is ``"periodic kT"`` or ``"average +- u"``.  At 66 kHz the finger is on a period-1
+orbit up to ~0.66 um pp, on a period-2 orbit from there to ~0.79 um pp (the period-1 orbit loses stability
+through a multiplier -1), and above that it bounces irregularly (no stable orbit up to 8 T; a 1500-period march
+shows no recurrence).
 Every integral is in closed form (``finger_model.ExpSum``).
 """
 
@@ -70,13 +71,23 @@ MAX_PERIOD = 8  # longest periodic orbit sought, in drive periods
 # or from the period-1 orbit (a cold start), or from a neighbouring amplitude's attractor (warm).
 MARCH_PERIODS = 300
 WARM_MARCH_PERIODS = 20  # from a neighbouring attractor: a short run-in (the st layer decays by e^-1.7)
-AVERAGE_PERIODS = 150  # first window of a time average [periods]
-MAX_AVERAGE_PERIODS = 8000  # the window doubles up to this while the standard error exceeds the target
-# Target standard error of mu_US / mu for a time average (the window doubles while it is above).
-# At 66 kHz, 1.6 um pp, twelve successive 150-period averages spread by 1.8e-3 (std) and stated
-# 2.3e-3 on average (250 periods: 1.6e-3 and 1.7e-3): the stated error is honest, if anything high.
+MAX_AVERAGE_PERIODS = 8000  # the window doubles up to this while the stated uncertainty exceeds the target
+# Target of the stated uncertainty of mu_US / mu for a time average (the window doubles while it is above).
 AVERAGE_TOL = 4e-3
-BATCHES = 10
+# A time average's uncertainty is by batch means (``kernel.batch_ratio``: an upper 95 % bound on the standard
+# error) over BATCHES batches, each at least BATCH_DECAY_TIMES of the finger's slowest decay time in contact
+# (``slowest_decay_time``: 23 periods at 66 kHz; e^-3 of a deviation is left after a batch), so the first window
+# is 8 x 71 = 568 periods at 66 kHz.  With 150-period windows of 10 batches (15 periods each) the plain standard
+# error was 0.66 and 0.64 of the scatter between averages at 3.2 and 5 um pp; with batches of 71-568 periods
+# 0.86-0.99 (studies/finger_uncertainty.py batches).
+BATCHES = 8
+BATCH_DECAY_TIMES = 3
+# A window that stops doubling once its own bound is below the target stops more often where that
+# bound is low by chance, so the stated uncertainty is the largest of its bound and those of the shorter windows
+# tried, each scaled to the window (x sqrt(its length / the window's), the standard error of an average falling
+# as the root of its length); it can exceed the target by up to sqrt(2).  In sequences of averages cut from
+# 100 000- and 300 000-period runs at 66 kHz the window's own bound was 1.24 (3.2 um pp) and 1.08 (5 um pp) times
+# the scatter between averages, the largest one 1.52 and 1.42 (studies/finger_uncertainty.py batches).
 
 
 @dataclass(frozen=True, eq=False)
@@ -86,7 +97,8 @@ class FingerOrbit:
     amplitude_pp : peak-to-peak plate amplitude [m]; frequency [Hz];
     friction_ratio : mu_US / mu = <f_Tsc> / (mu <f_Nsc>), which is <f_Tsc> / (mu f_p) on a periodic orbit
     (momentum balance, <f_Nsc> = f_p) and its lower-variance estimate over a time average;
-    uncertainty : standard error of friction_ratio (batch means over the time average; 0 on an orbit);
+    uncertainty : an upper 95 % bound on the standard error of friction_ratio (batch means over the time average,
+    ``kernel.batch_ratio``; 0 on an orbit);
     normal_mean : <f_Nsc> [N]; contact_ratio : time in contact [%]; contacts_per_period : landings
     per drive period; periodic : a stable periodic orbit of ``periods`` drive periods (its minimal
     period k), else a time average over ``periods`` periods; state : the state at t = 0 on the orbit
@@ -160,8 +172,9 @@ def finger_steady_state(amplitude_pp: float, frequency: float, *, parameters: Fi
     start : a state to march from before the search for k >= 2 and a time average (default: the
     period-1 orbit, disturbed along its unstable direction); march_periods : the march's length
     (default MARCH_PERIODS, or WARM_MARCH_PERIODS from a ``start``); max_period : N, orbits of period k T,
-    k = 1..N are sought (``kernel.find_orbit``); average_tol : target standard error of a time
-    average's mu_US / mu (the window doubles from AVERAGE_PERIODS up to MAX_AVERAGE_PERIODS).
+    k = 1..N are sought (``kernel.find_orbit``); average_tol : target of a time average's uncertainty
+    of mu_US / mu (the window doubles from BATCHES batches of BATCH_DECAY_TIMES decay times up to
+    MAX_AVERAGE_PERIODS while its own bound exceeds it; the stated uncertainty: see BATCHES).
     """
     p = parameters if parameters is not None else FingerParameters()
     A = require("amplitude", amplitude_pp, nonnegative=True)
@@ -193,7 +206,10 @@ def finger_steady_state(amplitude_pp: float, frequency: float, *, parameters: Fi
         span = k * T
         ratio, uncertainty, periods = float(t_int.sum() / (p.mu * n_int.sum())), 0.0, k
     else:
-        window, pieces, end = AVERAGE_PERIODS, [], 0.0
+        # batches of BATCH_DECAY_TIMES decay times (a lightly damped finger's capped: the window's limit in one)
+        batch = math.ceil(min(BATCH_DECAY_TIMES * dyn.slowest_decay_time * f, MAX_AVERAGE_PERIODS / BATCHES))
+        window, pieces, end = BATCHES * batch, [], 0.0
+        tried = []  # (bound, window) of each shorter window: its bound exceeded the target
         while True:
             more, x, _ = advance(dyn, end, window * T, x, sensitivity=False)
             pieces += more
@@ -205,14 +221,16 @@ def finger_steady_state(amplitude_pp: float, frequency: float, *, parameters: Fi
             used = pieces[first:]
             tcs = touchdown_times(used, first=used[0].t0)
             n_int, t_int, c_time = _sums(dyn, used, tcs)
-            ratio, uncertainty = batch_ratio(t_int / p.mu, n_int, BATCHES)
-            if uncertainty <= average_tol or window >= MAX_AVERAGE_PERIODS:
+            ratio, bound = batch_ratio(t_int / p.mu, n_int, BATCHES)
+            if bound <= average_tol or window >= MAX_AVERAGE_PERIODS:
                 break
+            tried.append((bound, window))
             window *= 2
         pieces, span = used, end - used[0].t0
         periods = round(span * f)
-        if uncertainty > average_tol:
-            log.warning("finger: time average over %d periods at %g m pp, %g Hz has a standard error %.2g",
+        uncertainty = max([bound] + [b * math.sqrt(w / window) for b, w in tried])  # see BATCHES
+        if bound > average_tol:
+            log.warning("finger: time average over %d periods at %g m pp, %g Hz has an uncertainty %.2g",
                         periods, A, f, uncertainty)
     landings = sum(1 for q, tc in zip(pieces, tcs) if q.contact and tc == q.t0)
     if n_int.sum() <= 0:

@@ -262,6 +262,12 @@ class _FingerDynamics:
         """K_sc / D_sc [1/s]: relaxation of the unloaded stratum corneum (Kelvin-Voigt reading)."""
         return self.p.K_sc / self.d_sc if self.kelvin_voigt else math.inf
 
+    @cached_property
+    def slowest_decay_time(self) -> float:
+        """1 / min |Re lambda| over the contact phase's modes [s]: the memory of the finger on the plate (the
+        subcutaneous layer, 0.35 ms with Table I's values)."""
+        return 1 / float(np.min(np.abs(self.contact.eigenvalues.real)))
+
     @property
     def q_rest(self) -> float:
         """Compression of the stratum corneum at rest under f_p [m]."""

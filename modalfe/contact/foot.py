@@ -92,7 +92,8 @@ class ContactOrbit:
     periodic : True for an exact periodic orbit (shooting) of ``periods`` drive periods (1, or k for a
     subharmonic orbit), False for a time average over ``periods`` periods; residual : scaled shooting
     residual (NaN for a time average).  ``balance_error`` states how far a time average is from converged, and
-    ``friction_uncertainty`` the relative standard error of its <Rt> (batch means; 0 on an orbit).
+    ``friction_uncertainty`` the relative uncertainty of its <Rt> (batch means, an upper 95 % bound on the
+    standard error; 0 on an orbit).
     """
 
     amplitude: float
@@ -272,7 +273,7 @@ def steady_state(amplitude: float, *, preload: float = FN, speed: float = SPEED,
     uncertainty = 0.0 if periods else _batch_uncertainty(dyn, p, V, pieces, tcs)
     if not periods and max(balance, uncertainty) > BALANCE_TOL:
         log.warning("time average over %d periods: momentum balance off by %.2g, <Rt> uncertain by %.2g "
-                    "(standard error of %d batch means)", window, balance, uncertainty, BATCHES)
+                    "(upper 95 %% bound on its standard error, %d batch means)", window, balance, uncertainty, BATCHES)
     return _orbit(dyn, p, W, Fn, V, pieces, tcs, periods=periods, residual=residual, uncertainty=uncertainty)
 
 
@@ -375,8 +376,8 @@ def _orbit(dyn: _Dynamics, p: FootParameters, W: float, Fn: float, V: float, pie
 
 def _batch_uncertainty(dyn: _Dynamics, p: FootParameters, speed: float, pieces: Sequence[_Piece],
                        tcs: Sequence[float | None]) -> float:
-    """Relative standard error of a time average of Rt by batch means: the window cut into BATCHES
-    consecutive stretches of pieces (``kernel.batch_ratio``)."""
+    """Relative uncertainty of a time average of Rt by batch means (an upper 95 % bound on its standard error):
+    the window cut into BATCHES consecutive stretches of pieces (``kernel.batch_ratio``)."""
     starts = np.array([q.t0 for q in pieces])
     bounds = np.searchsorted(starts, np.linspace(starts[0], pieces[-1].t1, BATCHES + 1)[1:-1])
     sums, spans = [], []

@@ -155,7 +155,7 @@ def test_friction_at_zero_speed_prints_no_negative_zero_and_a_reduction_in_range
 
 def test_finger_table_and_json_state_each_points_method(capsys):
     # Every point says how it was obtained: "periodic kT" (a stable orbit of period k T) or
-    # "average +- u" (a time average and its standard error), in the table and in the JSON.
+    # "average +- u" (a time average and its uncertainty), in the table and in the JSON.
     assert run(["finger", "--frequency", "66e3", "--amplitude", "0.5e-6,0.75e-6,1.2e-6"]) == 0
     out = capsys.readouterr().out
     assert "periodic 1T" in out and "periodic 2T" in out and "average +- " in out
@@ -167,8 +167,8 @@ def test_finger_table_and_json_state_each_points_method(capsys):
 
 def test_default_finger_curves_are_fast():
     # issue 19 item 3: the default `modalfe finger` took ~51 s (66 kHz points 1-2.5 s each).  Its two
-    # default curves now take ~2.1 s of CPU here (the whole command < 3 s with start-up, farm-bench);
-    # the bound is twice that, for a loaded machine, and still 10x below the old time.
+    # default curves now take ~3.4 s of CPU here (1.3-2.1 s before issue 35's honest uncertainty: 568-period
+    # windows instead of 150); the bound is twice that, for a loaded machine, and still 7x below the old time.
     import time
 
     from modalfe.contact.finger import FREQUENCIES, simulate_finger
@@ -178,5 +178,5 @@ def test_default_finger_curves_are_fast():
     args = parser.parse_args(["finger"])
     start = time.process_time()
     curves = [simulate_finger(a, f) for f, a in zip(FREQUENCIES, cli_contact._finger_amplitudes(args, FREQUENCIES))]
-    assert time.process_time() - start < 4.5
+    assert time.process_time() - start < 7.0
     assert all(len(c.amplitude_pp) == 25 for c in curves)

@@ -150,9 +150,11 @@ def test_period_two_orbit_at_0p75_um_is_found_and_stable():
 
 def test_chaotic_point_is_a_time_average_with_a_stated_uncertainty():
     # 66 kHz, 1.6 um pp: no stable orbit of period up to 8T (the unstable ones found are listed);
-    # the answer is a time average whose standard error (batch means) is stated and below the
-    # target; a second, independent average (continued from the first) agrees within 4.02 combined
-    # standard errors: 99.7 % for batch means of 10 batches (Student's t, 9 degrees of freedom).
+    # the answer is a time average whose uncertainty (batch means) is stated and below the target; a
+    # second, independent average (continued from the first) agrees within 4.02 combined stated
+    # uncertainties.  Each is 1.80 plain batch-means standard errors (an upper 95 % bound on the standard
+    # error, 8 batches; kernel.batch_ratio), so that is 7.2 plain ones: beyond Student's t 99.85 % quantile
+    # for 7 degrees of freedom (4.44).
     first = finger_steady_state(1.6e-6, 66e3)
     assert not first.periodic and first.method.startswith("average +- ")
     assert 0 < first.uncertainty <= 3e-3 and first.unstable
@@ -302,8 +304,9 @@ def test_periodic_points_match_brute_force_from_rest(amplitude, frequency, perio
 @pytest.mark.slow
 def test_chaotic_point_matches_a_long_brute_force_average():
     # 66 kHz, 1.6 um pp: 2000 periods of the reference against modalfe's average; both are time
-    # averages of a chaotic motion (batch means, 10 batches each), so they must agree within 4.02
-    # combined standard errors (99.7 %, Student's t with 9 degrees of freedom).
+    # averages of a chaotic motion (batch means: the reference's plain standard error of 10 batches,
+    # modalfe's upper 95 % bound of 8), so they must agree within 4.02 combined uncertainties (99.7 %,
+    # Student's t with 9 degrees of freedom, for plain standard errors; modalfe's is larger).
     orbit = finger_steady_state(1.6e-6, 66e3)
     ref = brute_force_finger(1.6e-6, 66e3, periods=2200, skip=200)
     assert abs(ref.friction_ratio - orbit.friction_ratio) <= 4.02 * math.hypot(ref.uncertainty, orbit.uncertainty)

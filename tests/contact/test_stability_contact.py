@@ -34,10 +34,11 @@ def test_a_chaotic_time_average_states_an_uncertainty_that_covers_a_longer_avera
     long = steady_state(1e-8, preload=1.0, parameters=params, march_periods=1600)
     assert not short.periodic and short.balance_error <= BALANCE_TOL
     assert 0 < short.friction_uncertainty < 0.5
-    # the two averages must agree within their combined standard error at ~99.7 %: batch means of 8
-    # batches have 7 degrees of freedom, so the bound is Student's t quantile t(0.9985, 7) = 4.44, not
-    # the Gaussian 3 (Law and Kelton, sec. 9.5.3).  (Measured: 3.1 combined standard errors apart;
-    # a 6400-period average of this rattling foot scatters by ~30 % between windows.)
+    # the two averages must agree within their combined stated uncertainty at ~99.7 %: batch means of 8
+    # batches have 7 degrees of freedom, so the bound for plain standard errors is Student's t quantile
+    # t(0.9985, 7) = 4.44, not the Gaussian 3 (Law and Kelton, sec. 9.5.3); the stated ones are 1.80 times
+    # larger (an upper 95 % bound, kernel.batch_ratio).  (Measured with plain standard errors: 3.1 combined
+    # apart; a 6400-period average of this rattling foot scatters by ~30 % between windows.)
     combined = np.hypot(short.friction_uncertainty, long.friction_uncertainty) * long.friction_mean
     assert abs(short.friction_mean - long.friction_mean) <= 4.44 * combined
 

@@ -23,6 +23,11 @@ from pathlib import Path
 
 from modalfe.errors import ModalfeError
 
+# loaded while the solve runs too, not once the mode has come: the classes the mode unpickles into (its model and
+# scene: scipy.sparse and scikit-fem with them) and what drawing it imports (skfem's meshio reader of the mesh,
+# Pillow's PNG writer), 0.4 s of the glass plate's 1.0 s from the mode's arrival to its picture
+WARM_MODULES = ("modalfe.models.solid", "modalfe.results.modes", "modalfe.scene", "skfem.io.meshio", "PIL.Image")
+
 
 class RenderProcessError(ModalfeError):
     """The second process did not render the picture (its reason in the message)."""
@@ -66,12 +71,16 @@ class RenderProcess:
 def _serve() -> int:
     """The second process: imports and a first plotter now, then one mode read from stdin drawn; b"ok" or the
     traceback on stdout."""
+    import importlib
+
     import pyvista as pv
 
     from modalfe.plot.render import quiet_vtk, render_mode
 
     quiet_vtk()
     pv.Plotter(off_screen=True).close()  # the render window's first set-up, while the solve runs
+    for name in WARM_MODULES:
+        importlib.import_module(name)
     stdin = sys.stdin.buffer
     header = stdin.read(8)
     if len(header) < 8:  # the caller closed without a picture

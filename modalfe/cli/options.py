@@ -254,6 +254,17 @@ def parse_fraction(flag: str, text: str) -> float:
     return value
 
 
+def parse_positive(flag: str, name: str, text: str) -> float:
+    """``text`` as a positive finite number; SceneError naming ``flag`` and ``name`` otherwise."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise SceneError(f"{flag}: {name} must be a number, got '{text}'") from None
+    if not (math.isfinite(value) and value > 0):
+        raise SceneError(f"{flag}: {name} must be a positive finite number, got '{text}'")
+    return value
+
+
 def parse_outcome(flag: str, text: str, kinds: Mapping[str, tuple[str, ...]],
                   optional: Mapping[str, tuple[str, ...]] | None = None):
     """``KIND GIVEN=X ... [preload=N] [speed=M/S] [contact=foot|finger]`` -> (KIND, {GIVEN: X}, contact model),
@@ -287,16 +298,9 @@ def parse_outcome(flag: str, text: str, kinds: Mapping[str, tuple[str, ...]],
     numbers = {}
     for name in (*given, *(o for o in extras if o in fields)):
         text_value = fields.pop(name)
-        if name in ("reduction", "width"):
-            numbers[name] = parse_fraction(f"{flag} {name}", text_value)
-            continue
-        try:
-            value = float(text_value)
-        except ValueError:
-            raise SceneError(f"{flag}: {name} must be a number, got '{text_value}'") from None
-        if not (math.isfinite(value) and value > 0):
-            raise SceneError(f"{flag}: {name} must be a positive finite number, got '{text_value}'")
-        numbers[name] = value
+        fraction = name in ("reduction", "width")
+        numbers[name] = parse_fraction(f"{flag} {name}", text_value) if fraction else \
+            parse_positive(flag, name, text_value)
     contact = fields.pop("contact", "foot")
     if contact not in ("foot", "finger"):
         raise SceneError(f"{flag}: contact must be foot or finger, got '{contact}'")

@@ -1,7 +1,8 @@
 """``modalfe tune``: change scene parameters until modes sit on target frequencies (3-D solid), optionally
-maximizing k_eff or minimizing the voltage for a friction reduction (``--objective``), keeping a separation from
-neighbouring modes and the feet on the antinodes; from one start or several on the sweep's Dask cluster; the final
-design written as a scene file."""
+maximizing k_eff or an outcome (``--objective``: the voltage for a friction reduction, the reduction at a voltage,
+the share of the touch surface reaching a reduction), keeping a separation from neighbouring modes, modes above or
+below a frequency (``--mode-bound``) and the feet on the antinodes; from one start or several on the sweep's Dask
+cluster; the final design written as a scene file."""
 
 from __future__ import annotations
 
@@ -18,6 +19,7 @@ from modalfe.cli.options import (
     parse_names,
     parse_outcome,
     parse_overrides,
+    parse_positive,
     parse_target,
     positive_int,
     scene_options,
@@ -230,13 +232,9 @@ def parse_mode_bound(text: str):
         raise SceneError(f"--mode-bound: {form}, got '{text}'")
     label, _, value = text.partition(op)
     check_selector(label, "--mode-bound")
-    try:
-        hz = float(value)
-    except ValueError:
-        raise SceneError(f"--mode-bound: '{text}' has no frequency after {op}; {form}") from None
-    if not (math.isfinite(hz) and hz > 0):
-        raise SceneError(f"--mode-bound: the frequency must be positive, got '{value.strip()}' in '{text}'")
-    return FrequencyBound(label.strip(), hz, op == ">=")
+    if not value.strip():
+        raise SceneError(f"--mode-bound: '{text}' has no frequency after {op}; {form}")
+    return FrequencyBound(label.strip(), parse_positive("--mode-bound", "the frequency", value.strip()), op == ">=")
 
 
 def _bound_line(bound, frequency: float, error: float) -> str:

@@ -87,9 +87,11 @@ OUTCOME_OBJECTIVES = (LeastVoltage, ReductionAt, LargestArea)
 
 @dataclass(frozen=True)
 class OutcomeAt:
-    """An outcome objective at one design: volts [V] (asked by ``LeastVoltage``, given by ``ReductionAt``), the
-    amplitude per volt A [m/V, 0-peak] at ``output``, the reduction reached at that voltage, the merit maximized
-    (-ln V or R), its gradient d merit / d ln p on the parameters, and every mode's ``Sensitivities``."""
+    """An outcome objective at one design: volts [V] (asked by ``LeastVoltage``, given by ``ReductionAt`` and
+    ``LargestArea``), the amplitude per volt A [m/V, 0-peak] at ``output`` (``LargestArea``: the touch point that
+    moves most), the reduction reached at that voltage (``LargestArea``: its area-weighted mean over the touch
+    surface), the merit maximized (-ln V, R or the smoothed share), its gradient d merit / d ln p on the parameters,
+    and every mode's ``Sensitivities``."""
 
     volts: float
     amplitude_per_volt: float

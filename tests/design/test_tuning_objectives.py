@@ -43,7 +43,7 @@ def _amplitudes(scene, names):
     """The amplitude per volt at the touch surface's points and its sensitivities (``_area_at``'s reading)."""
     modes = _modes(scene)
     mode = select(modes, LABEL, NEAR)
-    outputs, points, _, _ = touch_points(scene, AREA)
+    outputs, _, _, _ = touch_points(scene, AREA)
     damping, _ = mode_damping(mode, resolve_losses(scene))
     return amplitude_sensitivities(modes, names, mode=mode, outputs=outputs, damping=damping, material_points=True)
 
@@ -126,7 +126,8 @@ def test_without_the_bound_the_length_alone_breaks_it():
 @pytest.mark.parametrize("args, message", [
     (["--mode-bound", "foo>=20e3"], "--mode-bound: 'foo' is not a mode label"),
     (["--mode-bound", "(0,6)>="], "--mode-bound: '(0,6)>=' has no frequency"),
-    (["--mode-bound", "(0,6)>=-3"], "--mode-bound: the frequency must be positive"),
+    (["--mode-bound", "(0,6)>=abc"], "--mode-bound: the frequency must be a number"),
+    (["--mode-bound", "(0,6)>=-3"], "--mode-bound: the frequency must be a positive"),
     (["--mode-bound", "(0,6)=20e3"], "--mode-bound: expected"),
     (["--objective", "area reduction=0.2"], "--objective: give volts=V"),
     (["--objective", "area volts=20 reduction=0.2 width=2"], "--objective width: expected a fraction"),

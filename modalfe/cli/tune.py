@@ -239,14 +239,13 @@ def parse_mode_bound(text: str):
 
 def _bound_line(bound, frequency: float, error: float) -> str:
     """A mode bound at the final design: the frequency, its stated error and the bound with the error included."""
-    if math.isnan(error):
-        return (f"bound {bound.describe()}: {frequency:.2f} Hz, no stated error (not estimated: the bound is met by "
-                f"the frequency alone)")
-    edge = frequency * (1 - error) if bound.above else frequency * (1 + error)
-    met = edge >= bound.frequency if bound.above else edge <= bound.frequency
     sign = "-" if bound.above else "+"
-    return (f"bound {bound.describe()}: {frequency:.2f} Hz, stated error {100 * error:.3g} %, f (1 {sign} e) = "
-            f"{edge:.2f} Hz: {'met' if met else 'NOT met'}")
+    edge = frequency * (1 - error) if bound.above else frequency * (1 + error)
+    stated = f"stated error {100 * error:.3g} %, f (1 {sign} e) = {edge:.2f} Hz"
+    if math.isnan(error):
+        edge, stated = frequency, "no stated error (not estimated: the frequency alone is compared)"
+    met = edge >= bound.frequency if bound.above else edge <= bound.frequency
+    return f"bound {bound.describe()}: {frequency:.2f} Hz, {stated}: {'met' if met else 'NOT met'}"
 
 
 def _bound_json(bound, frequency: float, error: float) -> dict:

@@ -115,6 +115,25 @@ def test_a_mode_bound_is_held_on_its_limit():
     assert abs(final.values[D31] / d31 - 1) > 0.03  # d31 took over what the length could not do
 
 
+def test_cli_prints_the_bound_at_the_final_design(tmp_path, capsys):
+    """The bound run above from the command line: the bound mode's frequency at each iterate and the final line saying
+    the bound is met (the frequency alone: no error estimate), JSON giving the same."""
+    from modalfe.scene.writing import scene_to_toml
+
+    path = tmp_path / "bar.toml"
+    path.write_text(scene_to_toml(_bar()))
+    args = ["tune", str(path), "--vary", f"{LENGTH},{D31}", "--target", f"{LABEL}=36.2e3", "--mode-bound",
+            "torsion 2<=21.2e3", "--no-error-estimate"]
+    assert main(args) == 0
+    text = capsys.readouterr().out
+    assert "(torsion 2 <= 21200 Hz (stated error included)" in text and "  bound mode 21" in text
+    line = next(s for s in text.splitlines() if s.startswith("bound torsion 2 <= 21200 Hz: "))
+    assert line.endswith(": met") and "no stated error" in line
+    assert main([*args, "--json"]) == 0
+    bound = json.loads(capsys.readouterr().out)["mode_bounds"][0]
+    assert bound["label"] == "torsion 2" and not bound["above"] and bound["frequency_hz"] <= 21.2e3
+
+
 def test_without_the_bound_the_length_alone_breaks_it():
     """The same run with a bound the design meets anyway (torsion 2 >= 20 kHz, inactive): torsion 2 ends above 21.2
     kHz, so the bound of the run above is what held it there."""

@@ -350,6 +350,10 @@ def _descend(scene, *, targets, names, tol, bounds, maximize, separation, replac
         final = best if best is not None and not converged else kept
         if final is not kept:
             reason += "; the best design on the targets kept"
+        broken = [f"{b.describe()} at {f:.6g} Hz" for b, f, lim in zip(mode_bounds, final.iterate.bounded, final.bounds)
+                  if lim.sigma * (lim.d - lim.limit) < 0]
+        if broken and not converged:  # what the run could not do, beside why it stopped
+            reason += f"; mode bounds not met: {', '.join(broken)}"
         return TuningResult(targets, tol, tuple(iterates), converged, reason,
                             final.scene if ahead is None else ahead, final.iterate, maximize, mode_bounds)
 

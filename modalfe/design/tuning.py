@@ -46,7 +46,8 @@ Unknowns are x = ln |p| (a relative change of each parameter; signs are kept). A
   sigma (ln f - ln L + ln(1 - sigma e)) >= 0 (e taken as 0 where not estimated: the own mesh). The same linearised
   inequality rows and active set as the separation's (a row d + a s >= limit, here d = ln f, a = d ln f / d ln p);
   an active bound row is aimed ``BOUND_MARGIN`` inside its limit, so that a step's linearisation error leaves it
-  met. On the resolved stage the bound's row is steered by Broyden's update with the targets' rows.
+  met. On the resolved stage the bound's row is steered by Broyden's update with the targets' rows, and its mode is
+  resolved only to ``BOUND_ROOM`` of the room its limit leaves where that is looser than the targets' tol.
 * ``maximize=LargestArea(required, voltage, contact)``: the largest share of the touch surface reaching the
   reduction at the voltage, through its logistic smoothing and the amplitude sensitivities at the surface's points
   (``modalfe.design.outcome``), the same gradient projection; each iterate reports the true share.
@@ -98,6 +99,12 @@ RESOLVED_SHARE = 0.75
 # an active mode bound is aimed this share of tol inside its limit: a resolved step lands within 0.05 % of where it is
 # aimed (docs/tuning.md), a quarter of the default tol (0.125 %) leaves that room more than twice over
 BOUND_MARGIN = 0.25
+# a bound's mode is resolved on the second stage only to this share of the room its limit leaves (where looser than
+# the targets' tol): its stated error then takes at most half of that room, and a bound 14 % above its limit (the
+# Cu-Be plate's (2,3) and 20 kHz) is shown met by the ladder's first rung instead of the targets' 0.375 %
+# (stated 4.49 %; the run 54 s from an empty cache against 82 s, docs/tuning.md); capped at MAX_BOUND_TOL
+BOUND_ROOM = 0.5
+MAX_BOUND_TOL = 0.05
 
 
 @dataclass(frozen=True)
@@ -465,6 +472,15 @@ def _descend(scene, *, targets, names, tol, bounds, maximize, separation, replac
     return finish(False, f"not within tol after {max_iterations} evaluations")
 
 
+def _bound_question(resolved: Mapping, bound: FrequencyBound, near: float) -> dict:
+    """``resolved`` for a bound's mode sought near ``near`` [Hz]: resolved only to ``BOUND_ROOM`` of the room its
+    limit leaves (1 - L / f above, f / L - 1 below), when that is looser than the targets' tol; a bound close to its
+    limit (or broken) gets the targets' own."""
+    room = 1 - bound.frequency / near if bound.above else near / bound.frequency - 1
+    tol = resolved.get("tol", DEFAULT_TOL)
+    return {**resolved, "tol": max(tol, min(BOUND_ROOM * room, MAX_BOUND_TOL))}
+
+
 def _moved(point: _Point, taken: np.ndarray) -> list[float]:
     """Where the target modes and then the bound modes are sought after the step ``taken`` from ``point``: their
     frequencies moved along their rows."""
@@ -528,7 +544,8 @@ def _evaluate(scene, targets, names, near, maximize, separation, replace_feet, n
             else:
                 # the question ``modes`` and ``forced`` ask about that mode (the scene's count around it): the
                 # chain's verification of a ``LeastVoltage`` run reads this answer back instead of solving again
-                modes = solid_modes(scene, needs="tune", **working_question(scene, label, f), **resolved)
+                ask = resolved if i < len(targets) else _bound_question(resolved, mode_bounds[i - len(targets)], f)
+                modes = solid_modes(scene, needs="tune", **working_question(scene, label, f), **ask)
             open_modes = None
             if need_k and i == 0:
                 open_modes = open_circuit_modes(modes, near=f, count=TUNE_COUNT)

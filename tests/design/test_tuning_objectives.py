@@ -142,6 +142,21 @@ def test_without_the_bound_the_length_alone_breaks_it():
     assert result.converged and result.final.bounded[0] > 21.2e3
 
 
+def test_a_bound_mode_is_resolved_to_the_room_its_limit_leaves():
+    """The bound mode's resolved question: half the room its limit leaves, capped, never tighter than the targets'
+    (``_bound_question``; no solve)."""
+    from modalfe.design.tuning import BOUND_ROOM, MAX_BOUND_TOL, _bound_question
+
+    resolved = {"tol": 3.75e-3, "fidelity": "solid"}
+    above = FrequencyBound("(2,3)", 20e3)
+    assert _bound_question(resolved, above, 22.9e3) == {"tol": MAX_BOUND_TOL, "fidelity": "solid"}  # 12.7 % room
+    assert _bound_question(resolved, above, 20.4e3)["tol"] == pytest.approx(BOUND_ROOM * (1 - 20 / 20.4))
+    assert _bound_question(resolved, above, 20.05e3)["tol"] == 3.75e-3  # near its limit: the targets' own
+    assert _bound_question(resolved, above, 19e3)["tol"] == 3.75e-3  # broken
+    below = FrequencyBound("torsion 2", 21.2e3, above=False)
+    assert _bound_question(resolved, below, 20.8e3)["tol"] == pytest.approx(BOUND_ROOM * (21.2 / 20.8 - 1))
+
+
 @pytest.mark.parametrize("args, message", [
     (["--mode-bound", "foo>=20e3"], "--mode-bound: 'foo' is not a mode label"),
     (["--mode-bound", "(0,6)>="], "--mode-bound: '(0,6)>=' has no frequency"),

@@ -474,9 +474,9 @@ def _descend(scene, *, targets, names, tol, bounds, maximize, separation, replac
 
 def _bound_question(resolved: Mapping, bound: FrequencyBound, near: float) -> dict:
     """``resolved`` for a bound's mode sought near ``near`` [Hz]: resolved only to ``BOUND_ROOM`` of the room its
-    limit leaves (1 - L / f above, f / L - 1 below), when that is looser than the targets' tol; a bound close to its
-    limit (or broken) gets the targets' own."""
-    room = 1 - bound.frequency / near if bound.above else near / bound.frequency - 1
+    limit leaves (the largest stated error e that keeps it met: 1 - L / f above, L / f - 1 below), when that is looser
+    than the targets' tol; a bound close to its limit (or broken) gets the targets' own."""
+    room = 1 - bound.frequency / near if bound.above else bound.frequency / near - 1
     tol = resolved.get("tol", DEFAULT_TOL)
     return {**resolved, "tol": max(tol, min(BOUND_ROOM * room, MAX_BOUND_TOL))}
 

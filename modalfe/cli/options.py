@@ -254,52 +254,65 @@ def parse_fraction(flag: str, text: str) -> float:
     return value
 
 
-def parse_outcome(flag: str, text: str, kinds: Mapping[str, str]):
-    """``KIND GIVEN=X [preload=N] [speed=M/S] [contact=foot|finger]`` -> (KIND, X, contact model), ``kinds``: KIND ->
-    the name of its given number (``reduction``: a fraction or a percentage; ``volts``: a positive voltage); the
-    contact ``modalfe.contact.chain.FootContact`` (seed 000's, default) or ``FingerContact`` (seed 004's) at that
-    preload [N] and sliding speed [m/s]. SceneError naming ``flag`` otherwise (before any solve)."""
+def parse_positive(flag: str, name: str, text: str) -> float:
+    """``text`` as a positive finite number; SceneError naming ``flag`` and ``name`` otherwise."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise SceneError(f"{flag}: {name} must be a number, got '{text}'") from None
+    if not (math.isfinite(value) and value > 0):
+        raise SceneError(f"{flag}: {name} must be a positive finite number, got '{text}'")
+    return value
+
+
+def parse_outcome(flag: str, text: str, kinds: Mapping[str, tuple[str, ...]],
+                  optional: Mapping[str, tuple[str, ...]] | None = None):
+    """``KIND GIVEN=X ... [preload=N] [speed=M/S] [contact=foot|finger]`` -> (KIND, {GIVEN: X}, contact model),
+    ``kinds``: KIND -> the names of its given numbers (``reduction``: a fraction or a percentage; ``volts``: a
+    positive voltage), ``optional``: KIND -> other numbers it may be given (``width``: a fraction); the contact
+    ``modalfe.contact.chain.FootContact`` (seed 000's, default) or ``FingerContact`` (seed 004's) at that preload [N]
+    and sliding speed [m/s]. SceneError naming ``flag`` otherwise (before any solve)."""
     from modalfe.contact.chain import FingerContact, FootContact
     from modalfe.contact.finger import FingerParameters
     from modalfe.errors import ContactError
 
-    form = " or ".join(f'"{k} {g}={g[0].upper()}"' for k, g in kinds.items())
+    optional = optional or {}
+    form = " or ".join(f'"{k} ' + " ".join([f"{g}={g[0].upper()}" for g in given] + [
+        f"[{o}={o[0].upper()}]" for o in optional.get(k, ())]) + '"' for k, given in kinds.items())
     form += ", then [preload=N] [speed=M/S] [contact=foot|finger]"
     kind, *pairs = text.split() or [""]
     given = kinds.get(kind)
     if given is None:
         raise SceneError(f"{flag}: expected {form}, got '{text}'")
+    extras = optional.get(kind, ())
+    keys = (*given, *extras, "preload", "speed", "contact")
     fields = {}
     for pair in pairs:
         key, sep, value = pair.partition("=")
-        if not sep or key not in (given, "preload", "speed", "contact") or key in fields:
-            raise SceneError(f"{flag}: '{pair}' is not one of {given}=, preload=, speed=, contact= (each once); "
-                             f"expected {form}")
+        if not sep or key not in keys or key in fields:
+            raise SceneError(f"{flag}: '{pair}' is not one of {'=, '.join(keys)}= (each once); expected {form}")
         fields[key] = value
-    if given not in fields:
-        raise SceneError(f"{flag}: give {given}={given[0].upper()}; expected {form}")
-    text_value = fields.pop(given)
-    if given == "reduction":
-        value = parse_fraction(f"{flag} reduction", text_value)
-    else:
-        try:
-            value = float(text_value)
-        except ValueError:
-            raise SceneError(f"{flag}: {given} must be a number, got '{text_value}'") from None
-        if not (math.isfinite(value) and value > 0):
-            raise SceneError(f"{flag}: {given} must be a positive finite number, got '{text_value}'")
+    missing = [g for g in given if g not in fields]
+    if missing:
+        raise SceneError(f"{flag}: give {missing[0]}={missing[0][0].upper()}; expected {form}")
+    numbers = {}
+    for name in (*given, *(o for o in extras if o in fields)):
+        text_value = fields.pop(name)
+        fraction = name in ("reduction", "width")
+        numbers[name] = parse_fraction(f"{flag} {name}", text_value) if fraction else \
+            parse_positive(flag, name, text_value)
     contact = fields.pop("contact", "foot")
     if contact not in ("foot", "finger"):
         raise SceneError(f"{flag}: contact must be foot or finger, got '{contact}'")
     try:
-        numbers = {k: float(v) for k, v in fields.items()}
+        loads = {k: float(v) for k, v in fields.items()}
     except ValueError:
         raise SceneError(f"{flag}: preload and speed must be numbers, got '{text}'") from None
     try:
-        model = FootContact(**numbers) if contact == "foot" else FingerContact(FingerParameters().with_(**numbers))
+        model = FootContact(**loads) if contact == "foot" else FingerContact(FingerParameters().with_(**loads))
     except ContactError as exc:
         raise SceneError(f"{flag}: {exc}") from None
-    return kind, value, model
+    return kind, numbers, model
 
 
 def parse_bound(text: str) -> tuple[str, tuple[float, float]]:

@@ -41,7 +41,7 @@ def _sweep(args) -> int:
 
     params = parse_params(args.param)
     base = parse_overrides(args.set)
-    outcome = parse_outcome("--outcome", args.outcome, {"reduction": "volts"}) if args.outcome else None
+    outcome = parse_outcome("--outcome", args.outcome, {"reduction": ("volts",)}) if args.outcome else None
     scene = load_scene(args.scene, **base)
     selector, near = seek(scene, None if args.mode is None else check_selector(args.mode, "--mode"), args.near)
     if selector is None or near is None:
@@ -49,8 +49,8 @@ def _sweep(args) -> int:
     resolution = solve_keywords(args)
     extra = None
     if outcome is not None:
-        _, volts, contact = outcome
-        extra = OutcomeColumns(volts, contact, selector, near, tuple(sorted(resolution.items())))
+        _, given, contact = outcome
+        extra = OutcomeColumns(given["volts"], contact, selector, near, tuple(sorted(resolution.items())))
     rows = sweep(args.scene, params, out=args.out, selector=selector, near=near, base=base,
                  scheduler=args.scheduler, workers=args.workers, count=args.count,
                  progress=is_shown(), resolution=resolution, extra=extra)

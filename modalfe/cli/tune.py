@@ -1,7 +1,8 @@
 """``modalfe tune``: change scene parameters until modes sit on target frequencies (3-D solid), optionally
-maximizing k_eff or minimizing the voltage for a friction reduction (``--objective``), keeping a separation from
-neighbouring modes and the feet on the antinodes; from one start or several on the sweep's Dask cluster; the final
-design written as a scene file."""
+maximizing k_eff or an outcome (``--objective``: the voltage for a friction reduction, the reduction at a voltage,
+the share of the touch surface reaching a reduction), keeping a separation from neighbouring modes, modes above or
+below a frequency (``--mode-bound``) and the feet on the antinodes; from one start or several on the sweep's Dask
+cluster; the final design written as a scene file."""
 
 from __future__ import annotations
 
@@ -18,6 +19,7 @@ from modalfe.cli.options import (
     parse_names,
     parse_outcome,
     parse_overrides,
+    parse_positive,
     parse_target,
     positive_int,
     scene_options,
@@ -45,13 +47,18 @@ def register(sub) -> None:
                    help=f"relative distance to the targets, the resolved model's stated error included (default "
                         f"{DEFAULT_TOL:g}, as every command; the model is resolved to {RESOLVED_SHARE:g} of it)")
     p.add_argument("--maximize", choices=("k_eff",), help="maximize the first target mode's coupling k_eff")
-    p.add_argument("--objective", metavar='"volts-for reduction=R | reduction-at volts=V [preload=N] [speed=M/S] '
-                                          '[contact=foot|finger]"',
+    p.add_argument("--objective", metavar='"volts-for reduction=R | reduction-at volts=V | area reduction=R volts=V '
+                                          '[width=S] [preload=N] [speed=M/S] [contact=foot|finger]"',
                    help="volts-for: minimize the drive voltage at which the first target mode gives the friction "
                         "reduction R (fraction or %%) at the output that moves most; reduction-at: maximize the "
-                        "friction reduction there at the drive voltage V [V]; through the contact model (foot: seed "
-                        "000's, default; finger: seed 004's) at that preload [N] and sliding speed [m/s]; the final "
-                        "design's outcome is computed on the resolved model")
+                        "friction reduction there at the drive voltage V [V]; area: maximize the share of the touch "
+                        "surface (finger: the main part's top face; foot: the feet) reaching R at V, smoothed over S "
+                        "of reduction (default 0.02); through the contact model (foot: seed 000's, default; finger: "
+                        "seed 004's) at that preload [N] and sliding speed [m/s]; the final design's outcome is "
+                        "computed on the resolved model")
+    p.add_argument("--mode-bound", action="append", metavar='"LABEL>=HZ" | "LABEL<=HZ"',
+                   help='keep a mode\'s frequency above (or below) a limit, its stated error included on the resolved '
+                        'model, e.g. "(0,6)>=20e3" above the audible range (repeatable)')
     p.add_argument("--separation", metavar="FRACTION|PERCENT%",
                    help="least relative distance of the first target mode to its neighbours, e.g. 3%%")
     p.add_argument("--replace-feet", action=argparse.BooleanOptionalAction, default=None,
@@ -86,6 +93,7 @@ def _tune(args) -> int:
     bounds = dict(parse_bound(text) for text in args.bounds or [])
     separation = parse_fraction("--separation", args.separation) if args.separation is not None else None
     objective = parse_objective(args.objective) if args.objective is not None else None
+    mode_bounds = tuple(parse_mode_bound(text) for text in args.mode_bound or [])
     if objective is not None and args.maximize:
         raise SceneError("--objective: give it or --maximize, not both")
     scene = load_scene(args.scene, **parse_overrides(args.set))
@@ -102,7 +110,7 @@ def _tune(args) -> int:
                              f"--bounds {missing[0]}=LOW:HIGH")
     options = {"tol": args.tol, "bounds": bounds, "maximize": objective or args.maximize, "separation": separation,
                "replace_feet": replace_feet, "max_iterations": args.max_iterations,
-               "resolution": solve_keywords(args)}
+               "resolution": solve_keywords(args), "mode_bounds": mode_bounds}
 
     def progress(k, it) -> None:
         if not args.json:
@@ -119,6 +127,7 @@ def _tune(args) -> int:
             verb = "minimizing" if isinstance(objective, LeastVoltage) else "maximizing"
             extras.append(f"{verb} {replace(objective, contact=at).describe()}")
         extras += [f"separation >= {separation:.2%}"] if separation else []
+        extras += [f"{b.describe()} (stated error included)" for b in mode_bounds]
         extras += ["feet re-placed on the antinodes"] if replace_feet else []
         print(f"{scene.name}: tuning {goals} within {args.tol:.2%} by {', '.join(names)}"
               + (f" ({'; '.join(extras)})" if extras else ""))
@@ -153,7 +162,12 @@ def _tune(args) -> int:
                "k_eff": _number(final.k_eff), "separation": _number(final.separation),
                "feet": [list(f) for f in final.feet], "out": args.out,
                "iterates": [_iterate_json(it) for it in result.iterates]}
-        if result.verified is not None:
+        if result.mode_bounds:
+            out["mode_bounds"] = [_bound_json(b, f, e) for b, f, e in zip(result.mode_bounds, final.bounded,
+                                                                             final.bound_errors)]
+        if hasattr(result.verified, "area_fraction"):
+            out["verified"] = {"area": _area_json(result.verified, objective), "outcome": result.outcome.to_json()}
+        elif result.verified is not None:
             out["verified"] = {"reduction": result.verified.reduction, "output": result.verified.output,
                                "voltage_v": result.verified.voltage, "amplitude_m": result.verified.amplitude,
                                "voltage_error": _number(result.verified.voltage_error),
@@ -176,6 +190,8 @@ def _tune(args) -> int:
             start = "not reached" if first is None else f"{first.k_eff:.5f} at the first design on the targets"
             gain = "" if first is None else f" ({100 * (final.k_eff / first.k_eff - 1):+.2f} %)"
             print(f"k_eff {result.iterates[0].k_eff:.5f} at the start, {start}, {final.k_eff:.5f} final{gain}")
+        for b, f, e in zip(result.mode_bounds, final.bounded, final.bound_errors):
+            print(_bound_line(b, f, e))
         if result.outcome is not None:
             _print_verified(result)
         if final.feet:
@@ -191,11 +207,56 @@ def _tune(args) -> int:
 
 def parse_objective(text: str):
     """``volts-for reduction=R [preload=N] [speed=M/S] [contact=foot|finger]`` -> ``LeastVoltage``,
-    ``reduction-at volts=V [...]`` -> ``ReductionAt``; SceneError naming --objective otherwise (before any solve)."""
-    from modalfe.design.outcome import LeastVoltage, ReductionAt
+    ``reduction-at volts=V [...]`` -> ``ReductionAt``, ``area reduction=R volts=V [width=S] [...]`` -> ``LargestArea``;
+    SceneError naming --objective otherwise (before any solve)."""
+    from modalfe.design.outcome import AREA_WIDTH, LargestArea, LeastVoltage, ReductionAt
 
-    kind, value, contact = parse_outcome("--objective", text, {"volts-for": "reduction", "reduction-at": "volts"})
-    return LeastVoltage(value, contact) if kind == "volts-for" else ReductionAt(value, contact)
+    kind, given, contact = parse_outcome("--objective", text, {"volts-for": ("reduction",), "reduction-at": ("volts",),
+                                                               "area": ("reduction", "volts")}, {"area": ("width",)})
+    if kind == "volts-for":
+        return LeastVoltage(given["reduction"], contact)
+    if kind == "reduction-at":
+        return ReductionAt(given["volts"], contact)
+    return LargestArea(given["reduction"], given["volts"], contact, given.get("width", AREA_WIDTH))
+
+
+def parse_mode_bound(text: str):
+    """``LABEL>=HZ`` or ``LABEL<=HZ`` -> ``FrequencyBound``; SceneError naming --mode-bound otherwise (before any
+    solve)."""
+    from modalfe.design.tuning import FrequencyBound
+    from modalfe.results.labels import check_selector
+
+    form = 'expected "LABEL>=HZ" or "LABEL<=HZ", e.g. "(0,6)>=20e3"'
+    op = next((o for o in (">=", "<=") if o in text), None)
+    if op is None:
+        raise SceneError(f"--mode-bound: {form}, got '{text}'")
+    label, _, value = text.partition(op)
+    check_selector(label, "--mode-bound")
+    if not value.strip():
+        raise SceneError(f"--mode-bound: '{text}' has no frequency after {op}; {form}")
+    return FrequencyBound(label.strip(), parse_positive("--mode-bound", "the frequency", value.strip()), op == ">=")
+
+
+def _bound_line(bound, frequency: float, error: float) -> str:
+    """A mode bound at the final design: the frequency, its stated error and the bound with the error included."""
+    sign = "-" if bound.above else "+"
+    edge = frequency * (1 - error) if bound.above else frequency * (1 + error)
+    stated = f"stated error {100 * error:.3g} %, f (1 {sign} e) = {edge:.2f} Hz"
+    if math.isnan(error):
+        edge, stated = frequency, "no stated error (not estimated: the frequency alone is compared)"
+    met = edge >= bound.frequency if bound.above else edge <= bound.frequency
+    return f"bound {bound.describe()}: {frequency:.2f} Hz, {stated}: {'met' if met else 'NOT met'}"
+
+
+def _bound_json(bound, frequency: float, error: float) -> dict:
+    return {"label": bound.label, "limit_hz": bound.frequency, "above": bound.above, "frequency_hz": frequency,
+            "stated_error": _number(error)}
+
+
+def _area_json(hmap, objective) -> dict:
+    mid, low, high = hmap.area_fraction(objective.required)
+    return {"required": objective.required, "voltage_v": hmap.voltage, "points": len(hmap.points),
+            "area_fraction": mid, "area_fraction_range": [low, high], "amplitude_error": hmap.amplitude_error}
 
 
 def _print_verified(result) -> None:
@@ -204,6 +265,16 @@ def _print_verified(result) -> None:
     v, o = result.verified, result.outcome
     first = result.iterates[0]
     last = next(it for it in reversed(result.iterates) if not it.resolved and it.accepted)
+    if hasattr(v, "area_fraction"):  # ``LargestArea``: the map on the resolved model
+        required = result.maximize.required
+        mid, low, high = v.area_fraction(required)
+        print(f"area reaching {required:.2%} at {v.voltage:g} V: {first.area:.2%} at the start, {last.area:.2%} at the "
+              f"last design on the scene's own mesh (smoothed {first.outcome_merit:.2%} -> {last.outcome_merit:.2%})")
+        print(f"verified on the resolved model: {mid:.2%} of the touch surface ({len(v.points)} points) reaches "
+              f"{required:.2%} at {v.voltage:g} V (range {low:.2%}-{high:.2%} from the amplitude's stated "
+              f"{100 * v.amplitude_error:.3g} %); reduction {100 * v.reduction.min():.2f} to "
+              f"{100 * v.reduction.max():.2f} % over the surface")
+        return
     if v is not None:
         print(f"voltage for {v.reduction:.2%} at {last.output}: {first.volts:.4g} V at the start, {last.volts:.4g} V "
               f"at the last design on the scene's own mesh ({100 * (last.volts / first.volts - 1):+.2f} %)")
@@ -240,6 +311,9 @@ def _line(k: int, it, targets) -> str:
     if math.isfinite(it.volts):
         text += f"  {1e9 * it.amplitude_per_volt:.4g} nm/V at {it.output}, {it.volts:.4g} V"
         text += f", reduction {it.reduction:.2%}" if math.isfinite(it.reduction) else ""
+        text += f" (mean), area {it.area:.2%} (smoothed {it.outcome_merit:.2%})" if math.isfinite(it.area) else ""
+    for f, e in zip(it.bounded, it.bound_errors):
+        text += f"  bound mode {f:.2f} Hz" + (f" (stated error {100 * e:.3g} %)" if not math.isnan(e) else "")
     if math.isfinite(it.separation):
         text += f"  separation {it.separation:.2%}"
     if it.feet:
@@ -274,7 +348,9 @@ def _iterate_json(it) -> dict:
             "seconds": it.seconds, "accepted": it.accepted, "notes": list(it.notes), "resolved": it.resolved,
             "stated_errors": [_number(e) for e in it.errors], "volts": _number(it.volts),
             "amplitude_per_volt_m": _number(it.amplitude_per_volt), "output": it.output or None,
-            "reduction": _number(it.reduction)}
+            "reduction": _number(it.reduction), "area": _number(it.area),
+            "area_smoothed": _number(it.outcome_merit) if math.isfinite(it.area) else None,
+            "bound_frequencies_hz": list(it.bounded), "bound_stated_errors": [_number(e) for e in it.bound_errors]}
 
 
 def _number(x: float) -> float | None:

@@ -377,6 +377,14 @@ class HapticMap:
         w = self.weights / self.weights.sum()
         return tuple(float(w[r >= required].sum()) for r in (self.reduction, self.reduction_low, self.reduction_high))
 
+    def reduction_slope(self) -> np.ndarray:
+        """(n,) dR / dW [1/m] of the map's interpolant at each point's amplitude: the slope of the table segment it
+        lies in (the right-hand one at a table amplitude)."""
+        grid = np.array([s.amplitude for s in self.table])
+        red = np.array([s.reduction for s in self.table])
+        i = np.clip(np.searchsorted(grid, self.amplitude, side="right"), 1, len(grid) - 1)
+        return (red[i] - red[i - 1]) / (grid[i] - grid[i - 1])
+
     def write_csv(self, path: str | Path) -> None:
         """x, y, z [m], amplitude [m 0-peak], reduction and its range, flight ratio [%], weight, one row a point."""
         header = "x_m,y_m,z_m,amplitude_m,reduction,reduction_low,reduction_high,flight_ratio_percent,area_weight"
@@ -419,18 +427,26 @@ def haptic_map(chain: HapticChain, points: np.ndarray, voltage: float, *, weight
                amplitude_per_volt: np.ndarray | None = None, table_points: int = 17,
                progress: bool = False) -> HapticMap:
     """The reduction at ``points`` (n, 3) [m] at ``voltage`` [V]: the amplitude at each point
-    (``HapticChain.amplitude_per_volt_at``, unless given), the contact model tabulated at ``table_points``
-    amplitudes from 0 to the largest (times 1 + its stated error) and interpolated linearly; ``weights``: area
-    shares (default equal); ``progress``: a tqdm bar over the table."""
+    (``HapticChain.amplitude_per_volt_at``, unless given) and ``contact_map`` with the chain's contact, frequency and
+    stated amplitude error; ``weights``: area shares (default equal); ``progress``: a tqdm bar over the table."""
     volts = require("voltage", voltage, nonnegative=True)
+    apv = chain.amplitude_per_volt_at(points) if amplitude_per_volt is None else np.asarray(amplitude_per_volt)
+    e = chain.error(f"amplitude:{chain.output}")
+    return contact_map(chain.contact, chain.frequency, points, volts, volts * apv, e if math.isfinite(e) else 0.0,
+                       weights=weights, table_points=table_points, progress=progress)
+
+
+def contact_map(contact: Contact, frequency: float, points: np.ndarray, voltage: float, amplitude: np.ndarray,
+                amplitude_error: float, *, weights: np.ndarray | None = None, table_points: int = 17,
+                progress: bool = False) -> HapticMap:
+    """The map of ``contact`` (already tuned to ``frequency`` [Hz]) at ``points`` (n, 3) [m] whose amplitudes W (n,)
+    [m, 0-peak] at ``voltage`` [V] are given, with a relative ``amplitude_error``: the contact model tabulated at
+    ``table_points`` amplitudes from 0 to the largest W (1 + error) and interpolated linearly."""
     if table_points < 2:
         raise ContactError(f"table_points: at least 2, got {table_points}")
-    apv = chain.amplitude_per_volt_at(points) if amplitude_per_volt is None else np.asarray(amplitude_per_volt)
-    W = volts * apv
-    e = chain.error(f"amplitude:{chain.output}")
-    e = e if math.isfinite(e) else 0.0
+    W, e = np.asarray(amplitude, dtype=float), amplitude_error
     top = max(float(W.max()) * (1 + e), SEARCH_START)
-    table = tuple(chain.contact.table(np.linspace(0.0, top, table_points), progress))
+    table = tuple(contact.table(np.linspace(0.0, top, table_points), progress))
     grid = np.array([s.amplitude for s in table])
     red = np.array([s.reduction for s in table])
 
@@ -439,10 +455,10 @@ def haptic_map(chain: HapticChain, points: np.ndarray, voltage: float, *, weight
 
     i = np.clip(np.searchsorted(grid, W), 1, len(grid) - 1)
     ends = np.stack([at(W), at(W * max(1 - e, 0.0)), at(W * (1 + e))])
-    return HapticMap(volts, chain.frequency, np.atleast_2d(np.asarray(points, dtype=float)), W, e, at(W),
+    return HapticMap(voltage, frequency, np.atleast_2d(np.asarray(points, dtype=float)), W, e, at(W),
                      ends.min(axis=0), ends.max(axis=0), np.interp(W, grid, [s.flight_ratio for s in table]),
                      np.abs(red[i] - red[i - 1]), np.ones(len(W)) if weights is None else np.asarray(weights),
-                     table, chain.contact.describe())
+                     table, contact.describe())
 
 
 def _finite(x: float) -> float | None:

@@ -7,7 +7,7 @@ import math
 from collections.abc import Sequence
 
 from modalfe.design.feet import builder_parameters_of
-from modalfe.design.outcome import OUTCOME_OBJECTIVES, LeastVoltage, ReductionAt
+from modalfe.design.outcome import OUTCOME_OBJECTIVES, LargestArea, LeastVoltage, ReductionAt, touch_points
 from modalfe.errors import SceneError
 from modalfe.response.sensitivity import check_parameters, parameter_value, with_values
 from modalfe.results.labels import check_selector
@@ -19,7 +19,7 @@ from modalfe.results.labels import check_selector
 PROBE_STEP = 1e-3
 
 
-def check_tune_inputs(scene, targets, names, tol, bounds, maximize, separation, replace_feet) -> None:
+def check_tune_inputs(scene, targets, names, tol, bounds, maximize, separation, replace_feet, mode_bounds=()) -> None:
     """SceneError naming the first bad argument of ``modalfe.design.tuning.tune`` (before any solve)."""
     if not targets:
         raise SceneError("target: give one or more LABEL=HZ")
@@ -44,7 +44,8 @@ def check_tune_inputs(scene, targets, names, tol, bounds, maximize, separation, 
             raise SceneError(f"{name}: {value:g} cannot be tuned (must be non-zero and within its bounds "
                              f"{lo:g}-{hi:g})")
     if not (maximize in (None, "k_eff") or isinstance(maximize, OUTCOME_OBJECTIVES)):
-        raise SceneError(f"maximize: k_eff or an outcome objective (LeastVoltage, ReductionAt), got {maximize!r}")
+        raise SceneError(f"maximize: k_eff or an outcome objective (LeastVoltage, ReductionAt, LargestArea), got "
+                         f"{maximize!r}")
     if maximize and "drive" not in scene.electrodes.values():
         raise SceneError(f'maximize: {"k_eff" if maximize == "k_eff" else "a voltage"} needs a driven electrode '
                          f'(electrodes.GROUP = "drive")')
@@ -54,15 +55,33 @@ def check_tune_inputs(scene, targets, names, tol, bounds, maximize, separation, 
 
         if isinstance(maximize, LeastVoltage) and not 0 < maximize.reduction < 1:
             raise SceneError(f"objective: the reduction must lie strictly between 0 and 1, got {maximize.reduction:g}")
-        if isinstance(maximize, ReductionAt) and not (math.isfinite(maximize.voltage) and maximize.voltage > 0):
+        if isinstance(maximize, ReductionAt | LargestArea) and not (math.isfinite(maximize.voltage)
+                                                                     and maximize.voltage > 0):
             raise SceneError(f"objective: the voltage must be positive, got {maximize.voltage:g}")
+        if isinstance(maximize, LargestArea):
+            if not 0 < maximize.required < 1:
+                raise SceneError(f"objective: the required reduction must lie strictly between 0 and 1, got "
+                                 f"{maximize.required:g}")
+            if not (math.isfinite(maximize.width) and 0 < maximize.width < 1):
+                raise SceneError(f"objective: the width must lie in (0, 1) (a fraction of reduction), got "
+                                 f"{maximize.width:g}")
+            if maximize.points < 1:
+                raise SceneError(f"objective: at least one point of the touch surface, got {maximize.points}")
         if not isinstance(maximize.contact, Contact):
             raise SceneError(f"objective: the contact must be a FootContact or FingerContact, got {maximize.contact!r}")
         if not scene.drive.outputs:
             raise SceneError("objective: the scene has no outputs to read the amplitude at (drive.outputs)")
         check_outputs(scene, scene.drive.outputs)
+        if isinstance(maximize, LargestArea):
+            touch_points(scene, maximize)  # the touch surface exists
     if separation is not None and not (math.isfinite(separation) and 0 < separation < 1):
         raise SceneError(f"separation: must lie in (0, 1) (a fraction of the frequency), got {separation}")
+    for b in mode_bounds:
+        check_selector(b.label, "mode_bounds")
+        if not (math.isfinite(b.frequency) and b.frequency > 0):
+            raise SceneError(f"mode_bounds: {b.label} must be bounded by a positive frequency in Hz, got {b.frequency}")
+    if len({(b.label, b.above) for b in mode_bounds}) != len(mode_bounds):
+        raise SceneError("mode_bounds: give each mode at most one lower and one upper bound")
     if replace_feet and "feet" not in builder_parameters_of(scene):
         raise SceneError(f"replace_feet: the scene '{scene.name}' has no feet to place (its device takes no "
                          f"'feet')")

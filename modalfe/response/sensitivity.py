@@ -213,8 +213,8 @@ class AmplitudeSensitivities:
 
 
 def amplitude_sensitivities(modes: Modes, parameters: Sequence[str], *, mode: Mode, outputs, damping: Damping,
-                            open_modes: Modes | None = None,
-                            relative_step: float = RELATIVE_STEP) -> AmplitudeSensitivities:
+                            open_modes: Modes | None = None, relative_step: float = RELATIVE_STEP,
+                            material_points: bool = False) -> AmplitudeSensitivities:
     """dA/dp [m/V per unit] of the amplitude per volt at resonance of ``mode`` (one of ``modes``, short circuit) at
     ``outputs`` (names as for ``reduce``) with ``damping``, for each of ``parameters`` (as for
     ``frequency_sensitivities``, whose derivatives of every mode, and k_eff's with ``open_modes``, come from the same
@@ -222,7 +222,8 @@ def amplitude_sensitivities(modes: Modes, parameters: Sequence[str], *, mode: Mo
     one beside resonance), no eigen solve. SolverError for a mode whose eigenvalue is repeated (within
     ``DEGENERATE`` of another of ``modes``): its eigenvector has no derivative of its own. A fixed output point
     (name, (x, y, z)) on an element boundary of a moving mesh reads a field with a kink there: its derivative is the
-    mean of the one-sided ones."""
+    mean of the one-sided ones. ``material_points``: every output is read where it sits in the mesh, moving with its
+    nodes (no probe row differenced): a point of a grid that scales with its face, as the touch surface's."""
     model = _solid(modes.model)
     if not any(m is mode for m in modes):
         raise SceneError("mode: not one of the modes given; pick it from them (modes.labelled(...))")
@@ -237,7 +238,7 @@ def amplitude_sensitivities(modes: Modes, parameters: Sequence[str], *, mode: Mo
 
     def amplitude(column: int, above: Model, below: Model, dK, dM) -> None:
         dP = None
-        if specs[column].geometric:
+        if specs[column].geometric and not material_points:
             P_above, P_below = (output_operators(m, outputs) for m in (above, below))
             dP = {name: (P_above[name][2] - P_below[name][2]) / (2 * steps[column]) for name in derivative.probes}
         damplitude[:, column], dlam[column] = derivative(dK, dM, dP)

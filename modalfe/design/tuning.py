@@ -51,7 +51,8 @@ Unknowns are x = ln |p| (a relative change of each parameter; signs are kept). A
 * ``maximize=LargestArea(required, voltage, contact)``: the largest share of the touch surface reaching the
   reduction at the voltage, through its logistic smoothing and the amplitude sensitivities at the surface's points
   (``modalfe.design.outcome``), the same gradient projection; each iterate reports the true share.
-* trust region: no parameter moves by more than ``MAX_RELATIVE_STEP`` of itself (radius ln 1.2), then ``bounds``.
+* trust region: no parameter moves by more than ``tune_step.MAX_RELATIVE_STEP`` of itself (radius ln 1.2),
+  then ``bounds``.
 * the device holds together: a step whose scene the builder or the scene checks refuse (a ceramic or foot off
   the plate, parts apart) is halved until it is accepted, up to ``MAX_HALVINGS`` times, and the reason is logged.
 * feet (``replace_feet``): after each solve the feet are moved to the in-phase antinodes nearest to them of the
@@ -65,19 +66,19 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from modalfe.design.feet import feet_on_mode_antinodes, feet_text, has_feet, scene_feet
 from modalfe.design.outcome import OUTCOME_OBJECTIVES, LargestArea, LeastVoltage, ReductionAt, outcome_at, touch_points
 from modalfe.design.tune_checks import check_tune_inputs, check_variables
+from modalfe.design.tune_step import Limit, Point, broyden, is_met, moved_frequencies, trust_step
 from modalfe.errors import SceneError, SolverError
 from modalfe.response.sensitivity import frequency_sensitivities, parameter_value, with_values
 from modalfe.results.modes import select
 from modalfe.solve.api import DEFAULT_TOL, solve_modes
 
-MAX_RELATIVE_STEP = 0.2  # trust region: no parameter moves by more than this fraction of itself in one iterate
 TUNE_COUNT = 6  # modes asked of each solve around a target (enough to find it by label when neighbours move)
 MAX_HALVINGS = 6  # a step the scene refuses is halved at most this often (down to 1/64)
 # maximising k_eff: stop when the projected gradient promises less than 0.1 % of k_eff over the trust radius, or
@@ -210,44 +211,6 @@ class TuningResult:
         return max(abs(f / t.frequency - 1) for f, t in zip(self.final.frequencies, self.targets))
 
 
-@dataclass(frozen=True)
-class _Limit:
-    """A linearised inequality row sigma (d + a s - limit) >= 0 in the step s (module docstring): a separation from a
-    neighbour or a mode bound; met within ``slack``, and aimed at ``aim`` when active."""
-
-    sigma: int
-    d: float
-    a: np.ndarray
-    limit: float
-    slack: float
-    aim: float
-
-
-@dataclass
-class _Point:
-    """What one evaluation knows: the iterate, the residuals r, Jacobian J (targets x parameters), the separation
-    rows and the mode bounds' rows (``_Limit``), the merit's gradient g (d ln k / d ln p or an outcome's), and the
-    feet placed on its antinodes."""
-
-    scene: object
-    iterate: Iterate
-    r: np.ndarray
-    J: np.ndarray
-    neighbours: list = field(default_factory=list)
-    g: np.ndarray | None = None
-    placed: tuple | None = None  # feet re-placed on the antinodes of this point's plate, when they moved
-    bounds: list = field(default_factory=list)
-
-    @property
-    def limits(self) -> list[_Limit]:
-        return self.neighbours + self.bounds
-
-    @property
-    def lnf(self) -> np.ndarray:
-        """ln f of the target modes and then the bound modes (the rows a Broyden update steers)."""
-        return np.log(np.array(self.iterate.frequencies + self.iterate.bounded))
-
-
 def tune(scene, targets: Sequence[FrequencyTarget], parameters: Sequence[str], *, tol: float = DEFAULT_TOL,
          bounds: Mapping[str, tuple[float, float]] | None = None,
          maximize: str | LeastVoltage | ReductionAt | LargestArea | None = None, separation: float | None = None,
@@ -349,8 +312,8 @@ def _descend(scene, *, targets, names, tol, bounds, maximize, separation, replac
     radius = math.log1p(ASCENT_RADIUS)
     near = [t.frequency for t in targets] + list(sought or [b.frequency for b in mode_bounds])
     notes: list[str] = []
-    kept: _Point | None = None  # the point the next step starts from
-    best: _Point | None = None  # maximizing: the point on the targets with the highest merit so far
+    kept: Point | None = None  # the point the next step starts from
+    best: Point | None = None  # maximizing: the point on the targets with the highest merit so far
 
     def finish(converged: bool, reason: str, ahead=None) -> TuningResult:
         # maximizing and stopped early: the best design on the targets, not the last one off them
@@ -382,7 +345,7 @@ def _descend(scene, *, targets, names, tol, bounds, maximize, separation, replac
             taken = taken / 2
             radius /= 2
             scene = with_values(base, dict(zip(names, (x * np.exp(taken)).tolist())))
-            near = _moved(kept, taken)
+            near = moved_frequencies(kept, taken)
             notes = [f"step halved: {exc}"]
             continue
         notes = []
@@ -395,7 +358,7 @@ def _descend(scene, *, targets, names, tol, bounds, maximize, separation, replac
                 dict(zip(names, row.tolist())) for row in steer[:n]), bound_sensitivity=tuple(
                 dict(zip(names, row.tolist())) for row in steer[n:]))
         x = np.array(list(point.iterate.values.values()))
-        met = _met(point, tol)
+        met = is_met(point, tol)
         if maximize and met and best is not None and point.iterate.merit < best.iterate.merit:
             record(replace(point.iterate, accepted=False, notes=(
                 *point.iterate.notes, f"rejected: {_worse(point.iterate, best.iterate)}; trust radius halved")))
@@ -418,7 +381,7 @@ def _descend(scene, *, targets, names, tol, bounds, maximize, separation, replac
             return finish(False, f"the resolved model's stated error of a bound mode is 100 % or more "
                                  f"({', '.join(unbounded)}): its bound cannot be verified")
         ascend = bool(maximize) and met  # the ascent only from a point on the targets (restoration first)
-        step, ascent = _step(point, radius if ascend else 0.0, x, low, high)
+        step, ascent = trust_step(point, radius if ascend else 0.0, x, low, high)
         moved = point.placed is not None
         if met and not moved:
             if not maximize:
@@ -460,7 +423,7 @@ def _descend(scene, *, targets, names, tol, bounds, maximize, separation, replac
         if fraction < 1:
             notes.append(f"step shortened to {fraction:g} of itself: {why}")
         taken = fraction * np.log(proposed / x)
-        near = _moved(point, taken)
+        near = moved_frequencies(point, taken)
         if resolved is None and not maximize and separation is None and \
                 np.all(np.abs(np.expm1(point.r + point.J @ taken)) <= tol) and \
                 all(b.sigma * (b.d + b.a @ taken - b.limit) >= 0 for b in point.bounds):
@@ -481,13 +444,6 @@ def _bound_question(resolved: Mapping, bound: FrequencyBound, near: float) -> di
     return {**resolved, "tol": max(tol, min(BOUND_ROOM * room, MAX_BOUND_TOL))}
 
 
-def _moved(point: _Point, taken: np.ndarray) -> list[float]:
-    """Where the target modes and then the bound modes are sought after the step ``taken`` from ``point``: their
-    frequencies moved along their rows."""
-    rows = list(point.J) + [b.a for b in point.bounds]
-    return [f * math.exp(float(row @ taken)) for f, row in zip(point.iterate.frequencies + point.iterate.bounded, rows)]
-
-
 def _worse(it: Iterate, best: Iterate) -> str:
     """Why a maximizing iterate on the targets is rejected."""
     if math.isfinite(it.k_eff):
@@ -499,16 +455,8 @@ def _worse(it: Iterate, best: Iterate) -> str:
     return f"{it.volts:.4g} V is above the best {best.volts:.4g} V"
 
 
-def broyden(J: np.ndarray, s: np.ndarray, dr: np.ndarray) -> np.ndarray:
-    """Broyden's ("good") rank-one update of the Jacobian ``J`` after the step ``s`` changed the residuals by ``dr``:
-    J + (dr - J s) s^T / (s^T s), the least change of J (Frobenius) that maps s to dr (Broyden, Math. Comp. 19 (1965)
-    577); ``J`` itself for a null step."""
-    ss = float(s @ s)
-    return J if ss == 0 else J + np.outer(dr - J @ s, s) / ss
-
-
 def _evaluate(scene, targets, names, near, maximize, separation, replace_feet, notes, resolved=None,
-              jacobian=None, mode_bounds=(), tol: float = DEFAULT_TOL) -> _Point:
+              jacobian=None, mode_bounds=(), tol: float = DEFAULT_TOL) -> Point:
     """Solve ``scene`` near each target (maximizing k_eff, the open circuit of the same model beside the first): on
     its own mesh, where one solve serves every target inside its span of modes, or, with ``resolved``
     (``solve_modes`` keywords), each target on the model ``modes`` resolves that mode on; take the sensitivities
@@ -586,7 +534,7 @@ def _evaluate(scene, targets, names, near, maximize, separation, replace_feet, n
         for j in elastic:  # every mode of the solve: one farther away may come closer faster than the nearest
             sigma = 1 if f[j] > f[row0] else -1
             edge = math.log1p(sigma * separation)  # met to tol / 2 of a frequency (``_met``), aimed at the limit
-            neighbours.append(_Limit(sigma, math.log(f[j] / f[row0]), sens0.relative[j] - sens0.relative[row0], edge,
+            neighbours.append(Limit(sigma, math.log(f[j] / f[row0]), sens0.relative[j] - sens0.relative[row0], edge,
                                      tol / 2, edge))
         gap = min((abs(math.expm1(lim.d)) for lim in neighbours), default=math.nan)
     limits, bounded, bound_errors = [], [], []
@@ -594,7 +542,7 @@ def _evaluate(scene, targets, names, near, maximize, separation, replace_feet, n
         sigma, e = (1 if b.above else -1), float(mode.error_estimate)
         e = 0.0 if math.isnan(e) else e  # not estimated (the own mesh): the frequency as it is
         edge = math.log(b.frequency) - (math.log1p(-sigma * e) if sigma * e < 1 else -math.inf)
-        limits.append(_Limit(sigma, math.log(mode.frequency), np.asarray(row), edge, 0.0,
+        limits.append(Limit(sigma, math.log(mode.frequency), np.asarray(row), edge, 0.0,
                              edge + sigma * math.log1p(BOUND_MARGIN * tol)))
         bounded.append(float(mode.frequency))
         bound_errors.append(float(mode.error_estimate))
@@ -616,55 +564,7 @@ def _evaluate(scene, targets, names, near, maximize, separation, replace_feet, n
     if mode_bounds:
         iterate = replace(iterate, bounded=tuple(bounded), bound_errors=tuple(bound_errors),
                           bound_sensitivity=tuple(dict(zip(names, np.asarray(row).tolist())) for row in rows[n:]))
-    return _Point(scene, iterate, r, J, neighbours, g, placed, limits)
-
-
-def _met(point: _Point, tol: float) -> bool:
-    """Every target within ``tol``, its mode's stated error included (where estimated), the first target's
-    neighbours at least ``separation`` away, to ``tol`` / 2 of a frequency (an active separation row lands on its
-    limit only as closely as the targets on theirs), and every mode bound met, its stated error included."""
-    stated = point.iterate.errors if point.iterate is not None else ()
-    errors = np.array([e if not math.isnan(e) else 0.0 for e in stated] or [0.0] * len(point.r))
-    within = bool(np.all(np.abs(np.expm1(point.r)) + errors <= tol))
-    return within and all(lim.sigma * (lim.d - lim.limit) >= -lim.slack for lim in point.limits)
-
-
-def _step(point: _Point, radius: float, x, low, high) -> tuple[np.ndarray, np.ndarray]:
-    """The step in ln |p| (module docstring) and the projected k_eff gradient P g (zeros when not maximizing):
-    the restoring minimum-norm step on the target rows and the active separation and bound rows, within the trust
-    region ln(1 + ``MAX_RELATIVE_STEP``), plus the projected gradient over ``radius`` (at most what the restoring
-    step leaves of the trust region; 0: none)."""
-    n = point.J.shape[1]
-    active: list[int] = []
-    while True:
-        limits = point.limits
-        rows = [point.J] + [limits[i].a[None, :] for i in active]
-        # active, a row reads d + a s = aim (a separation's limit ln(1 + sigma sep), a bound's inside its limit)
-        rhs = [-point.r] + [np.array([limits[i].aim - limits[i].d]) for i in active]
-        A, b = np.vstack(rows), np.concatenate(rhs)
-        step = np.linalg.lstsq(A, b, rcond=None)[0]  # minimum-norm least squares
-        largest, region = float(np.max(np.abs(step))), math.log1p(MAX_RELATIVE_STEP)
-        if largest > region:
-            step *= region / largest
-        ascent = np.zeros(n)
-        if point.g is not None:
-            g = point.g
-            # bounds g pushes against are held: g is along ln |p|, so along p it is sign(p) g; a design on a bound
-            # reads it back from its scene to within rounding
-            up = np.sign(x) * g
-            on_low, on_high = (x <= low) | np.isclose(x, low, rtol=1e-9, atol=0), \
-                (x >= high) | np.isclose(x, high, rtol=1e-9, atol=0)
-            free = ~((on_high & (up > 0)) | (on_low & (up < 0)))
-            Af = A[:, free]
-            ascent[free] = g[free] - np.linalg.pinv(Af) @ (Af @ g[free])  # P g, P = I - A^+ A
-            top = float(np.max(np.abs(ascent)))
-            if top > 0:
-                step = step + max(min(radius, region - largest), 0.0) * ascent / top
-        broken = [i for i, lim in enumerate(limits)
-                  if i not in active and lim.sigma * (lim.d + lim.a @ step - lim.aim) < -1e-12]
-        if not broken:
-            return step, ascent
-        active += broken
+    return Point(scene, iterate, r, J, neighbours, g, placed, limits)
 
 
 def _feasible(scene, names, x, proposed) -> tuple[object | None, float, str]:

@@ -352,9 +352,10 @@ class HapticMap:
     """The friction reduction over points of a touch surface (or at the feet) at one voltage.
 
     points (n, 3) [m]; amplitude (n,) [m, 0-peak]; reduction (n,), and reduction_low / reduction_high at the
-    amplitude -+ its stated error; flight_ratio (n,) [%]; table: the contact states the map interpolates
-    (linearly in the amplitude); bracket (n,): the spread of the two table states around each point, which bounds
-    the interpolation error where the curve is monotone between them; weights (n,): each point's share of the area.
+    amplitude -+ its stated error, widened by the contact states' uncertainty (a chaotic finger's time average);
+    flight_ratio (n,) [%]; table: the contact states the map interpolates (linearly in the amplitude); bracket (n,):
+    the spread of the two table states around each point, which bounds the interpolation error where the curve is
+    monotone between them; weights (n,): each point's share of the area.
     """
 
     voltage: float
@@ -372,8 +373,8 @@ class HapticMap:
     contact: str
 
     def area_fraction(self, required: float) -> tuple[float, float, float]:
-        """(fraction of the area where the reduction reaches ``required``, and that fraction at the amplitude's
-        low and high ends)."""
+        """(fraction of the area where the reduction reaches ``required``, and that fraction at the reduction's low
+        and high ends: the amplitude's stated error and the contact states' uncertainty)."""
         w = self.weights / self.weights.sum()
         return tuple(float(w[r >= required].sum()) for r in (self.reduction, self.reduction_low, self.reduction_high))
 
@@ -455,8 +456,11 @@ def contact_map(contact: Contact, frequency: float, points: np.ndarray, voltage:
 
     i = np.clip(np.searchsorted(grid, W), 1, len(grid) - 1)
     ends = np.stack([at(W), at(W * max(1 - e, 0.0)), at(W * (1 + e))])
+    # a time-averaged state's uncertainty widens the range by the larger of the two table states' around the point
+    unc = np.array([s.uncertainty for s in table])
+    u = np.maximum(unc[i], unc[i - 1])
     return HapticMap(voltage, frequency, np.atleast_2d(np.asarray(points, dtype=float)), W, e, at(W),
-                     ends.min(axis=0), ends.max(axis=0), np.interp(W, grid, [s.flight_ratio for s in table]),
+                     ends.min(axis=0) - u, ends.max(axis=0) + u, np.interp(W, grid, [s.flight_ratio for s in table]),
                      np.abs(red[i] - red[i - 1]), np.ones(len(W)) if weights is None else np.asarray(weights),
                      table, contact.describe())
 

@@ -198,3 +198,26 @@ def test_cli_scene_forms_print_the_chains_outcome_and_write_the_map(bar, tmp_pat
     assert capsys.readouterr().err.startswith("modalfe: error: --plot: not with a SCENE")
     assert main(["finger", "--voltage", "1"]) == 1
     assert capsys.readouterr().err.startswith("modalfe: error: --voltage: needs a SCENE")
+
+
+def test_a_maps_range_carries_the_contact_states_uncertainty():
+    """A time-averaged contact state (a chaotic finger) has a stated uncertainty: a point's reduction range and the
+    area fraction's range include it, the larger of the two table states around the point."""
+    from modalfe.contact.chain import ContactState, contact_map
+
+    class Stated:  # a stand-in contact model: reduction 0.1 per um, every state uncertain by 1 % but the first
+        def table(self, amplitudes, progress=False):
+            return [ContactState(float(a), 1e5 * a, 50.0, 0.0 if a == 0 else 0.01) for a in amplitudes]
+
+        def describe(self):
+            return "stand-in"
+
+    W = np.array([0.5e-6, 2e-6])
+    hmap = contact_map(Stated(), 66e3, np.zeros((2, 3)), 1.0, W, 0.0, table_points=5)
+    np.testing.assert_allclose(hmap.reduction, 1e5 * W, rtol=1e-12)
+    np.testing.assert_allclose(hmap.reduction_high - hmap.reduction, 0.01, rtol=1e-12)
+    np.testing.assert_allclose(hmap.reduction - hmap.reduction_low, 0.01, rtol=1e-12)
+    # the second point reads 0.2 (0.19-0.21), the first 0.05 (0.04-0.06)
+    assert hmap.area_fraction(0.15) == (0.5, 0.5, 0.5)
+    assert hmap.area_fraction(0.195) == (0.5, 0.0, 0.5)
+    assert hmap.area_fraction(0.205) == (0.0, 0.0, 0.5)

@@ -191,5 +191,9 @@ def test_a_poled_disc_without_electrodes_is_solved_and_stiffer_than_short_circui
                                   "electrodes": {"top": "drive", "bottom": "ground"}})
     free = solve_modes(bare, near=30e3, count=8, error_estimate=False).frequencies
     short = solve_modes(electroded, near=30e3, count=8, error_estimate=False).frequencies
-    elastic = short > 1.0
-    assert np.all(free[elastic] >= short[elastic] * (1 - 1e-9))
+    # the elastic modes in order: the six rigid-body modes at 0 lie as far from 30 kHz as the window's edge, and a
+    # single-vector Lanczos finds as many of their copies as rounding gives it (a farther elastic mode takes the place
+    # of a missing one)
+    free, short = free[free > 1.0], short[short > 1.0]
+    n = min(len(free), len(short))
+    assert n >= 5 and np.all(free[:n] >= short[:n] * (1 - 1e-9))

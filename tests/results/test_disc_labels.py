@@ -275,7 +275,9 @@ def test_rings_and_tubes_get_labels_through_the_solve(shape, inner, outer, heigh
         "parts": [{"name": shape, "shape": "ring", "material": "steel", "centre": [0, 0, 0], "axis": axis,
                    "inner": inner, "outer": outer, "height": height}]})
     modes = solve_modes(scene, error_estimate=False)
-    elastic = [m.label for m in modes if m.frequency > 100.0]
+    # the first elastic modes: the six rigid-body modes share one eigenvalue (0), of which a single-vector Lanczos
+    # finds as many copies as rounding gives it, and a farther elastic mode takes a missing copy's place
+    elastic = [m.label for m in modes if m.frequency > 100.0][:len(expected)]
     # each pattern in order of frequency; within a degenerate pair the plain label goes to the clearer shape
     assert [base_label(name) for name in elastic] == [base_label(name) for name in expected]
     assert sorted(elastic) == sorted(expected)

@@ -206,7 +206,7 @@ DIRECTIONS = st.tuples(*[st.sampled_from([-1.0, 0.0, 0.5, 1.0])] * 3).filter(any
 SCALES = st.floats(1e-3, 1e3)
 
 
-@settings(max_examples=8, deadline=None, phases=NO_SHRINK, suppress_health_check=CHEAP_ENOUGH)
+@settings(max_examples=5, deadline=None, phases=NO_SHRINK, suppress_health_check=CHEAP_ENOUGH)
 @given(device=devices(), kind=st.sampled_from(["force", "pressure"]), direction=DIRECTIONS, scale=SCALES,
        clamped=st.booleans())
 def test_a_per_unit_output_does_not_depend_on_the_loads_size(device, kind, direction, scale, clamped):

@@ -206,8 +206,8 @@ class _Analysis:
         self.threads = _mkl_threads(ps)  # a numeric factorization with other threads than its analysis crashed MKL
         # conditional numerical reproducibility on these threads (MKL reference, pardiso iparm[33]): the threads'
         # partial sums in a fixed order, so one matrix factorizes to the same bits in every call and process (two
-        # factorizations of the Cu-Be plate's pencil differed by 5e-15 in 2 of 3 runs, none with it; modes cube_plate
-        # 0.91-1.25x the time, median 1.08, noisy A/B)
+        # factorizations of the Cu-Be plate's pencil differed by 5e-15 in 2 of 3 runs, none with it; no cost measured:
+        # `modes` 0.97x on the ciliary beam, 0.93x on the Cu-Be plate, paired medians of 5)
         ps.iparm[33] = self.threads
         self.n = upper.shape[0]
         self.indptr, self.indices = upper.indptr, upper.indices

@@ -47,3 +47,14 @@ def test_a_chaotic_finger_points_stated_uncertainty_covers_repeated_averages(amp
 @example(amplitude=5e-6)
 def test_a_chaotic_finger_points_stated_uncertainty_covers_repeated_averages_many(amplitude):
     assert_stated_covers_repeated_averages(amplitude, 66e3, average_tol=AVERAGE_TOL)
+
+
+@settings(max_examples=60, deadline=None)
+@given(dof=st.integers(1, 80), p=st.floats(0.001, 0.999))
+def test_the_chi_square_quantile_is_scipys(dof, p):
+    # the batch-means bound's factor without scipy.special's import: the closed form inverted to 1e-12
+    from scipy.special import chdtri
+
+    from modalfe.contact.kernel import chi2_quantile
+
+    assert chi2_quantile(p, dof) == pytest.approx(chdtri(dof, 1 - p), rel=1e-9)

@@ -61,9 +61,10 @@ def run(args, contact, volts: np.ndarray | None, *, feet_map: bool) -> int:
     hmap = None
     if args.map:
         if feet_map:
+            from modalfe.contact.chain import foot_outputs
             from modalfe.response.loads import output_points
 
-            feet = [o for o in chain.rom.shapes if o.startswith("foot")] or [chain.output]
+            feet = foot_outputs(chain.rom.shapes) or [chain.output]
             points, weights = np.array(list(output_points(scene, feet).values())), None
         else:
             points, weights = surface_points(scene, count=args.points)

@@ -82,6 +82,7 @@ def register(sub) -> None:
 def _tune(args) -> int:
     from modalfe.design.feet import feet_text, has_feet
     from modalfe.design.multistart import latin_hypercube
+    from modalfe.design.outcome import LargestArea, LeastVoltage
     from modalfe.design.tune_checks import check_variables
     from modalfe.design.tune_starts import TuneTask, best_result
     from modalfe.design.tuning import FrequencyTarget, tune
@@ -121,8 +122,6 @@ def _tune(args) -> int:
         extras = [f"maximizing {args.maximize}"] if args.maximize else []
         if objective:  # the contact as each design's is: at the target, the feet the outputs name sharing the load
             from modalfe.contact.chain import feet_among
-            from modalfe.design.outcome import LeastVoltage
-
             at = objective.contact.tuned(targets[0][1], feet_among(scene.drive.outputs))
             verb = "minimizing" if isinstance(objective, LeastVoltage) else "maximizing"
             extras.append(f"{verb} {replace(objective, contact=at).describe()}")
@@ -165,7 +164,7 @@ def _tune(args) -> int:
         if result.mode_bounds:
             out["mode_bounds"] = [_bound_json(b, f, e) for b, f, e in zip(result.mode_bounds, final.bounded,
                                                                              final.bound_errors)]
-        if hasattr(result.verified, "area_fraction"):
+        if isinstance(objective, LargestArea):
             out["verified"] = {"area": _area_json(result.verified, objective), "outcome": result.outcome.to_json()}
         elif result.verified is not None:
             out["verified"] = {"reduction": result.verified.reduction, "output": result.verified.output,
@@ -240,12 +239,11 @@ def parse_mode_bound(text: str):
 def _bound_line(bound, frequency: float, error: float) -> str:
     """A mode bound at the final design: the frequency, its stated error and the bound with the error included."""
     sign = "-" if bound.above else "+"
-    edge = frequency * (1 - error) if bound.above else frequency * (1 + error)
-    stated = f"stated error {100 * error:.3g} %, f (1 {sign} e) = {edge:.2f} Hz"
+    stated = f"stated error {100 * error:.3g} %, f (1 {sign} e) = {bound.edge(frequency, error):.2f} Hz"
     if math.isnan(error):
-        edge, stated = frequency, "no stated error (not estimated: the frequency alone is compared)"
-    met = edge >= bound.frequency if bound.above else edge <= bound.frequency
-    return f"bound {bound.describe()}: {frequency:.2f} Hz, {stated}: {'met' if met else 'NOT met'}"
+        stated = "no stated error (not estimated: the frequency alone is compared)"
+    verdict = "met" if bound.met(frequency, error) else "NOT met"
+    return f"bound {bound.describe()}: {frequency:.2f} Hz, {stated}: {verdict}"
 
 
 def _bound_json(bound, frequency: float, error: float) -> dict:
@@ -262,18 +260,20 @@ def _area_json(hmap, objective) -> dict:
 def _print_verified(result) -> None:
     """The voltage for the required reduction at the first and final designs (own mesh) and verified at the final
     design on the resolved model, with the outcome there and its stated errors."""
+    from modalfe.design.outcome import LargestArea
+
     v, o = result.verified, result.outcome
     first = result.iterates[0]
     last = next(it for it in reversed(result.iterates) if not it.resolved and it.accepted)
-    if hasattr(v, "area_fraction"):  # ``LargestArea``: the map on the resolved model
+    if isinstance(result.maximize, LargestArea):  # the map on the resolved model
         required = result.maximize.required
         mid, low, high = v.area_fraction(required)
         print(f"area reaching {required:.2%} at {v.voltage:g} V: {first.area:.2%} at the start, {last.area:.2%} at the "
               f"last design on the scene's own mesh (smoothed {first.outcome_merit:.2%} -> {last.outcome_merit:.2%})")
         print(f"verified on the resolved model: {mid:.2%} of the touch surface ({len(v.points)} points) reaches "
               f"{required:.2%} at {v.voltage:g} V (range {low:.2%}-{high:.2%} from the amplitude's stated "
-              f"{100 * v.amplitude_error:.3g} %); reduction {100 * v.reduction.min():.2f} to "
-              f"{100 * v.reduction.max():.2f} % over the surface")
+              f"{100 * v.amplitude_error:.3g} % and the contact states' uncertainty); reduction "
+              f"{100 * v.reduction.min():.2f} to {100 * v.reduction.max():.2f} % over the surface")
         return
     if v is not None:
         print(f"voltage for {v.reduction:.2%} at {last.output}: {first.volts:.4g} V at the start, {last.volts:.4g} V "

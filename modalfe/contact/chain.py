@@ -310,10 +310,15 @@ def foot_count(rom: ReducedModel) -> int | None:
     return feet_among(rom.shapes)
 
 
+def foot_outputs(outputs) -> list[str]:
+    """The named outputs that are feet: ``foot*`` (a point given as (name, (x, y, z)) is none)."""
+    return [o for o in outputs if isinstance(o, str) and o.startswith("foot")]
+
+
 def feet_among(outputs) -> int | None:
     """Feet sharing the load according to output names: the ``foot*`` ones where there are two or more (the Cu-Be
     plate has 4); one foot output alone says nothing of how many there are (None)."""
-    feet = [o for o in outputs if isinstance(o, str) and o.startswith("foot")]
+    feet = foot_outputs(outputs)
     return len(feet) if len(feet) > 1 else None
 
 

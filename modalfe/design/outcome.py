@@ -109,7 +109,7 @@ def touch_points(scene, objective: LargestArea) -> tuple[list, np.ndarray, np.nd
     the main part's top face (``contact.chain.surface_points``, as ``finger --map``), its points as outputs
     (``("touch_i", (x, y, z))``); for a foot the scene's ``foot*`` outputs, equal weights (as ``friction --map``).
     SceneError naming ``objective`` where the scene has none (before any solve)."""
-    from modalfe.contact.chain import FingerContact, surface_points
+    from modalfe.contact.chain import FingerContact, foot_outputs, surface_points
 
     if isinstance(objective.contact, FingerContact):
         try:
@@ -118,7 +118,7 @@ def touch_points(scene, objective: LargestArea) -> tuple[list, np.ndarray, np.nd
             raise SceneError(f"objective: the scene '{scene.name}' has no touch surface for the area (the main part's "
                              f"top face: {exc})") from None
         return [(f"touch_{i}", tuple(p)) for i, p in enumerate(points.tolist())], points, weights, True
-    feet = [o for o in scene.drive.outputs if isinstance(o, str) and o.startswith("foot")]
+    feet = foot_outputs(scene.drive.outputs)
     if not feet:
         raise SceneError(f"objective: the scene '{scene.name}' has no touch surface for the area with contact=foot "
                          f"(no foot* outputs in drive.outputs); contact=finger maps the main part's top face")

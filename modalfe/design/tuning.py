@@ -120,6 +120,17 @@ class FrequencyBound:
     def describe(self) -> str:
         return f"{self.label} {'>=' if self.above else '<='} {self.frequency:g} Hz"
 
+    def edge(self, frequency: float, error: float) -> float:
+        """The frequency [Hz] the bound is held to: f (1 - e) above, f (1 + e) below; f where e is not estimated
+        (NaN: the own mesh)."""
+        e = 0.0 if math.isnan(error) else error
+        return frequency * (1 - e) if self.above else frequency * (1 + e)
+
+    def met(self, frequency: float, error: float) -> bool:
+        """Whether a mode at ``frequency`` [Hz] with stated relative ``error`` keeps the bound (module docstring)."""
+        edge = self.edge(frequency, error)
+        return edge >= self.frequency if self.above else edge <= self.frequency
+
 
 @dataclass(frozen=True)
 class FrequencyTarget:
@@ -320,8 +331,8 @@ def _descend(scene, *, targets, names, tol, bounds, maximize, separation, replac
         final = best if best is not None and not converged else kept
         if final is not kept:
             reason += "; the best design on the targets kept"
-        broken = [f"{b.describe()} at {f:.6g} Hz" for b, f, lim in zip(mode_bounds, final.iterate.bounded, final.bounds)
-                  if lim.sigma * (lim.d - lim.limit) < 0]
+        broken = [f"{b.describe()} at {f:.6g} Hz" for b, f, e in zip(mode_bounds, final.iterate.bounded,
+                                                                      final.iterate.bound_errors) if not b.met(f, e)]
         if broken and not converged:  # what the run could not do, beside why it stopped
             reason += f"; mode bounds not met: {', '.join(broken)}"
         return TuningResult(targets, tol, tuple(iterates), converged, reason,

@@ -314,14 +314,18 @@ def open_circuit(mode: Mode, *, among=None, near: float | None = None) -> OpenCi
 
 
 def _check_driven(mode: Mode, load, theta: float) -> None:
-    """SolverError where ``load``'s modal force on ``mode`` is rounding: below ``NODE_BELOW`` of the sum of its terms'
-    sizes (a sideways force on a symmetric plate's bending mode, a pressure on a twisting one), the figures per unit
-    load would be rounding too."""
-    T, F = beside_resonance(mode, load)[:2]
-    terms = float(np.abs(free_values(T, mode.shape) * F).sum())
-    if abs(theta) < NODE_BELOW * terms:
+    """SolverError where ``load``'s modal force on ``mode`` is rounding: below ``NODE_BELOW`` of what the same load
+    would give applied where the mode moves most, along its motion (the load's size times the shape's largest
+    displacement): a sideways force on a symmetric plate's bending mode, a pressure on a twisting one. Its figures
+    per unit load would be rounding too. (The sum of the load's own terms is no scale: a sideways force meets only
+    the mode's sideways rounding, 1e-11 N/N on the bimorph's bending-z 1.)"""
+    F = beside_resonance(mode, load)[1]
+    displacement = mode.shape[: getattr(mode.model, "n_u", len(mode.shape))]
+    scale = float(np.abs(F).sum()) * float(np.abs(displacement).max())
+    if abs(theta) < NODE_BELOW * scale:
         raise SolverError(f"load: the {load.describe()} does not drive mode {mode.label} (its modal force is "
-                          f"{abs(theta) / terms:.0e} of its terms: rounding, the load is orthogonal to the mode)")
+                          f"{abs(theta) / scale:.0e} of the same load's along the mode's largest motion: rounding, the "
+                          f"load is orthogonal to the mode)")
 
 
 def reduce(mode: Mode, *, outputs, damping: Damping, reference: str | None = None, load=None) -> ReducedModel:

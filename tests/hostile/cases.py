@@ -1016,6 +1016,27 @@ NEW_FEATURES = [
     _file("box-poled-radial-among-shapes", "scene file", _shaped_box("radial"), "parts[0].poling"),
     _file("box-poled-plus-z-among-shapes", "scene file", _shaped_box("+z"), "", expect="ok",
           check=lambda out: "Hz" in out),
+    # session 20: tune's area objective and mode bounds, a load that does not drive the mode
+    *[_bimorph(f"tune-area-{id}", (*TUNE, text), field) for id, text, field in [
+        ("empty", "area", "--objective: give reduction=R"),
+        ("volts-missing", "area reduction=0.2", "--objective: give volts=V"),
+        ("width-over-one", "area reduction=0.2 volts=10 width=2", "--objective width: expected a fraction"),
+        ("width-zero", "area reduction=0.2 volts=10 width=0", "--objective width: expected a fraction"),
+        ("width-twice", "area reduction=0.2 volts=10 width=0.02 width=0.03", "--objective: 'width=0.03' is not one of"),
+        ("volts-negative", "area reduction=0.2 volts=-1", "--objective: volts must be a positive finite number"),
+        ("no-outputs", "area reduction=0.2 volts=10 contact=finger", "objective: the scene has no outputs"),
+    ]],
+    *[_bimorph(f"tune-mode-bound-{id}", (*TUNE[:-1], *bound), field) for id, bound, field in [
+        ("no-operator", ("--mode-bound", "(0,6)"), '--mode-bound: expected "LABEL>=HZ"'),
+        ("no-frequency", ("--mode-bound", "(0,6)>="), "--mode-bound: '(0,6)>=' has no frequency"),
+        ("word", ("--mode-bound", "(0,6)>=abc"), "--mode-bound: the frequency must be a number"),
+        ("negative", ("--mode-bound", "(0,6)>=-5"), "--mode-bound: the frequency must be a positive finite number"),
+        ("infinite", ("--mode-bound", "(0,6)>=inf"), "--mode-bound: the frequency must be a positive finite number"),
+        ("not-a-label", ("--mode-bound", "nonsense>=5"), "--mode-bound: 'nonsense' is not a mode label"),
+        ("twice", ("--mode-bound", "bending-z 1>=100", "--mode-bound", "bending-z 1>=200"), "mode_bounds: give each"),
+    ]],
+    _bimorph("forced-sideways-force-on-bending", ("forced", "{file}", *SOLVE, "--force", "tip=0,1,0", "--outputs",
+                                                  "tip"), "load: the force along (0, 1, 0) on 'tip'"),
 ]
 
 CASES: list[Case] = [*SCENE_FILES, *MATERIALS, *FLAGS, *SETS, *PATHS, *SWEEPS, *API, *ELECTRODES_AND_MODELS,

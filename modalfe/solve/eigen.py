@@ -33,6 +33,7 @@ from modalfe.solve.linalg import (
     factorize,
     negative_eigenvalue_count,
     pardiso_inertia,
+    shifted,
 )
 
 log = logging.getLogger(__name__)
@@ -249,7 +250,7 @@ def _interval(A, B, low, below_low, top, below_top, solver, counter) -> EigenSol
 
 def sturm_count(A, B, sigma: float, solver: str = "auto") -> int:
     """Number of finite eigenvalues of A x = lam B x below ``sigma`` (module docstring)."""
-    return negative_eigenvalue_count(A - sigma * B, solver=solver) - _massless_negatives(A, B, solver)
+    return negative_eigenvalue_count(shifted(A, B, sigma), solver=solver) - _massless_negatives(A, B, solver)
 
 
 def _massless_negatives(A, B, solver: str) -> int:
@@ -276,13 +277,13 @@ class _SturmCounter:
         for step in (0.0, *(abs(x) for x in NUDGES)):
             shift = sigma + outward * step * max(abs(sigma), self.scale)
             try:
-                shifted = self.A - shift * self.B
-                negative, factor = counted_factorization(shifted, solver=self.solver)
+                matrix = shifted(self.A, self.B, shift)
+                negative, factor = counted_factorization(matrix, solver=self.solver)
             except SolverError as exc:
                 log.info("Sturm count at %.6g: %s; moving the shift", shift, exc)
                 continue
             if keep and factor is not None:
-                self.kept[shift] = (shifted, factor)
+                self.kept[shift] = (matrix, factor)
             return shift, negative - self.offset
         raise SolverError(f"band: no regular shift found near {np.sqrt(abs(sigma)) / (2 * np.pi):.6g} Hz")
 
@@ -321,7 +322,7 @@ def _factor_nudged(A, B, sigma: float, solver: str):
     """(solve, solver name, shift factored): A - sigma B, else the first regular shift moved by ``NUDGES``
     (relative to sigma, or to a small eigenvalue scale for a zero shift), said in the log."""
     try:
-        solve, used = factorize(A - sigma * B, solver=solver)
+        solve, used = factorize(shifted(A, B, sigma), solver=solver)
         return solve, used, sigma
     except SolverError as exc:
         first = exc
@@ -330,7 +331,7 @@ def _factor_nudged(A, B, sigma: float, solver: str):
         # a zero shift (a free body's rigid modes) moves down: nearness to 0 keeps its order for lam >= 0
         moved = sigma + (-abs(step) if sigma == 0 else step) * scale
         try:
-            solve, used = factorize(A - moved * B, solver=solver)
+            solve, used = factorize(shifted(A, B, moved), solver=solver)
         except SolverError:
             continue
         log.warning("shift %.6g is singular (on an eigenvalue?); moved to %.6g", sigma, moved)

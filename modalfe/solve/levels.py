@@ -61,9 +61,13 @@ def modes_of(model, analysis, *, fidelity: str, solver: str = "auto", timings: d
     (``_open_circuit_start``)."""
     _SHORT_SOLVES[:] = [kept for kept in _SHORT_SOLVES if kept.model() is not None]
     constraints = model.constraints(analysis.circuit)
-    short = [kept for kept in _SHORT_SOLVES if kept.model() is model] if analysis.circuit == "open" else []
-    A = constraints.project(model.K, picked=short[0].A if short else None)
-    B = constraints.project(model.M, picked=short[0].B if short else None)
+    short = [kept for kept in _SHORT_SOLVES if kept.model() is model]
+    if analysis.circuit == "short" and short:  # the same projection, whose shifts share one pencil (``shifted``)
+        A, B = short[0].A, short[0].B
+    else:
+        short = short if analysis.circuit == "open" else []
+        A = constraints.project(model.K, picked=short[0].A if short else None)
+        B = constraints.project(model.M, picked=short[0].B if short else None)
     factor, start = None, None
     if analysis.band is None:
         factor = next((open_circuit_solve(A, kept.A.shape[0], kept.factor) for kept in short

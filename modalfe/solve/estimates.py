@@ -278,10 +278,12 @@ def richardson(fine: Modes, coarse: Modes, ratio: float, coarsest: Modes | None 
     return estimates
 
 
-# what a line support means on the 3-D solid (docs/supports.md): a line load of finite force per length, whose
-# field is singular like 1/r at the line (Flamant's solution), so its energy converges and stresses there do not
-LINE_SUPPORT_CAVEAT = ("line supports, a singular line load on the 3-D solid: frequencies converge (slowly), "
-                       "stresses at the line do not")
+# what a line support means on the 3-D solid (docs/supports.md): its reaction is a line load, whose field is singular
+# at the line (stresses ~ 1/r, displacements ~ log r: Flamant's solution), so a line holds the continuum with no
+# stiffness in the limit and the mesh's nodes on it hold it less as they refine (NAFEMS FV52, measured there)
+LINE_SUPPORT_CAVEAT = ("line supports, a singular line load on the 3-D solid held at the mesh's nodes on the line: "
+                       "the frequencies it affects fall slowly as the mesh refines (no mesh-independent limit) and "
+                       "stresses at the line do not converge (docs/supports.md)")
 
 
 def singular_field(scene) -> str:

@@ -226,8 +226,9 @@ class Assembly:
 
     def meeting_length(self, group_a: str, group_b: str) -> float | None:
         """Total length [m] of the lines where face groups ``group_a`` and ``group_b`` meet (an edge support's line),
-        from the faces' rectangles: two faces of different normals meet on the segment their rectangles share. None
-        when a face has no rectangle (a curved wall: the mesh decides)."""
+        from the faces' rectangles: two faces meet on a line where their rectangles' intersection has length along one
+        axis only (faces at an angle, or two windows side by side in one plane). None when a face has no rectangle (a
+        curved wall: the mesh decides)."""
         bounds = self.bounds
         tol = 1e-9 * max(b - a for a, b in zip(*bounds))
         total = 0.0
@@ -236,14 +237,10 @@ class Assembly:
                 ra, rb = self.face_rect(fa), self.face_rect(fb)
                 if ra is None or rb is None:
                     return None
-                if ra[0] == rb[0]:
-                    continue
-                lo = [ra[1] if k == ra[0] else rb[1] if k == rb[0] else max(ra[2][k], rb[2][k]) for k in range(3)]
-                hi = [ra[1] if k == ra[0] else rb[1] if k == rb[0] else min(ra[3][k], rb[3][k]) for k in range(3)]
-                inside = all(r[2][k] - tol <= x <= r[3][k] + tol for r in (ra, rb) for k, x in enumerate(lo))
-                along = 3 - ra[0] - rb[0]
-                if inside and hi[along] - lo[along] > tol:
-                    total += hi[along] - lo[along]
+                extent = [min(r[1] if k == r[0] else r[3][k] for r in (ra, rb))
+                          - max(r[1] if k == r[0] else r[2][k] for r in (ra, rb)) for k in range(3)]
+                if min(extent) >= -tol and sum(e > tol for e in extent) == 1:
+                    total += max(extent)
         return total
 
     def face_area(self, group: str) -> float:

@@ -70,6 +70,14 @@ def test_an_edge_holds_the_nodes_two_face_groups_share():
     assert len(model.clamped) >= 3 and np.allclose(at[[0, 2]], 0.0)
     assert np.all(model.clamped % 3 == 2)  # z components only (scikit-fem numbers vector DOFs 3 s + c)
     assert "line supports" in singular_field(scene)
+    # two windows side by side in one face meet on their common border: a knife edge across the bar at x = L / 2
+    halves = {"a": [{"face": "bar.zmin", "window": [[0, 0], [L / 2, H]]}],
+              "b": [{"face": "bar.zmin", "window": [[L / 2, 0], [L, H]]}]}
+    knife = scene_from_dict(bar(clamps={}, faces={**bar()["faces"], **halves}, kind="solid",
+                                edges={"knife": {"faces": ["a", "b"], "fix": "z"}}))
+    model = build_model(knife, "solid")[0]
+    at = model.u_basis.doflocs[:, model.clamped]
+    assert len(model.clamped) >= 3 and np.allclose(at[0], L / 2) and np.allclose(at[2], 0.0)
 
 
 def test_nafems_fv52_line_supports():

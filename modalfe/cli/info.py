@@ -39,6 +39,8 @@ def scene_info(scene) -> dict[str, Any]:
         faces[group] = {"faces": [f"{f.part}.{f.side}" + (_window(f.window) if f.window else "") for f in members],
                         "role": role}
     supports = {"clamps": {g: c for g, c in scene.clamps.items()},
+                "edges": {name: {"faces": list(e["faces"]), "fix": e["fix"]} for name, e in scene.edges.items()},
+                "guides": dict(scene.guides),
                 "springs_N_m": {g: list(k) for g, k in scene.springs.items()},
                 "masses_kg": dict(scene.masses)}
     if not any(supports.values()):
@@ -71,6 +73,11 @@ def _role(scene, group: str) -> str:
         return ROLE_OF.get(scene.electrodes[group], f"electrode ({scene.electrodes[group]})")
     if group in scene.clamps:
         return f"clamp ({scene.clamps[group]} fixed)"
+    if group in scene.guides:
+        return f"guided ({scene.guides[group]} uniform)"
+    edges = [f"{name} ({e['fix']} fixed)" for name, e in scene.edges.items() if group in e["faces"]]
+    if edges:
+        return "meets on edge " + ", ".join(edges)
     if group in scene.springs:
         return "spring (kx, ky, kz) = (" + ", ".join(f"{k:.4g}" for k in scene.springs[group]) + ") N/m"
     if group in scene.masses:
@@ -110,6 +117,8 @@ def format_info(info: dict[str, Any]) -> str:
     s = info["supports"]
     lines.append("supports: " + ("; ".join(
         [f"clamp {g} ({c})" for g, c in s["clamps"].items()]
+        + [f"edge {n} ({e['fix']} on {' x '.join(e['faces'])})" for n, e in s["edges"].items()]
+        + [f"guide {g} ({c} uniform)" for g, c in s["guides"].items()]
         + [f"spring {g}" for g in s["springs_N_m"]] + [f"mass {g} {m:g} kg" for g, m in s["masses_kg"].items()])
         or s.get("note", "")))
     sym = info["symmetry"]

@@ -224,6 +224,25 @@ class Assembly:
         part = self.part(face.part)
         return part.face_bounds(face.side, face.window) if face.window is not None else part.planar_face(face.side)
 
+    def meeting_length(self, group_a: str, group_b: str) -> float | None:
+        """Total length [m] of the lines where face groups ``group_a`` and ``group_b`` meet (an edge support's line),
+        from the faces' rectangles: two faces meet on a line where their rectangles' intersection has length along one
+        axis only (faces at an angle, or two windows side by side in one plane). None when a face has no rectangle (a
+        curved wall: the mesh decides)."""
+        bounds = self.bounds
+        tol = 1e-9 * max(b - a for a, b in zip(*bounds))
+        total = 0.0
+        for fa in self.faces[group_a]:
+            for fb in self.faces[group_b]:
+                ra, rb = self.face_rect(fa), self.face_rect(fb)
+                if ra is None or rb is None:
+                    return None
+                extent = [min(r[1] if k == r[0] else r[3][k] for r in (ra, rb))
+                          - max(r[1] if k == r[0] else r[2][k] for r in (ra, rb)) for k in range(3)]
+                if min(extent) >= -tol and sum(e > tol for e in extent) == 1:
+                    total += max(extent)
+        return total
+
     def face_area(self, group: str) -> float:
         """Area [m^2] of a face group, from the parts' exact shapes (windows included)."""
         return sum(self.part(f.part).area(f.side, f.window) for f in self.faces[group])

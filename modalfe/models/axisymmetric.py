@@ -122,7 +122,7 @@ def meridian_section(scene, size_factor: float = 1.0) -> MeridianSection:
     SceneError naming the field where the scene is no body of revolution the model can take."""
     from modalfe.models.mesh import element_sizes
 
-    for name in ("clamps", "springs", "masses"):
+    for name in ("clamps", "edges", "guides", "springs", "masses"):
         if getattr(scene, name):
             raise SceneError(f"{name}: not supported by the axisymmetric model yet (free bodies only)")
     if scene.mirror_axes:

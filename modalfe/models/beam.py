@@ -50,6 +50,9 @@ from modalfe.models.layered import (
 SLENDERNESS = 5.0  # length / largest section size below which a 1-D model is refused
 SURFACE_SAMPLES = 241  # x-samples of each surface line for labels (60 label stations, 4 samples each)
 _COMPONENT_DOFS = {"x": (0, 4, 5), "y": (1, 3), "z": (2, 3)}  # a face fixed along x stops u, theta_y, theta_z
+# a face held uniform along x (guided) keeps its plane normal to the axis: theta_y = theta_z = 0; along y or z, no
+# twist: theta_x = 0 (u_y = v - z theta_x, u_z = w + y theta_x over the section)
+_GUIDED_DOFS = {"x": (4, 5), "y": (3,), "z": (3,)}
 
 
 @dataclass(frozen=True)
@@ -458,24 +461,30 @@ def _piezo_blocks(scene, sections, reference, basis, n_u):
 
 def _clamped_dofs(scene, basis, mesh) -> np.ndarray:
     """u DOFs fixed by clamps on the end faces: fixing x on a face stops u, theta_y, theta_z; y stops v,
-    theta_x; z stops w, theta_x; so ``xyz`` is a full clamp (all six)."""
+    theta_x; z stops w, theta_x; so ``xyz`` is a full clamp (all six). A guide (``Scene.guides``: a component
+    uniform over the end face) fixes the rotations that would vary it (``_GUIDED_DOFS``); the node's translations are
+    one unknown each already. Edge supports: SceneError (a line on the section has no beam DOFs)."""
+    if scene.edges:
+        raise SceneError(f"edges.{next(iter(scene.edges))}: the beam model has no lines on its end faces; line "
+                         f"supports are solved by the solid model")
     assembly = scene.full_assembly()
     (xmin, _, _), (xmax, _, _) = assembly.bounds
     tol = 1e-9 * (xmax - xmin)
     fixed = set()
-    for group, components in scene.clamps.items():
-        for f in assembly.faces[group]:
-            part = assembly.part(f.part)
-            if f.window is not None:
-                raise SceneError(f"clamps.{group}: face windows are not supported by the beam model")
-            if f.side == "xmin" and abs(part.lo[0] - xmin) <= tol:
-                x = xmin
-            elif f.side == "xmax" and abs(part.hi[0] - xmax) <= tol:
-                x = xmax
-            else:
-                raise SceneError(f"clamps.{group}: '{f.part}.{f.side}' is not an end face of the beam "
-                                 f"(x = {xmin:g} or {xmax:g} m), the only supports the beam model has")
-            vertex = int(np.argmin(np.abs(mesh.p[0] - x)))
-            node = int(basis.nodal_dofs[0, vertex])
-            fixed |= {6 * node + a for c in components for a in _COMPONENT_DOFS[c]}
+    for role, table, dofs in (("clamps", scene.clamps, _COMPONENT_DOFS), ("guides", scene.guides, _GUIDED_DOFS)):
+        for group, components in table.items():
+            for f in assembly.faces[group]:
+                part = assembly.part(f.part)
+                if f.window is not None:
+                    raise SceneError(f"{role}.{group}: face windows are not supported by the beam model")
+                if f.side == "xmin" and abs(part.lo[0] - xmin) <= tol:
+                    x = xmin
+                elif f.side == "xmax" and abs(part.hi[0] - xmax) <= tol:
+                    x = xmax
+                else:
+                    raise SceneError(f"{role}.{group}: '{f.part}.{f.side}' is not an end face of the beam "
+                                     f"(x = {xmin:g} or {xmax:g} m), the only supports the beam model has")
+                vertex = int(np.argmin(np.abs(mesh.p[0] - x)))
+                node = int(basis.nodal_dofs[0, vertex])
+                fixed |= {6 * node + a for c in components for a in dofs[c]}
     return np.array(sorted(fixed), dtype=int)

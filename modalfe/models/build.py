@@ -86,7 +86,7 @@ def _solid(scene, *, size_factor: float, frame, min_layers: int | None) -> tuple
                     patches=mass_patches(scene, size_factor))
     t_mesh = (time.perf_counter() - t0) if dm.seconds else 0.0
     key = repr((dm.key, scene.params, scene.materials, scene.springs, scene.masses, scene.electrodes,
-                scene.clamps, scene.symmetry_clamps, scene.mesh.order, scene.mesh.family,
+                scene.clamps, scene.edges, scene.guides, scene.symmetry_clamps, scene.mesh.order, scene.mesh.family,
                 None if frame is None else np.asarray(frame).tobytes()))
     if key in _MODELS:
         _MODELS.move_to_end(key)

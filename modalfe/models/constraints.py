@@ -17,6 +17,25 @@ def free_values(T: sp.spmatrix, x_full: np.ndarray) -> np.ndarray:
     return (T.T @ x_full) / (weights if np.ndim(x_full) == 1 else weights[:, None])
 
 
+def shared_unknowns(n: int, groups: list[np.ndarray], clamped: np.ndarray) -> tuple[np.ndarray, tuple[np.ndarray, ...]]:
+    """(clamped, shared) of ``n`` DOFs where each of ``groups`` (DOF index arrays) is to move as one unknown (a
+    multi-point constraint u_i = u_group, x_full = T x_free with one column summing the group): groups that share a
+    DOF merge into one; a group holding a ``clamped`` DOF is clamped whole (its common value is zero)."""
+    from scipy.sparse.csgraph import connected_components
+
+    links = np.concatenate([np.stack([g[:-1], g[1:]]) for g in groups] + [np.zeros((2, 0), dtype=int)], axis=1)
+    on = np.unique(np.concatenate([*groups, np.zeros(0, dtype=int)])).astype(int)
+    if len(on) == 0:
+        return clamped, ()
+    _, label = connected_components(sp.coo_matrix((np.ones(links.shape[1]), (links[0], links[1])), shape=(n, n)),
+                                    directed=False)
+    held = np.isin(label[on], label[clamped])
+    free = on[~held]
+    order = np.argsort(label[free], kind="stable")
+    shared = np.split(free[order], np.flatnonzero(np.diff(label[free][order])) + 1)
+    return np.union1d(clamped, on[held]).astype(int), tuple(g for g in shared if len(g) > 1)
+
+
 @dataclass(frozen=True, eq=False)
 class Constraints:
     """x_full = T @ x_free; ``floating`` electrodes each carry one potential unknown (last columns)."""

@@ -36,6 +36,7 @@ class LayeredModel(PiezoUnknowns):
     clamped: np.ndarray
     timings: dict[str, float] = field(default_factory=dict)
     attached_mass: sp.csr_matrix | None = None  # (n_u, n_u): the scene's masses alone, included in M
+    guided: tuple[np.ndarray, ...] = ()  # groups of u DOFs sharing one unknown (guided faces; the plate model)
 
     @property
     def n_phi(self) -> int:

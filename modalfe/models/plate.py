@@ -38,6 +38,7 @@ import scipy.sparse as sp
 
 from modalfe.errors import SceneError
 from modalfe.geometry.parts import contact_area
+from modalfe.models.constraints import shared_unknowns
 from modalfe.models.layered import (
     LayeredModel,
     capacitance_matrix,
@@ -435,10 +436,10 @@ def assemble_plate(scene, *, size_factor: float = 1.0) -> PlateModel:
         Kpp = capacitance_matrix(n_phi, capacitors)
         K = sp.bmat([[K, sp.csr_matrix(Kup)], [sp.csr_matrix(Kup).T, -sp.csr_matrix(Kpp)]], format="csr")
         M = sp.block_diag([M, sp.csr_matrix((n_phi, n_phi))], format="csr")
-    clamped = _clamped_dofs(scene, basis, mesh)
+    clamped, guided = _supported_dofs(scene, basis, mesh)
     timings = {"mesh": t_mesh, "assembly": time.perf_counter() - t0 - t_mesh}
     return PlateModel(scene, mesh, basis, K.tocsr(), M.tocsr(), n_u, {g: np.array([i]) for g, i in index.items()},
-                      clamped, timings, attached_mass=attached, stacks=stacks)
+                      clamped, timings, attached_mass=attached, guided=guided, stacks=stacks)
 
 
 def _summed(terms, n: int) -> sp.csr_matrix:
@@ -484,25 +485,39 @@ def _face_basis(scene, group, mesh, basis, stacks, element, ci, cj):
     return Basis(mesh, element, intorder=4, elements=np.flatnonzero(chosen)), heights.pop()
 
 
-def _clamped_dofs(scene, basis, mesh) -> np.ndarray:
-    """u DOFs fixed by clamps and mirror planes. On a side face (normal x or y) the displacement is fixed over
-    the face's height, so fixing x stops u and beta_x, y stops v and beta_y, z stops w; on a z face only w can
-    be fixed without constraining a combination of unknowns."""
+def _supported_dofs(scene, basis, mesh) -> tuple[np.ndarray, tuple[np.ndarray, ...]]:
+    """(clamped, guided) u DOFs of clamps, guides and mirror planes. On a side face (normal x or y) the displacement
+    is fixed over the face's height, so fixing x stops u and beta_x, y stops v and beta_y, z stops w; on a z face
+    only w can be fixed without constraining a combination of unknowns. A guide holds a component uniform over the
+    face: on a side face its rotation (beta_x for x, beta_y for y) is fixed and its translation along the edge is one
+    shared unknown (``modalfe.models.constraints.shared_unknowns``); on a z face only w. Edge supports: SceneError
+    (the mid-surface has no lines at a face's height)."""
+    if scene.edges:
+        raise SceneError(f"edges.{next(iter(scene.edges))}: the plate model's mid-surface has no lines at a face's "
+                         f"height; line supports are solved by the solid model")
     assembly = scene.assembly()
     span = max(np.ptp(mesh.p[0]), np.ptp(mesh.p[1]))
     tol = 1e-9 * span
     x = basis.doflocs
-    fixed = set()
-    for group, components in {**scene.clamps, **scene.symmetry_clamps}.items():
+    fixed, shared = set(), []
+    supports = [("clamps", group, components) for group, components in {**scene.clamps,
+                                                                        **scene.symmetry_clamps}.items()]
+    supports += [("guides", group, components) for group, components in scene.guides.items()]
+    for role, group, components in supports:
         for f in assembly.faces[group]:
             axis, c, lo, hi = assembly.part(f.part).face_bounds(f.side, f.window)
             if axis == 2:
                 if set(components) - {"z"}:
-                    raise SceneError(f"clamps.{group}: on a z face the plate model can fix only 'z'")
+                    raise SceneError(f"{role}.{group}: on a z face the plate model can hold only 'z'")
                 on = (x[0] >= lo[0] - tol) & (x[0] <= hi[0] + tol) & (x[1] >= lo[1] - tol) & (x[1] <= hi[1] + tol)
             else:
                 other = 1 - axis
                 on = (np.abs(x[axis] - c) <= tol) & (x[other] >= lo[other] - tol) & (x[other] <= hi[other] + tol)
             nodes = np.flatnonzero(on)
-            fixed |= {5 * int(n) + a for n in nodes for comp in components for a in _COMPONENT_DOFS[comp]}
-    return np.array(sorted(fixed), dtype=int)
+            for comp in components:
+                translation, *rotation = _COMPONENT_DOFS[comp]
+                held = _COMPONENT_DOFS[comp] if role == "clamps" else rotation
+                fixed |= {5 * int(n) + a for n in nodes for a in held}
+                if role == "guides":
+                    shared.append(5 * nodes + translation)
+    return shared_unknowns(5 * basis.N, shared, np.array(sorted(fixed), dtype=int))

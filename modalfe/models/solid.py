@@ -25,7 +25,7 @@ import scipy.sparse as sp
 
 from modalfe.errors import SceneError
 from modalfe.models import box_assembly
-from modalfe.models.constraints import Constraints
+from modalfe.models.constraints import Constraints, shared_unknowns
 from modalfe.models.probing import probing
 from modalfe.models.symmetry import fold, solved_elements, unfold
 
@@ -36,7 +36,15 @@ _CHUNK = 1500  # elements per batch: bounds the memory of the batched element ma
 
 class PiezoUnknowns:
     """Circuit handling shared by the 3-D model and the reduced ones: needs ``scene``, ``K``, ``n_u``,
-    ``n_phi``, ``electrodes`` (face group -> indices into the phi unknowns) and ``clamped``."""
+    ``n_phi``, ``electrodes`` (face group -> indices into the phi unknowns), ``clamped`` and ``guided`` (groups of u
+    DOFs that share one unknown: a guided face's component, ``Scene.guides``; none on the reduced models)."""
+
+    guided: tuple[np.ndarray, ...] = ()
+
+    @property
+    def n_u_free(self) -> int:
+        """Free displacement unknowns: the u DOFs neither clamped nor guided, plus one per guided group."""
+        return self.n_u - len(self.clamped) - sum(len(g) for g in self.guided) + len(self.guided)
 
     @property
     def copies(self) -> int:
@@ -62,7 +70,8 @@ class PiezoUnknowns:
     def constraints(self, circuit: str) -> Constraints:
         """The map from free unknowns to the full DOF vector for a ``short`` or ``open`` circuit.
 
-        Short: every electrode at 0 V. Open: each driven electrode floats as one shared unknown.
+        Short: every electrode at 0 V. Open: each driven electrode floats as one shared unknown. The free
+        displacements come first (``n_u_free`` columns: single DOFs, then one column per guided group).
         Potentials are scaled so that the coupled matrix stays well conditioned. A piezo region that no fixed
         electrode touches (poled, without electrodes) has its potential fixed at one node: only its gradient
         enters, and left free the potential's constant made the matrix singular.
@@ -72,7 +81,7 @@ class PiezoUnknowns:
         if circuit not in ("short", "open"):
             raise SceneError(f"circuit: must be 'short' or 'open', got '{circuit}'")
         roles = self.scene.electrodes
-        free_u = np.setdiff1d(np.arange(self.n_u), self.clamped)
+        free_u = np.setdiff1d(np.arange(self.n_u), np.concatenate([self.clamped, *self.guided]))
         on_electrode = np.zeros(self.n_phi, dtype=bool)
         fixed = np.zeros(self.n_phi, dtype=bool)
         for group in self.electrodes:
@@ -88,6 +97,9 @@ class PiezoUnknowns:
         scale = self.potential_scale()
         cols = [sp.csr_matrix((np.ones(len(free_u)), (free_u, np.arange(len(free_u)))),
                               shape=(self.ndofs, len(free_u)))]
+        for group in self.guided:  # one shared unknown: the multi-point constraint u_i = u_group
+            cols.append(sp.csr_matrix((np.ones(len(group)), (group, np.zeros(len(group), dtype=int))),
+                                      shape=(self.ndofs, 1)))
         if len(interior):
             cols.append(sp.csr_matrix((np.full(len(interior), scale), (self.n_u + interior, np.arange(len(interior)))),
                                       shape=(self.ndofs, len(interior))))
@@ -144,7 +156,8 @@ class Model(PiezoUnknowns):
     K, M : (n, n) with n = n_u + n_phi; u DOFs first (skfem vector numbering), then phi
     phi_dofs : skfem scalar DOF index of each phi unknown
     electrodes : electrode face group -> indices into the phi unknowns
-    clamped : u DOF indices fixed to zero
+    clamped : u DOF indices fixed to zero (clamps, edge supports)
+    guided : groups of u DOF indices, each sharing one unknown (guided faces)
     """
 
     scene: object
@@ -159,6 +172,7 @@ class Model(PiezoUnknowns):
     timings: dict[str, float] = field(default_factory=dict)
     frame: np.ndarray | None = None
     attached_mass: sp.csr_matrix | None = None  # (n_u, n_u): the scene's masses alone, included in M
+    guided: tuple[np.ndarray, ...] = ()
 
     @property
     def n_phi(self) -> int:
@@ -245,7 +259,7 @@ class Model(PiezoUnknowns):
         """K - omega^2 M on the short-circuit free unknowns, the potentials scaled by ``scale``
         (default: ``potential_scale()``; 1.0 leaves them in volts), for conditioning checks."""
         A = self.constraints("short").project(self.K - (2 * np.pi * frequency) ** 2 * self.M)
-        n_u_free = self.n_u - len(self.clamped)
+        n_u_free = self.n_u_free
         ratio = (self.potential_scale() if scale is None else scale) / self.potential_scale()
         rescale = sp.diags(np.r_[np.ones(n_u_free), np.full(A.shape[0] - n_u_free, ratio)])
         return (rescale @ A @ rescale).tocsr()
@@ -283,9 +297,11 @@ def assemble(scene, device_mesh, *, frame: np.ndarray | None = None) -> Model:
     if frame is not None:
         if scene.springs:
             raise SceneError("frame: face springs are axis-aligned and cannot be rotated")
-        if any(len(set(c)) < 3 for c in {**scene.clamps, **scene.symmetry_clamps}.values()):
-            raise SceneError("frame: clamps fixing some components only (and symmetry planes) are "
-                             "axis-aligned and cannot be rotated")
+        held = [*scene.clamps.values(), *scene.symmetry_clamps.values(), *scene.guides.values(),
+                *(edge["fix"] for edge in scene.edges.values())]
+        if any(len(set(c)) < 3 for c in held):
+            raise SceneError("frame: supports holding some components only (clamps, edges, guides, symmetry planes) "
+                             "are axis-aligned and cannot be rotated")
         frame = np.asarray(frame, dtype=float)
         mesh = type(mesh)(frame @ mesh.p, mesh.t)
         device_mesh = replace(device_mesh, mesh=mesh)
@@ -311,9 +327,9 @@ def assemble(scene, device_mesh, *, frame: np.ndarray | None = None) -> Model:
     else:
         K, M = Kuu, Muu
     electrodes = _electrode_dofs(scene, device_mesh, mesh, scalar, phi_dofs)
-    clamped = _clamped_dofs(scene, device_mesh, u_basis)
+    clamped, guided = _supported_dofs(scene, device_mesh, u_basis)
     return Model(scene, device_mesh, u_basis, K, M, n_u, phi_dofs, electrodes, clamped,
-                 {"assembly": time.perf_counter() - start}, frame, attached)
+                 {"assembly": time.perf_counter() - start}, frame, attached, guided)
 
 
 def _chunk_size(u_basis, intorder: int) -> int:
@@ -387,14 +403,32 @@ def material_of(scene, part, frame) -> tuple[object, object]:
     return mat, lambda basis: constant
 
 
-def _clamped_dofs(scene, device_mesh, u_basis) -> np.ndarray:
-    """u DOFs fixed by the scene's clamps (each clamp fixes the components it names)."""
+def _supported_dofs(scene, device_mesh, u_basis) -> tuple[np.ndarray, tuple[np.ndarray, ...]]:
+    """(clamped, guided) u DOFs of the scene's supports: clamps fix the components they name on their faces, edge
+    supports on the nodes two face groups share (the line's vertices and its elements' edge nodes), both at zero;
+    guides make each component they name one unknown over the face (``guided``: groups of DOFs, merged where guided
+    faces share nodes; a group that holds a clamped DOF is clamped whole, its uniform value being zero)."""
     fixed = [np.array([], dtype=int)]
     for group, components in {**scene.clamps, **scene.symmetry_clamps}.items():
-        dofs = u_basis.get_dofs(device_mesh.faces[group])
-        for c in components:
-            fixed.append(dofs.all(f"u^{'xyz'.index(c) + 1}"))
-    return np.unique(np.concatenate(fixed)).astype(int)
+        fixed += _component_dofs(u_basis, device_mesh.faces[group], components)
+    for name, edge in scene.edges.items():
+        a, b = edge["faces"]
+        line = [np.intersect1d(x, y) for x, y in zip(_component_dofs(u_basis, device_mesh.faces[a], edge["fix"]),
+                                                      _component_dofs(u_basis, device_mesh.faces[b], edge["fix"]))]
+        if len(line[0]) < 2:
+            raise SceneError(f"edges.{name}.faces: '{a}' and '{b}' share {len(line[0])} mesh node(s): they do not "
+                             f"meet along a line")
+        fixed += line
+    clamped = np.unique(np.concatenate(fixed)).astype(int)
+    guided = [dofs for group, components in scene.guides.items()
+              for dofs in _component_dofs(u_basis, device_mesh.faces[group], components)]
+    return shared_unknowns(u_basis.N, guided, clamped)
+
+
+def _component_dofs(u_basis, facets: np.ndarray, components: str) -> list[np.ndarray]:
+    """u DOFs on ``facets``, one array per component letter of ``components`` (sorted)."""
+    dofs = u_basis.get_dofs(facets)
+    return [np.sort(dofs.all(f"u^{'xyz'.index(c) + 1}")) for c in components]
 
 
 def _chunks(elements: np.ndarray, size: int) -> list[np.ndarray]:

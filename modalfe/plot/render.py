@@ -34,8 +34,10 @@ from modalfe.models.symmetry import mirror_planes, whole_device_mesh
 
 log = logging.getLogger(__name__)
 
-MARKERS = {"foot": "limegreen", "electrode": "gold", "clamp": "black", "spring": "purple", "mass": "orange"}
-LEGEND = {"foot": "foot", "electrode": "electrode", "clamp": "clamp (hatched)", "spring": "spring", "mass": "mass"}
+MARKERS = {"foot": "limegreen", "electrode": "gold", "clamp": "black", "guide": "dimgray", "spring": "purple",
+           "mass": "orange"}
+LEGEND = {"foot": "foot", "electrode": "electrode", "clamp": "clamp (hatched)", "guide": "guided face",
+          "spring": "spring", "mass": "mass"}
 FILL_OPACITY = 0.25  # electrodes' and clamps' fill: the mode's colours stay readable through it
 SUBDIVISIONS = 2  # nodal lines: each surface triangle split in 2**2, the field read at the new points
 UNITS = "[m per unit modal\namplitude,\nmass-normalised]"
@@ -107,8 +109,8 @@ def marker_kind(scene, group: str) -> str | None:
     """The role a face group is marked with, or None: feet by name, the others by the scene's tables."""
     if group.startswith("foot"):
         return "foot"
-    for kind, table in (("electrode", scene.electrodes), ("clamp", scene.clamps), ("spring", scene.springs),
-                        ("mass", scene.masses)):
+    for kind, table in (("electrode", scene.electrodes), ("clamp", scene.clamps), ("guide", scene.guides),
+                        ("spring", scene.springs), ("mass", scene.masses)):
         if group in table:
             return kind
     return None

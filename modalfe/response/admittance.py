@@ -417,7 +417,7 @@ def clamped_capacitance(model) -> float:
     from modalfe.solve.levels import short_circuit_pencil
 
     T, F, C_b, _ = drive_vectors(model)
-    n_uf = model.n_u - len(model.clamped)
+    n_uf = model.n_u_free
     if T.shape[1] == n_uf:
         return C_b
     A = short_circuit_pencil(model)[0][n_uf:, n_uf:]

@@ -62,7 +62,8 @@ def scene_from_toml(path: str | Path) -> Scene:
     return scene_from_dict(data, default_name=path.stem, folder=path.parent)
 
 
-_TOP_KEYS = ("name", "units", "geometry", "parts", "faces", "materials", "electrodes", "clamps", "springs",
+_TOP_KEYS = ("name", "units", "geometry", "parts", "faces", "materials", "electrodes", "clamps", "edges", "guides",
+             "springs",
              "masses", "analysis", "mesh", "working_modes", "kind", "symmetry", "antisymmetry", "drive")
 _DRIVE_KEYS = ("damping", "damping_source", "damping_fallback", "damping_fallback_source", "outputs", "load",
                "load_source")
@@ -141,6 +142,8 @@ def scene_from_dict(data: Mapping[str, Any], default_name: str = "scene", folder
         params=params,
         electrodes=electrodes,
         clamps=_clamps(data.get("clamps", {})),
+        edges=dict(v.table("edges", data.get("edges", {}))),
+        guides=dict(v.table("guides", data.get("guides", {}))),
         springs=springs,
         masses=masses,
         materials=materials,

@@ -161,9 +161,10 @@ def check_load(scene, load: Load) -> None:
 
 
 def supported_along(scene, axis: str) -> bool:
-    """Whether a clamp or a face spring holds the body to the ground along ``axis`` (x, y or z)."""
+    """Whether a clamp, an edge support or a face spring holds the body to the ground along ``axis`` (x, y or z)."""
     k = "xyz".index(axis)
-    return any(axis in components for components in scene.clamps.values()) or any(
+    held = [*scene.clamps.values(), *(edge["fix"] for edge in scene.edges.values())]
+    return any(axis in components for components in held) or any(
         stiffness[k] > 0 for stiffness in scene.springs.values())
 
 

@@ -206,7 +206,7 @@ class Analysis:
 class Scene:
     """One device's validated parameters. Build variants with ``with_overrides``.
 
-    Immutable and hashable: the tables (``params``, ``electrodes``, ``clamps``, ``springs``,
+    Immutable and hashable: the tables (``params``, ``electrodes``, ``clamps``, ``edges``, ``guides``, ``springs``,
     ``masses``, ``materials``) are read-only ``FrozenMap``s, lists in them tuples.
     """
 
@@ -215,6 +215,12 @@ class Scene:
     params: Mapping[str, Any]
     electrodes: Mapping[str, str] = field(default_factory=dict)
     clamps: Mapping[str, str] = field(default_factory=dict)
+    # line supports: name -> {faces = (GROUP_A, GROUP_B), fix = COMPONENTS}, the components held at zero on the lines
+    # where the two face groups meet (docs/supports.md)
+    edges: Mapping[str, Mapping[str, Any]] = field(default_factory=dict)
+    # guided faces: GROUP -> COMPONENTS each held uniform over the face (one shared unknown per component: the face
+    # translates along them without tilting or twisting; docs/supports.md)
+    guides: Mapping[str, str] = field(default_factory=dict)
     springs: Mapping[str, tuple[float, float, float]] = field(default_factory=dict)
     masses: Mapping[str, float] = field(default_factory=dict)
     materials: Mapping[str, Mapping[str, Any]] = field(default_factory=dict)
@@ -311,9 +317,9 @@ class Scene:
     def with_overrides(self, **overrides: Any) -> Scene:
         """A copy with parameters changed. Keys: builder parameters (``ceramic_thickness``), or
         dotted ``mesh.*``, ``analysis.*``, ``drive.*``, ``springs.GROUP``, ``masses.GROUP``,
-        ``electrodes.GROUP``, ``clamps.GROUP``, ``materials.NAME.KEY``. Setting ``drive.damping``
-        makes its source "set by the user"; a built-in scene's assumption lines are rewritten from
-        the new parameters."""
+        ``electrodes.GROUP``, ``clamps.GROUP``, ``guides.GROUP``, ``edges.NAME``, ``materials.NAME.KEY``.
+        Setting ``drive.damping`` makes its source "set by the user"; a built-in scene's assumption lines are
+        rewritten from the new parameters."""
         if not overrides:
             return self
         scene = self
@@ -332,11 +338,11 @@ class Scene:
                     if key == f"drive.{what}" and f"drive.{what}_source" not in overrides:
                         change[f"{what}_source"] = f"{USER_DAMPING_SOURCE} (drive.{what})"
                 scene = replace(scene, **{head: replace(sub, **change)})
-            elif head in ("springs", "masses", "electrodes", "clamps") and rest:
+            elif head in _SUPPORT_TABLES and rest:
                 table = dict(getattr(scene, head))
                 table[rest] = value
                 scene = replace(scene, **{head: table})
-            elif key in ("springs", "masses", "electrodes", "clamps"):
+            elif key in _SUPPORT_TABLES:
                 if not isinstance(value, Mapping):
                     raise SceneError(f"{key}: must be a table group = value")
                 scene = replace(scene, **{key: dict(value)})
@@ -427,14 +433,15 @@ class Scene:
                 raise SceneError(f"part '{part.name}': poled but material '{part.material}' is not piezoelectric")
         groups = set(self.full_assembly().faces) | set(assembly.faces)
         for role, table in (("electrodes", self.electrodes), ("springs", self.springs), ("masses", self.masses),
-                            ("clamps", self.clamps)):
+                            ("clamps", self.clamps), ("guides", self.guides)):
             for group in table:
                 if group not in groups:
                     raise SceneError(f"{role}.{group}: no such face group; known: {sorted(groups)}")
-        for group, components in self.clamps.items():
-            v.string(f"clamps.{group}", components)
-            if set(components) - set("xyz") or len(set(components)) != len(components):
-                raise SceneError(f"clamps.{group}: components must be distinct letters of 'xyz', got '{components}'")
+        for role, table in (("clamps", self.clamps), ("guides", self.guides)):
+            for group, components in table.items():
+                _components(f"{role}.{group}", components)
+        for name, edge in self.edges.items():
+            _check_edge(self, name, edge, groups)
         for group, role in self.electrodes.items():
             v.string(f"electrodes.{group}", role, choices=("drive", "ground"))
         for group, k in self.springs.items():
@@ -473,7 +480,42 @@ def _has_shapes(scene: Scene) -> bool:
         return False
 
 
-_TABLES = ("params", "electrodes", "clamps", "springs", "masses", "materials", "reference_spectra")
+_TABLES = ("params", "electrodes", "clamps", "edges", "guides", "springs", "masses", "materials", "reference_spectra")
+_SUPPORT_TABLES = ("springs", "masses", "electrodes", "clamps", "edges", "guides")  # --set TABLE.GROUP or TABLE
+
+
+def _components(field: str, components: Any) -> str:
+    """Displacement components ``components`` of a support: distinct letters of 'xyz'."""
+    v.string(field, components)
+    if set(components) - set("xyz") or len(set(components)) != len(components):
+        raise SceneError(f"{field}: components must be distinct letters of 'xyz', got '{components}'")
+    return components
+
+
+def _check_edge(scene: Scene, name: str, edge: Any, groups: set[str]) -> None:
+    """SceneError naming the field unless ``edges.NAME`` is {faces = [A, B], fix = COMPONENTS} with A and B two face
+    groups of the device that meet along a line (``Assembly.meeting_length``; curved faces: the mesh checks)."""
+    where = f"edges.{name}"
+    v.table(where, edge)
+    v.known_keys(where, edge, ("faces", "fix"))
+    if "faces" not in edge or "fix" not in edge:
+        raise SceneError(f"{where}: needs faces = [GROUP_A, GROUP_B] (the line where they meet) and fix = COMPONENTS")
+    pair = [v.string(f"{where}.faces[{i}]", g) for i, g in enumerate(v.array(f"{where}.faces", edge["faces"],
+                                                                             length=2))]
+    for i, group in enumerate(pair):
+        if group not in groups:
+            raise SceneError(f"{where}.faces[{i}]: no such face group '{group}'; known: {sorted(groups)}")
+    if pair[0] == pair[1]:
+        raise SceneError(f"{where}.faces: two different face groups meet on an edge, got '{pair[0]}' twice")
+    _components(f"{where}.fix", edge["fix"])
+    if scene.mirror_axes:
+        which = "symmetry" if scene.symmetry else "antisymmetry"
+        raise SceneError(f"{which}: not available with edge supports ({where}); solve the whole device")
+    if scene.device == "imported":
+        return  # physical surfaces have no rectangles: the mesh finds the shared nodes
+    length = scene.full_assembly().meeting_length(*pair)
+    if length == 0.0:
+        raise SceneError(f"{where}.faces: '{pair[0]}' and '{pair[1]}' do not meet along a line")
 
 
 def _check_mirrored_roles(scene: Scene, assembly, axis: str) -> None:
@@ -500,7 +542,7 @@ def _check_mirrored_roles(scene: Scene, assembly, axis: str) -> None:
                                                      for x in (a[i], b[i]))))
         return frozenset(out)
 
-    for table in ("springs", "masses", "clamps", "electrodes"):
+    for table in ("springs", "masses", "clamps", "guides", "electrodes"):
         roles = {g: v for g, v in getattr(scene, table).items() if g in assembly.faces}
         for group, value in roles.items():
             image = rectangles(group, mirror=True)

@@ -2,9 +2,10 @@
 
 A box scene is written as it is; a built-in builder's device (``cube_plate``...) as the boxes and face groups its
 builder makes (``Scene.full_assembly``), lengths in metres. Every value that defines the device and its analysis
-is written: parts, faces, materials, electrodes, clamps, springs, masses, analysis, mesh, kind, symmetry, the
-drive (damping, load, outputs, with their sources) and the working modes with their targets. What the file format
-has no place for (a built-in's assumption lines, its drive targets and reference spectra) is written as comments.
+is written: parts, faces, materials, electrodes, clamps, edges, guides, springs, masses, analysis, mesh, kind,
+symmetry, the drive (damping, load, outputs, with their sources) and the working modes with their targets. What the
+file format has no place for (a built-in's assumption lines, its drive targets and reference spectra) is written as
+comments.
 A window of a face is written as {face = "part.side", window = [[u0, v0], [u1, v1]]}; a scene with a geometry
 file names it by its absolute path.
 """
@@ -48,7 +49,7 @@ def scene_to_toml(scene: Scene) -> str:
     parts, faces = _boxes(scene)
     for part in parts:
         out += ["", "[[parts]]"] + [f"{_key(k)} = {_value(x)}" for k, x in part.items()]
-    for name in ("faces", "electrodes", "clamps", "springs", "masses"):
+    for name in ("faces", "electrodes", "clamps", "edges", "guides", "springs", "masses"):
         if name != "faces" or scene.device != "imported":
             out += _table(name, faces if name == "faces" else getattr(scene, name))
     drive = scene.drive

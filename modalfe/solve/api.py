@@ -19,6 +19,7 @@ from modalfe.results.modes import Mode, Modes
 from modalfe.scene.scene import Analysis, Scene
 from modalfe.solve import resolved
 from modalfe.solve.axisymmetric import solve_axisymmetric
+from modalfe.solve.estimates import LINE_SUPPORT_CAVEAT
 from modalfe.solve.fidelity import solve_at_fidelity
 from modalfe.solve.linalg import single_threaded_blas
 
@@ -141,8 +142,9 @@ def solve_modes(
             modes = solve_axisymmetric(scene, a, tol=tol, check=check, size_factor=size_factor, solver=solver,
                                        error_estimate=error_estimate)
         else:
-            modes = solve_at_fidelity(scene, a, fidelity=fidelity, tol=tol, check=check, size_factor=size_factor,
-                                      solver=solver, error_estimate=error_estimate, frame=frame)
+            modes = with_support_caveats(scene, solve_at_fidelity(
+                scene, a, fidelity=fidelity, tol=tol, check=check, size_factor=size_factor, solver=solver,
+                error_estimate=error_estimate, frame=frame))
     if a.circuit == "open" and len(modes) and "drive" in scene.electrodes.values():
         # a mode keeps its label in both circuits (issue 35: a piezo cube's open circuit was labelled anew, its coupled
         # modes lifted past others): each open mode paired by shape with a mode of the short circuit's answer to the
@@ -158,6 +160,15 @@ def solve_modes(
     stages = ", ".join(f"{k} {v:.2f} s" for k, v in modes.timings.items() if isinstance(v, float))
     log.info("%s: %d modes, %d DOFs, %s fidelity (%s)", scene.name, len(modes), modes.dofs, modes.fidelity, stages)
     return modes
+
+
+def with_support_caveats(scene: Scene, modes: Modes) -> Modes:
+    """``modes`` whose fidelity note ends with what the scene's line supports mean on the 3-D solid that answered
+    (``modalfe.solve.estimates.LINE_SUPPORT_CAVEAT``): the reduced models refuse them, so only the solid meets one."""
+    if not scene.edges or modes.fidelity != "solid":
+        return modes
+    caveat = f"{LINE_SUPPORT_CAVEAT} ({', '.join(scene.edges)})"
+    return replace(modes, fidelity_note="; ".join(n for n in (modes.fidelity_note, caveat) if n))
 
 
 def asked_modes(scene: Scene, analysis: Analysis, mode: str | None = None) -> Check | None:

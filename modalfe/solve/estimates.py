@@ -278,11 +278,20 @@ def richardson(fine: Modes, coarse: Modes, ratio: float, coarsest: Modes | None 
     return estimates
 
 
+# what a line support means on the 3-D solid (docs/supports.md): its reaction is a line load, whose field is singular
+# at the line (stresses ~ 1/r, displacements ~ log r: Flamant's solution), so a line holds the continuum with no
+# stiffness in the limit and the mesh's nodes on it hold it less as they refine (NAFEMS FV52, measured there)
+LINE_SUPPORT_CAVEAT = ("line supports, a singular line load on the 3-D solid held at the mesh's nodes on the line: "
+                       "the frequencies it affects fall slowly as the mesh refines (no mesh-independent limit) and "
+                       "stresses at the line do not converge (docs/supports.md)")
+
+
 def singular_field(scene) -> str:
     """What makes ``scene``'s elastic field singular somewhere, in words, or "" (module docstring): parts bonded to one
     another (their interfaces end at re-entrant or bi-material edges), a clamp other than a mirror condition (the
     normal displacement alone, or the two tangential ones, fixed on whole faces: the field then continues smoothly
-    by reflection, as the diaphragm's simple supports and the half models' cuts do), springs and attached masses
+    by reflection, as the diaphragm's simple supports and the half models' cuts do), edge (line) supports, guided
+    faces other than a whole face's normal component, springs and attached masses
     (supports that end on a face), electrodes on part of a face."""
     assembly = scene.assembly()
     reasons = ["bonded parts"] if len(assembly.parts) > 1 else []
@@ -293,6 +302,12 @@ def singular_field(scene) -> str:
 
     clamps = [g for g, c in scene.clamps.items() if not all(mirror_type(f, c) for f in assembly.faces.get(g, ()))]
     reasons += [f"clamps ({', '.join(clamps)})"] if clamps else []
+    reasons += [f"{LINE_SUPPORT_CAVEAT} ({', '.join(scene.edges)})"] if scene.edges else []
+    # a guided face whose normal component alone is uniform is a mirror plane moved rigidly: smooth; others end a
+    # rigid patch at the face's edges, as a clamp does
+    guides = [g for g, c in scene.guides.items() if not all(f.window is None and set(c) == {f.side[0]}
+                                                            for f in assembly.faces.get(g, ()))]
+    reasons += [f"guides ({', '.join(guides)})"] if guides else []
     reasons += ["springs"] if scene.springs else []
     reasons += ["attached masses"] if scene.masses else []
     if any(f.window is not None for g in scene.electrodes for f in assembly.faces.get(g, ())):

@@ -139,7 +139,6 @@ def test_the_quarter_discs_capacitance_and_admittance_are_the_whole_discs(disc_m
     assert np.abs(y_quarter.Y) == pytest.approx(np.abs(y_whole.Y), rel=1e-3)
 
 
-@pytest.mark.slow
 def test_a_half_ring_gives_the_whole_rings_modes_symmetric_about_its_cut():
     whole = solve_modes(load_scene(RING, symmetry=[]), near=3e3, count=8, tol=OWN_MESH)
     half = solve_modes(load_scene(RING, symmetry=["x"]), near=3e3, count=8, tol=OWN_MESH)

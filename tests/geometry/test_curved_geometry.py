@@ -125,7 +125,8 @@ def test_cube_plate_round_feet_and_sensor_become_cylinders_on_a_solid_swept_hex_
     # a round sensor centred on the y mid-plane is cut through its axis: the half keeps half of it, its cut face in
     # the mirror condition's group (tests/models/test_symmetry_curved.py solves such halves against the whole)
     cut = load_scene("cube_plate", sensor=(32e-3, 19e-3), sensor_shape="round", ceramic_rows=(8e-3, 30e-3)).assembly()
-    assert cut.part("sensor").cuts == ((1, pytest.approx(19e-3)),) and Face("sensor", "cut_y") in cut.faces["symmetry_y"]
+    assert cut.part("sensor").cuts == ((1, pytest.approx(19e-3)),)
+    assert Face("sensor", "cut_y") in cut.faces["symmetry_y"]
     assert cut.part("sensor").volume == pytest.approx(0.5 * math.pi * 2.5e-3**2 * 1e-3)
     # off the plane by 0.5 mm, it has no mirror image: the half would not stand for the whole
     with pytest.raises(SceneError, match=r"^symmetry: part 'sensor' has no mirror image about the y mid-plane$"):

@@ -76,11 +76,11 @@ def test_a_round_part_that_is_no_mirror_half_is_refused_naming_the_symmetry():
     assert_one_line_error(lambda: scene_from_dict(data), "symmetry", SceneError)
     # called directly with a plane along its axis but off it, the cut is refused too
     ring = Ring("ring", "ring", "steel", (0.0, 0.0, 0.0), "z", 0.01, 0.02, 0.002)
-    with pytest.raises(SceneError, match="^symmetry: part 'ring' crosses the x mid-plane off its axis"):
+    with pytest.raises(SceneError, match=r"^symmetry: part 'ring' crosses the x mid-plane off its axis"):
         ring.cut_below(0, 0.001, 1e-9)
     # an extrusion is not cut (its outline's mirror image is not checked)
     square = Extrusion("plate", "plate", "steel", ((-1, -1), (1, -1), (1, 1), (-1, 1)), "z", 0.0, 0.1)
-    with pytest.raises(SceneError, match="^symmetry: part 'plate' crosses the x mid-plane; only boxes, cylinders"):
+    with pytest.raises(SceneError, match=r"^symmetry: part 'plate' crosses the x mid-plane; only boxes, cylinders"):
         Assembly((square,)).halved(0)
 
 
@@ -105,8 +105,8 @@ def test_the_quarter_disc_gives_the_whole_discs_doubly_symmetric_modes_within_th
 def _within_stated_errors(part, whole, at_least: tuple[str, ...]) -> None:
     """Every mode of the symmetric ``part`` model that the ``whole``'s solve also holds (by label) lies within the
     sum of the two stated errors of its whole partner: two meshes of one device, each stated error covering its own
-    distance from the exact frequency (a stated error is a promise: it must cover the actual error on every verification case), so their sum covers the
-    distance between them; ``at_least`` the labels that must be met."""
+    distance from the exact frequency (a stated error is a promise: it covers the actual error on every verification
+    case), so their sum covers the distance between them; ``at_least`` the labels that must be met."""
     met = []
     for mode in part:
         partners = [m for m in whole if m.label.split("#")[0] == mode.label]

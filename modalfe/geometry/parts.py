@@ -15,7 +15,6 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from modalfe.errors import SceneError
-from modalfe.geometry.shapes import Cylinder, Ring
 
 SIDES = ("xmin", "xmax", "ymin", "ymax", "zmin", "zmax")
 
@@ -259,7 +258,7 @@ class Assembly:
                     h = list(p.hi)
                     h[axis] = mid
                     p, side = Box(p.name, p.region, p.material, p.lo, tuple(h), p.poling), "xyz"[axis] + "max"
-                elif isinstance(p, (Cylinder, Ring)):
+                elif hasattr(p, "cut_below"):  # a cylinder or ring (modalfe.geometry.shapes, which imports this)
                     p, side = p.cut_below(axis, mid, tol)
                 else:
                     raise SceneError(f"symmetry: part '{p.name}' crosses the {'xyz'[axis]} mid-plane; only boxes, "

@@ -141,13 +141,15 @@ def _occ_solid(occ, part) -> int:
         return occ.addBox(*part.lo, *(h - l for l, h in zip(part.lo, part.hi)))
     along = [0.0, 0.0, 0.0]
     along[part.k] = part.height
-    if isinstance(part, Cylinder):
-        return occ.addCylinder(*part.centre, *along, part.radius)
-    if isinstance(part, Ring):
-        outer = occ.addCylinder(*part.centre, *along, part.outer)
-        bore = occ.addCylinder(*part.centre, *along, part.inner)
-        cut, _ = occ.cut([(3, outer)], [(3, bore)])
-        return cut[0][1]
+    if isinstance(part, (Cylinder, Ring)):
+        inner, outer = part.radii
+        solid = occ.addCylinder(*part.centre, *along, outer)
+        if inner > 0:
+            solid = occ.cut([(3, solid)], [(3, occ.addCylinder(*part.centre, *along, inner))])[0][0][1]
+        if not part.cuts:
+            return solid
+        box = occ.addBox(*part.lo, *(h - l for l, h in zip(part.lo, part.hi)))
+        return occ.intersect([(3, solid)], [(3, box)])[0][0][1]  # the half (quarter) its cuts keep
     if isinstance(part, Extrusion):
         out = occ.extrude([(2, section_surface(occ, part, part.k, part.base))], *along)
         return next(t for d, t in out if d == 3)
@@ -174,18 +176,20 @@ def section_surface(occ, part, axis: int, level: float) -> int:
     def circle(a: float, b: float, r: float) -> int:
         return occ.addCurveLoop([occ.addCircle(*at(a, b), r, zAxis=normal)])
 
+    (u0, v0), (u1, v1) = (part.lo[u], part.lo[v]), (part.hi[u], part.hi[v])
+    rectangle = [(u0, v0), (u1, v0), (u1, v1), (u0, v1)]  # the bounding box's
     if isinstance(part, Box):
-        (u0, v0), (u1, v1) = (part.lo[u], part.lo[v]), (part.hi[u], part.hi[v])
-        loops = [loop([(u0, v0), (u1, v0), (u1, v1), (u0, v1)])]
-    elif isinstance(part, Cylinder):
-        loops = [circle(part.centre[u], part.centre[v], part.radius)]
-    elif isinstance(part, Ring):
-        loops = [circle(part.centre[u], part.centre[v], part.outer), circle(part.centre[u], part.centre[v], part.inner)]
+        loops = [loop(rectangle)]
+    elif isinstance(part, (Cylinder, Ring)):
+        loops = [circle(part.centre[u], part.centre[v], r) for r in reversed(part.radii) if r > 0]
     elif isinstance(part, Extrusion):
         loops = [loop(part.outline)] + [loop(h) for h in part.holes] + [circle(*c) for c in part.circles]
     else:
         raise MeshError(f"part '{part.name}': unknown part type {type(part).__name__}")
-    return occ.addPlaneSurface(loops)
+    surface = occ.addPlaneSurface(loops)
+    if not getattr(part, "cuts", ()):
+        return surface
+    return occ.intersect([(2, surface)], [(2, occ.addPlaneSurface([loop(rectangle)]))])[0][0][1]  # a half (quarter)
 
 
 def add_physical_groups(assembly: Assembly, volumes: dict[str, list[int]]) -> None:

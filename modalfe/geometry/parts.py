@@ -249,7 +249,10 @@ class Assembly:
 
     def halved(self, axis: int) -> Assembly:
         """The half below the mid-plane normal to ``axis``, with the cut faces in group
-        ``symmetry_<x|y|z>``; raises SceneError unless the assembly is mirror-symmetric."""
+        ``symmetry_<x|y|z>``: a box cut there keeps its ``xmax`` (``ymax``, ``zmax``) face on the plane, a cylinder or
+        ring its ``top`` (the plane normal to its axis) or ``cut_x`` (``cut_y``, ``cut_z``: the plane through its axis,
+        ``Cylinder.cut_below``); raises SceneError unless the assembly is mirror-symmetric, or where an extrusion
+        crosses the plane."""
         lo, hi = self.bounds
         mid = 0.5 * (lo[axis] + hi[axis])
         scale = hi[axis] - lo[axis]
@@ -267,25 +270,27 @@ class Assembly:
                 raise SceneError(f"symmetry: part '{p.name}' has no mirror image about the {'xyz'[axis]} mid-plane")
         kept, cut = [], []
         for p in self.parts:
-            if not isinstance(p, Box) and p.lo[axis] < mid - tol < mid + tol < p.hi[axis]:
-                raise SceneError(f"symmetry: part '{p.name}' crosses the {'xyz'[axis]} mid-plane; only boxes can be "
-                                 f"cut there (drop the symmetry)")
             if p.lo[axis] >= mid - tol:
                 continue
             if p.hi[axis] > mid + tol:
-                h = list(p.hi)
-                h[axis] = mid
-                p = Box(p.name, p.region, p.material, p.lo, tuple(h), p.poling)
-                cut.append(Face(p.name, "xyz"[axis] + "max"))
+                if isinstance(p, Box):
+                    h = list(p.hi)
+                    h[axis] = mid
+                    p, side = Box(p.name, p.region, p.material, p.lo, tuple(h), p.poling), "xyz"[axis] + "max"
+                elif hasattr(p, "cut_below"):  # a cylinder or ring (modalfe.geometry.shapes, which imports this)
+                    p, side = p.cut_below(axis, mid, tol)
+                else:
+                    raise SceneError(f"symmetry: part '{p.name}' crosses the {'xyz'[axis]} mid-plane; only boxes, "
+                                     f"cylinders and rings can be cut there (drop the symmetry)")
+                cut.append(Face(p.name, side))
             kept.append(p)
         names = {p.name for p in kept}
-        clipped = {f.part for f in cut}
-        cut_side = "xyz"[axis] + "max"
+        cut_side = {f.part: f.side for f in cut}
         faces = {}
         for group, entries in self.faces.items():
             inside = []
             for f in entries:
-                if f.part not in names or (f.part in clipped and f.side == cut_side):
+                if f.part not in names or cut_side.get(f.part) == f.side:
                     continue  # removed with the mirror half (a clipped part's far face is the cut)
                 if f.window is not None and "xyz".index(f.side[0]) != axis:
                     f = _window_below(f, axis, mid, tol)
@@ -369,7 +374,8 @@ def _profile(part) -> tuple:
     if isinstance(part, Box):
         return ("box",)
     dims = [getattr(part, k, None) for k in ("radius", "inner", "outer", "section_area")]
-    return (type(part).__name__, part.axis, *(None if d is None else round(d, 12) for d in dims))
+    return (type(part).__name__, part.axis, *(None if d is None else round(d, 12) for d in dims),
+            tuple(a for a, _ in getattr(part, "cuts", ())))
 
 
 def _bonded(a, b, tol: float) -> bool:

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -159,9 +159,94 @@ class _Shape:
 
 
 @dataclass(frozen=True)
-class Cylinder(_Shape):
+class _Round(_Shape):
+    """What cylinders and rings share: walls round the axis at their ``radii`` (inner, outer) [m] (inner 0 for a
+    cylinder), and ``cuts``: ((axis index, coordinate [m]), ...) of mirror planes through the axis that keep the part
+    below them (``cut_below``: the half or quarter a symmetric model solves, ``Assembly.halved``). A cut part has a
+    planar face ``cut_x`` (``cut_y``, ``cut_z``) on each plane."""
+
+    walls = ("top", "bottom", "outer")
+
+    @property
+    def sides(self) -> tuple[str, ...]:
+        return (*self.walls, *(f"cut_{AXES[a]}" for a, _ in self.cuts))
+
+    def _bounds(self):
+        lo, hi = self._round_bounds(self.radii[1])
+        hi = list(hi)
+        for a, plane in self.cuts:
+            hi[a] = plane
+        return lo, tuple(hi)
+
+    @property
+    def _kept(self) -> float:
+        """Share of the whole round part the cuts keep: a half per plane through the axis."""
+        return 0.5 ** len(self.cuts)
+
+    @property
+    def volume(self) -> float:
+        inner, outer = self.radii
+        return math.pi * (outer**2 - inner**2) * self.height * self._kept
+
+    def area(self, side: str, window=None) -> float:
+        self.face_bounds(side, window) if window is not None else self.face(side)
+        inner, outer = self.radii
+        if side in ("top", "bottom"):
+            return math.pi * (outer**2 - inner**2) * self._kept
+        if side.startswith("cut_"):  # a strip across the axis, on one side of it when the other plane cuts too
+            return (outer - inner) * self.height * 2 ** (2 - len(self.cuts))
+        return 2 * math.pi * (outer if side == "outer" else inner) * self.height * self._kept
+
+    def planar_face(self, side: str):
+        """(normal axis, coordinate, lo, hi) of the bounding rectangle of a planar end (top, bottom) or of a cut
+        face; None for the round walls."""
+        for a, plane in self.cuts:
+            if side == f"cut_{AXES[a]}":
+                return a, plane, self.lo, self.hi
+        return super().planar_face(side)
+
+    def inside(self, points: np.ndarray, tol: float = 0.0) -> np.ndarray:
+        """Whether points (n, 3) [m] lie in the part, its surface widened by ``tol`` [m] (negative: narrowed)."""
+        points = np.asarray(points, dtype=float)
+        inner, outer = self.radii
+        s, rho = self._axial(points), _radius(self, points)
+        ok = (s >= -tol) & (s <= self.height + tol) & (rho <= outer + tol)
+        if inner > 0:
+            ok &= rho >= inner - tol
+        for a, plane in self.cuts:
+            ok &= points[..., a] <= plane + tol
+        return ok
+
+    def _wall_of(self, p, tol):
+        for a, plane in self.cuts:
+            if abs(float(p[a]) - plane) <= tol:
+                return f"cut_{AXES[a]}"
+        inner, outer = self.radii
+        rho = float(_radius(self, p))
+        if abs(rho - outer) <= tol:
+            return "outer"
+        return "inner" if inner > 0 and abs(rho - inner) <= tol else None
+
+    def cut_below(self, axis: int, plane: float, tol: float) -> tuple[_Round, str]:
+        """(the part below the plane x[axis] = ``plane`` [m], the side of its face on that plane), for a plane that
+        crosses the part: normal to its axis (a shorter part, the face ``top``) or through its axis (a half, the face
+        ``cut_<axis>``); SceneError for a plane along the axis off it (the cut part is then no mirror half) or one
+        cut twice. ``tol`` [m]: how far off the axis a plane still passes through it."""
+        if axis == self.k:
+            return replace(self, height=plane - self.lo[axis]), "top"
+        if abs(plane - self.centre[axis]) > tol:
+            raise SceneError(f"symmetry: part '{self.name}' crosses the {AXES[axis]} mid-plane off its axis "
+                             f"(centre {AXES[axis]} = {self.centre[axis]:g} m, plane at {plane:g} m): a round part "
+                             f"is cut there only through its axis (drop the symmetry)")
+        if any(a == axis for a, _ in self.cuts):
+            raise SceneError(f"symmetry: part '{self.name}' is cut at the {AXES[axis]} mid-plane twice")
+        return replace(self, cuts=(*self.cuts, (axis, float(plane)))), f"cut_{AXES[axis]}"
+
+
+@dataclass(frozen=True)
+class Cylinder(_Round):
     """A solid circular cylinder (a disc when short): ``centre`` (x, y, z) of its base [m], ``axis``,
-    ``radius`` and ``height`` [m]. Faces: top, bottom, outer."""
+    ``radius`` and ``height`` [m]; ``cuts`` see ``_Round``. Faces: top, bottom, outer (and cut_x... once cut)."""
 
     name: str
     region: str
@@ -171,42 +256,27 @@ class Cylinder(_Shape):
     radius: float
     height: float
     poling: int | str = 0
-
-    sides = ("top", "bottom", "outer")
+    cuts: tuple[tuple[int, float], ...] = ()
 
     def __post_init__(self) -> None:
         self._check_common()
         _positive(self.name, "radius", self.radius)
         object.__setattr__(self, "poling", normalized_poling(self.name, self.poling, radial_allowed=False))
 
-    def _bounds(self):
-        return self._round_bounds(self.radius)
-
     @property
-    def volume(self) -> float:
-        return math.pi * self.radius**2 * self.height
+    def radii(self) -> tuple[float, float]:
+        return 0.0, self.radius
 
     @property
     def thickness(self) -> float:
         return min(2 * self.radius, self.height)
 
-    def area(self, side: str, window=None) -> float:
-        self.face_bounds(side, window) if window is not None else self.face(side)
-        return math.pi * self.radius**2 if side in ("top", "bottom") else 2 * math.pi * self.radius * self.height
-
-    def inside(self, points: np.ndarray, tol: float = 0.0) -> np.ndarray:
-        """Whether points (n, 3) [m] lie in the part, its surface widened by ``tol`` [m] (negative: narrowed)."""
-        s, rho = self._axial(points), _radius(self, points)
-        return (s >= -tol) & (s <= self.height + tol) & (rho <= self.radius + tol)
-
-    def _wall_of(self, p, tol):
-        return "outer" if abs(float(_radius(self, p)) - self.radius) <= tol else None
-
 
 @dataclass(frozen=True)
-class Ring(_Shape):
-    """A ring or tube: ``centre`` of its base, ``axis``, ``inner`` and ``outer`` radii and ``height`` [m].
-    Faces: top, bottom, outer, inner. Poling may be ``radial`` or ``-radial``."""
+class Ring(_Round):
+    """A ring or tube: ``centre`` of its base, ``axis``, ``inner`` and ``outer`` radii and ``height`` [m]; ``cuts``
+    see ``_Round``. Faces: top, bottom, outer, inner (and cut_x... once cut). Poling may be ``radial`` or
+    ``-radial``."""
 
     name: str
     region: str
@@ -217,8 +287,9 @@ class Ring(_Shape):
     outer: float
     height: float
     poling: int | str = 0
+    cuts: tuple[tuple[int, float], ...] = ()
 
-    sides = ("top", "bottom", "outer", "inner")
+    walls = ("top", "bottom", "outer", "inner")
 
     def __post_init__(self) -> None:
         self._check_common()
@@ -229,33 +300,13 @@ class Ring(_Shape):
                              f"radius {self.outer:g} m")
         object.__setattr__(self, "poling", normalized_poling(self.name, self.poling, radial_allowed=True))
 
-    def _bounds(self):
-        return self._round_bounds(self.outer)
-
     @property
-    def volume(self) -> float:
-        return math.pi * (self.outer**2 - self.inner**2) * self.height
+    def radii(self) -> tuple[float, float]:
+        return self.inner, self.outer
 
     @property
     def thickness(self) -> float:
         return min(self.outer - self.inner, self.height)
-
-    def area(self, side: str, window=None) -> float:
-        self.face_bounds(side, window) if window is not None else self.face(side)
-        if side in ("top", "bottom"):
-            return math.pi * (self.outer**2 - self.inner**2)
-        return 2 * math.pi * (self.outer if side == "outer" else self.inner) * self.height
-
-    def inside(self, points: np.ndarray, tol: float = 0.0) -> np.ndarray:
-        """Whether points (n, 3) [m] lie in the part, its surface widened by ``tol`` [m] (negative: narrowed)."""
-        s, rho = self._axial(points), _radius(self, points)
-        return (s >= -tol) & (s <= self.height + tol) & (rho <= self.outer + tol) & (rho >= self.inner - tol)
-
-    def _wall_of(self, p, tol):
-        rho = float(_radius(self, p))
-        if abs(rho - self.outer) <= tol:
-            return "outer"
-        return "inner" if abs(rho - self.inner) <= tol else None
 
 
 @dataclass(frozen=True)

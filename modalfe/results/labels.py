@@ -483,6 +483,11 @@ class _Polar:
             if len(members) == 0:
                 continue
             fit, k = _harmonic_fit(self.theta[members])
+            if k == 0:
+                # angles too few to resolve harmonic 1 cannot tell n = 0 from the others either: the vertices inside a
+                # half ring's wall lie on its cut lines only (two angles), where cos 2 theta's mean read as n = 0
+                # and made the half's even modes "?"
+                continue
             self.rings.append((members, fit, k))
             self.area.append(0.5 * (edges[j] + edges[j + 1]) * (edges[j + 1] - edges[j]))  # r dr of the ring
         self.area = np.array(self.area)

@@ -460,31 +460,23 @@ def modal_admittance(modes, frequency, losses: Losses, *, residual: str = "centr
     centre = (0.5 * (w.min() + w.max())) ** 2
     sigma = 0.0 if residual == "static" else centre
     A, B, kept = short_circuit_pencil(model)
-    T = model.constraints("short").T
-    phi = free_values(T, np.column_stack([m.shape for m in used])) if used else np.zeros((len(F), 0))
-    F_left = F - B @ (phi @ theta)  # the load on the modes left out (the kept ones' are B-orthonormal)
-
-    def residual_solve(shift: float) -> np.ndarray:  # x = (A - shift B)^-1 F_left
-        # on the modes left out only, so a shift beside a kept mode (the band's centre 0.03 % from the Cu-Be plate's
-        # (0,6)) amplifies nothing: GMRES on the eigen solve's kept factorization converges there (``shifted_solve``)
-        # where the whole load's second solve left 4e-9 even from a direct one
-        return shifted_solve(A, B, shift, kept)(F_left)
-
+    shapes = np.column_stack([m.shape for m in used]) if used else np.zeros((model.K.shape[0], 0))
+    # the load on the modes left out (module docstring): a kept mode beside sigma (the band's centre 0.03 % from the
+    # Cu-Be plate's (0,6)) is not in it, so GMRES on the eigen solve's kept factorization converges (``shifted_solve``)
+    F_left = F - B @ (free_values(model.constraints("short").T, shapes) @ theta)
     try:
-        x_left = residual_solve(sigma)
+        x_left = shifted_solve(A, B, sigma, kept)(F_left)
     except SolverError as exc:
         if sigma == 0:
             raise SolverError(f"residual: the static solve failed ({exc}); a free body (no clamps or springs) needs "
                               f"residual='centre'") from None
         sigma = _shift_clear_of_modes(w, omega_r)  # the band's centre lies on a resonance: any shift in it serves
         try:
-            x_left = residual_solve(sigma)
+            x_left = shifted_solve(A, B, sigma, kept)(F_left)
         except SolverError as again:
             raise SolverError(f"residual: the solve at {np.sqrt(sigma) / 2 / np.pi:.6g} Hz, beside the band's "
                               f"centre on a resonance, failed ({again})") from None
     c, h, text = modal_losses(used, model, losses)
-    # F . x_sigma less the kept modes' terms is F . x_left, and F . (A - sigma B)^-1 B x_sigma less theirs
-    # x_left . B x_left (module docstring)
     q_res0 = C_b + float(F @ x_left)
     q_res1 = float(x_left @ (B @ x_left))
     C_S = clamped_capacitance(model)

@@ -84,9 +84,11 @@ def _boxes(scene: Scene) -> tuple[list[dict], dict[str, list]]:
         if isinstance(part, Box):
             table = {"name": part.name, "region": part.region, "material": part.material, "origin": list(part.lo),
                      "size": [_size(a, b) for a, b in zip(part.lo, part.hi)]}
-        else:  # a cylinder, ring or extrusion of a built-in (cube_plate's round feet): its shape table
+        else:  # a cylinder, ring or extrusion of a built-in (cube_plate's round feet): its shape table (the whole
+            # device's: no symmetry ``cuts``, which the scene's symmetry makes again)
             table = {"name": part.name, "shape": type(part).__name__.lower(),
-                     **{f.name: getattr(part, f.name) for f in fields(part) if f.name not in ("name", "poling")}}
+                     **{f.name: getattr(part, f.name) for f in fields(part)
+                        if f.name not in ("name", "poling", "cuts")}}
         parts.append({**table, "poling": part.poling} if part.poling else table)
     faces = {group: [f"{face.part}.{face.side}" if face.window is None else
                      {"face": f"{face.part}.{face.side}", "window": [list(corner) for corner in face.window]}

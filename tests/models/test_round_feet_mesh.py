@@ -56,7 +56,7 @@ REFERENCES = {"round": {"order": 3, "elements_per_wavelength": 9.0, "min_layers"
               "square": {"order": 4, "elements_per_wavelength": 4.0, "min_layers": 2}}
 
 
-@pytest.mark.slow  # round: 42 s answer + 133 s reference (350 055 DOFs); square: 8 s + 13 s (70 365 DOFs)
+@pytest.mark.slow  # both 323 s on 2 shared cores; the round reference alone 350 055 DOFs, 133 s
 @pytest.mark.parametrize("shape", ["round", "square"])
 def test_working_mode_stated_error_covers_a_finer_solve(shape):
     """The (0,6) at tol 0.5 % (``modalfe modes cube_plate --near 40e3 --count 4 --fidelity solid``) against a finer

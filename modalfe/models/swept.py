@@ -163,8 +163,8 @@ def _lattice_cells(occ, assembly, u: int, v: int) -> list[tuple[int, int]]:
     cut into the section, they split it into rectangles wherever no curved part lies, as the structured grid of box
     devices does (a 0.4 mm gap between ceramics becomes a strip of slivers, not of 0.4 mm squares)."""
     boxes = [p for p in assembly.parts if isinstance(p, Box)]
-    if not boxes:
-        return []
+    if not boxes or (u, v) != (0, 1):
+        return []  # OCC draws rectangles in z planes only: sections normal to x or y keep the unstructured mesh
     curved = [p for p in assembly.parts if not isinstance(p, Box)]
 
     def clear(c: float, k: int) -> bool:  # a grid line that crosses or grazes no curved part (no sliver beside it)
@@ -176,23 +176,11 @@ def _lattice_cells(occ, assembly, u: int, v: int) -> list[tuple[int, int]]:
               for i, k in enumerate((u, v))]
     if len(breaks[0]) + len(breaks[1]) == 4:
         return []  # no grid line inside the boxes: nothing to structure
-    axis = 3 - u - v
     cells = []
     for a0, a1 in itertools.pairwise(breaks[0]):
         for b0, b1 in itertools.pairwise(breaks[1]):
-            corner = np.zeros(3)
-            corner[u], corner[v] = a0, b0
-            size = np.zeros(3)
-            size[u], size[v] = a1 - a0, b1 - b0
-            cells.append((2, occ.addRectangle(*corner, *_in_plane(size, axis))))
+            cells.append((2, occ.addRectangle(a0, b0, 0.0, a1 - a0, b1 - b0)))
     return cells
-
-
-def _in_plane(size: np.ndarray, axis: int) -> tuple[float, float]:
-    """(dx, dy) of an OCC rectangle, which gmsh draws in the z = const plane: the section plane for a z sweep."""
-    if axis != 2:
-        raise MeshError("mesh: a swept section with boxes is cut into a grid only along z so far")
-    return float(size[0]), float(size[1])
 
 
 def _structure_rectangles(size: float) -> None:

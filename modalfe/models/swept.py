@@ -19,6 +19,9 @@ its centre node lies on that face (``Box.face_bounds``, ``side_of`` of the shape
 
 from __future__ import annotations
 
+import itertools
+import math
+
 import numpy as np
 
 from modalfe.errors import MeshError
@@ -31,6 +34,9 @@ _REVERSED = np.array([0, 3, 2, 1, 7, 6, 5, 4, 8])  # the same quadrilateral trav
 # at least this many elements round a full circle (gmsh Mesh.MeshSizeFromCurvature): quadratic arcs of 22.5 degrees,
 # measured within 2.2e-6 of a disc's and a ring's exact volumes (tests/models/test_swept_mesh.py)
 CIRCLE_ELEMENTS = 16
+# a box grid line is cut into the section only this fraction of a curved part's extent clear of it: a line through or
+# grazing a circle leaves slivers that fold the quadratic hexahedra (tests/models/test_swept_mesh.py)
+LATTICE_CLEARANCE = 0.1
 SIZE_RETRIES = (1.0, 0.97, 0.94, 0.91, 0.88, 0.85)  # size scales tried before a section is subdivided
 
 
@@ -98,8 +104,11 @@ def section_mesh(assembly, axis: int, sizes: dict[str, float]) -> tuple[np.ndarr
     with gmsh_session("modalfe-section"):
         occ = gmsh.model.occ
         tags = [(2, section_surface(occ, p, axis, 0.0)) for p in assembly.parts]
-        children = occ.fragment(tags, [])[1] if len(tags) > 1 else [tags]
+        cells = _lattice_cells(occ, assembly, u, v)
+        children = occ.fragment(tags, cells)[1][:len(tags)] if len(tags) + len(cells) > 1 else [tags]
         occ.synchronize()
+        if cells:
+            _structure_rectangles(min(sizes.values()))
         point_size: dict[int, float] = {}
         for part, child in zip(assembly.parts, children):
             faces = [(d, t) for d, t in child if d == 2]
@@ -109,6 +118,9 @@ def section_mesh(assembly, axis: int, sizes: dict[str, float]) -> tuple[np.ndarr
         gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", CIRCLE_ELEMENTS)
         gmsh.option.setNumber("Mesh.Algorithm", 8)  # frontal-Delaunay for quadrilaterals
         gmsh.option.setNumber("Mesh.RecombineAll", 1)
+        # the grid's fixed counts leave Blossom a triangle in the cells cut by a circle: full-quad Blossom meshes at
+        # half the counts (hence even ones) and subdivides, no triangle left
+        gmsh.option.setNumber("Mesh.RecombinationAlgorithm", 3 if cells else 1)
         gmsh.option.setNumber("Mesh.ElementOrder", 2)
         gmsh.option.setNumber("Mesh.SecondOrderIncomplete", 0)
         # Blossom leaves a triangle at some sizes (3.2-3.4 mm on a 10 mm disc with a 4 mm hub): the sizes are then
@@ -143,6 +155,54 @@ def section_mesh(assembly, axis: int, sizes: dict[str, float]) -> tuple[np.ndarr
     area = 0.5 * np.sum(c[0] * np.roll(c[1], -1, axis=0) - np.roll(c[0], -1, axis=0) * c[1], axis=0)
     quads[:, area < 0] = quads[_REVERSED][:, area < 0]
     return uv, quads
+
+
+def _lattice_cells(occ, assembly, u: int, v: int) -> list[tuple[int, int]]:
+    """OCC rectangles of the box parts' grid (their faces' coordinates along ``u`` and ``v``, but those within
+    ``LATTICE_CLEARANCE`` of a curved part) over the boxes' extent:
+    cut into the section, they split it into rectangles wherever no curved part lies, as the structured grid of box
+    devices does (a 0.4 mm gap between ceramics becomes a strip of slivers, not of 0.4 mm squares)."""
+    boxes = [p for p in assembly.parts if isinstance(p, Box)]
+    if not boxes or (u, v) != (0, 1):
+        return []  # OCC draws rectangles in z planes only: sections normal to x or y keep the unstructured mesh
+    curved = [p for p in assembly.parts if not isinstance(p, Box)]
+
+    def clear(c: float, k: int) -> bool:  # a grid line that crosses or grazes no curved part (no sliver beside it)
+        return all(not p.lo[k] - LATTICE_CLEARANCE * (p.hi[k] - p.lo[k]) < c
+                   < p.hi[k] + LATTICE_CLEARANCE * (p.hi[k] - p.lo[k]) for p in curved)
+
+    bounds = [(min(p.lo[k] for p in boxes), max(p.hi[k] for p in boxes)) for k in (u, v)]
+    breaks = [np.unique([c for p in boxes for c in (p.lo[k], p.hi[k]) if clear(c, k) or c in bounds[i]])
+              for i, k in enumerate((u, v))]
+    if len(breaks[0]) + len(breaks[1]) == 4:
+        return []  # no grid line inside the boxes: nothing to structure
+    cells = []
+    for a0, a1 in itertools.pairwise(breaks[0]):
+        for b0, b1 in itertools.pairwise(breaks[1]):
+            cells.append((2, occ.addRectangle(a0, b0, 0.0, a1 - a0, b1 - b0)))
+    return cells
+
+
+def _structure_rectangles(size: float) -> None:
+    """Transfinite (structured) quadrilaterals on every section surface bounded by four straight lines; every curve
+    split into an even number of elements (full-quad Blossom meshes at half the counts and subdivides): ceil(length /
+    ``size``) rounded up, arcs at least ``CIRCLE_ELEMENTS`` a full circle. A side shared by two rectangles is split
+    alike on both, a narrow rectangle gets slivers."""
+    import gmsh
+
+    for _, c in gmsh.model.getEntities(1):
+        lo, hi = gmsh.model.getParametrizationBounds(1, c)
+        t = np.linspace(lo[0], hi[0], 65)
+        x = np.reshape(gmsh.model.getValue(1, c, t), (-1, 3))
+        length = float(np.linalg.norm(np.diff(x, axis=0), axis=1).sum())
+        n = length / size
+        if gmsh.model.getType(1, c) != "Line":
+            n = max(n, CIRCLE_ELEMENTS * length * float(np.max(gmsh.model.getCurvature(1, c, t))) / (2 * np.pi))
+        gmsh.model.mesh.setTransfiniteCurve(c, 2 * max(1, math.ceil(n / 2 - 1e-9)) + 1)
+    for _, surface in gmsh.model.getEntities(2):
+        curves = [abs(c) for _, c in gmsh.model.getBoundary([(2, surface)], oriented=False)]
+        if len(curves) == 4 and all(gmsh.model.getType(1, c) == "Line" for c in curves):
+            gmsh.model.mesh.setTransfiniteSurface(surface)
 
 
 def _face_groups(mesh, assembly, parts: dict[str, np.ndarray]) -> dict[str, np.ndarray]:

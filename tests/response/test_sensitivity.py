@@ -64,7 +64,9 @@ def free_plate():
     return solve_level(scene, scene.analysis)
 
 
-@pytest.mark.parametrize("rotated", [False, True])
+# rotated (25 s: every element through the general path) with -m slow; tests/models/test_fast_assembly.py checks
+# the general path against the fast one by default
+@pytest.mark.parametrize("rotated", [False, pytest.param(True, marks=pytest.mark.slow)])
 def test_discrete_scaling_identities(free_plate, rotated):
     """K = E K1(nu) and M = rho M1, so f ~ sqrt(E / rho) exactly; and scaling every side of a box by s scales K by
     s and M by s^3 (f ~ 1/s), so by Euler's theorem the log-derivatives over the three sides sum to -1. Also with

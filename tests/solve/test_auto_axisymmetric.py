@@ -41,6 +41,7 @@ def test_auto_leaves_the_axisymmetric_rung_out_and_says_so():
         modes.fidelity_note
 
 
+@pytest.mark.slow  # 21 s: auto with the axisymmetric rung, which the default auto leaves out (AUTO_SKIPS)
 def test_auto_answers_the_pzt5a_disc_with_the_axisymmetric_model_checked_against_the_solid(revolved_auto):
     """The disc's default question: R1 answered by the axisymmetric model, its model error from the solid's estimate
     levels finite and within tol, its frequency within the stated errors of the 3-D solid's (tests/oracles/discs.py,

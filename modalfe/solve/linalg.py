@@ -76,8 +76,12 @@ class Shifted:
         return self.A @ x - self.shift * (self.B @ x)
 
     def upper(self) -> sp.csr_matrix:
-        """The upper triangle (diagonal included) in canonical form."""
-        return _pencil(self.A, self.B).upper(self.shift)
+        """The upper triangle (diagonal included) in canonical form: formed on a pair's first shift (most pairs are
+        shifted once: an estimate level's eigen solve), from the pair's pencil on its later ones."""
+        pencil = _pencil(self.A, self.B)
+        if pencil is None:
+            return upper_triangle(sp.csr_matrix(self.A - self.shift * self.B, dtype=float))
+        return pencil.upper(self.shift)
 
     def tocsr(self) -> sp.csr_matrix:
         return sp.csr_matrix(self.A - self.shift * self.B)
@@ -102,20 +106,23 @@ class _Pencil:
         return upper
 
 
-# the pencils of the last few (A, B) pairs shifted, while both live (``_pencil``): a band's Sturm counts, its eigen
-# shift and its residual are shifts of one pair
+# the pairs shifted last, while both live (``_pencil``), with their pencil from their second shift on: a band's Sturm
+# counts, its eigen shift and its residual are shifts of one pair
 KEPT_PENCILS = 3
-_PENCILS: list[tuple[weakref.ref, weakref.ref, _Pencil]] = []
+_PENCILS: list[list] = []  # [weakref to A, weakref to B, _Pencil or None]
 caches.register("shifted pencils", _PENCILS.clear)
 
 
-def _pencil(A: sp.spmatrix, B: sp.spmatrix) -> _Pencil:
+def _pencil(A: sp.spmatrix, B: sp.spmatrix) -> _Pencil | None:
+    """The pencil of (A, B), made on the pair's second shift; None on its first (the pair is then remembered)."""
     _PENCILS[:] = [k for k in _PENCILS if k[0]() is not None and k[1]() is not None]
-    kept = next((p for a, b, p in _PENCILS if a() is A and b() is B), None)
+    kept = next((k for k in _PENCILS if k[0]() is A and k[1]() is B), None)
     if kept is None:
-        kept = _Pencil(A, B)
-        _PENCILS[:] = [*_PENCILS[-(KEPT_PENCILS - 1):], (weakref.ref(A), weakref.ref(B), kept)]
-    return kept
+        _PENCILS[:] = [*_PENCILS[-(KEPT_PENCILS - 1):], [weakref.ref(A), weakref.ref(B), None]]
+        return None
+    if kept[2] is None:
+        kept[2] = _Pencil(A, B)
+    return kept[2]
 
 
 def factorize(A, *, solver: str = "auto"):

@@ -262,7 +262,7 @@ class _AmplitudeDerivative:
     probe derivatives dP, None for fixed ones) it gives (dA per output, d lambda)."""
 
     def __init__(self, mode: Mode, outputs, damping: Damping) -> None:
-        from modalfe.solve.linalg import factorize, shifted
+        from modalfe.solve.linalg import Shifted, factorize
 
         if mode.circuit != "short":
             raise SolverError(f"mode: the amplitude per volt needs a short-circuit mode, got {mode.circuit}")
@@ -287,7 +287,7 @@ class _AmplitudeDerivative:
         pick = np.arange(len(x)) == self.k
         keep = sp.diags((~pick).astype(float))
         self.nelson, _ = factorize(keep @ (A - self.lam * B) @ keep + sp.diags(pick.astype(float)))
-        self.beside, _ = factorize(shifted(A, B, self.wd2))
+        self.beside, _ = factorize(Shifted(A, B, self.wd2))
 
     def __call__(self, dK, dM, dP: dict | None) -> tuple[np.ndarray, float]:
         T, B, x, y, lam, wd2 = self.T, self.B, self.x, self.y, self.lam, self.wd2

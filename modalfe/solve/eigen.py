@@ -28,12 +28,12 @@ from scipy.sparse.linalg import ArpackError, ArpackNoConvergence, LinearOperator
 from modalfe.errors import SolverError
 from modalfe.results.labels import RIGID_FRACTION  # a band starting below it (of its top) holds the rigid-body modes
 from modalfe.solve.linalg import (
+    Shifted,
     checked,
     counted_factorization,
     factorize,
     negative_eigenvalue_count,
     pardiso_inertia,
-    shifted,
 )
 
 log = logging.getLogger(__name__)
@@ -257,7 +257,7 @@ def _interval(A, B, low, below_low, top, below_top, solver, counter) -> EigenSol
 
 def sturm_count(A, B, sigma: float, solver: str = "auto") -> int:
     """Number of finite eigenvalues of A x = lam B x below ``sigma`` (module docstring)."""
-    return negative_eigenvalue_count(shifted(A, B, sigma), solver=solver) - _massless_negatives(A, B, solver)
+    return negative_eigenvalue_count(Shifted(A, B, sigma), solver=solver) - _massless_negatives(A, B, solver)
 
 
 def _massless_negatives(A, B, solver: str) -> int:
@@ -284,7 +284,7 @@ class _SturmCounter:
         for step in (0.0, *(abs(x) for x in NUDGES)):
             shift = sigma + outward * step * max(abs(sigma), self.scale)
             try:
-                matrix = shifted(self.A, self.B, shift)
+                matrix = Shifted(self.A, self.B, shift)
                 negative, factor = counted_factorization(matrix, solver=self.solver)
             except SolverError as exc:
                 log.info("Sturm count at %.6g: %s; moving the shift", shift, exc)
@@ -329,7 +329,7 @@ def _factor_nudged(A, B, sigma: float, solver: str):
     """(solve, solver name, shift factored): A - sigma B, else the first regular shift moved by ``NUDGES``
     (relative to sigma, or to a small eigenvalue scale for a zero shift), said in the log."""
     try:
-        solve, used = factorize(shifted(A, B, sigma), solver=solver)
+        solve, used = factorize(Shifted(A, B, sigma), solver=solver)
         return solve, used, sigma
     except SolverError as exc:
         first = exc
@@ -338,7 +338,7 @@ def _factor_nudged(A, B, sigma: float, solver: str):
         # a zero shift (a free body's rigid modes) moves down: nearness to 0 keeps its order for lam >= 0
         moved = sigma + (-abs(step) if sigma == 0 else step) * scale
         try:
-            solve, used = factorize(shifted(A, B, moved), solver=solver)
+            solve, used = factorize(Shifted(A, B, moved), solver=solver)
         except SolverError:
             continue
         log.warning("shift %.6g is singular (on an eigenvalue?); moved to %.6g", sigma, moved)

@@ -61,23 +61,20 @@ def modes_of(model, analysis, *, fidelity: str, solver: str = "auto", timings: d
     (``_open_circuit_start``)."""
     _SHORT_SOLVES[:] = [kept for kept in _SHORT_SOLVES if kept.model() is not None]
     constraints = model.constraints(analysis.circuit)
-    short = [kept for kept in _SHORT_SOLVES if kept.model() is model]
-    if analysis.circuit == "short" and short:  # the same projection, whose shifts share one pencil (``shifted``)
+    short = [kept for kept in _SHORT_SOLVES if kept.model() is model]  # this model's kept short-circuit solves
+    if analysis.circuit == "short" and short:  # the same projection again, whose shifts share one pencil (``Shifted``)
         A, B = short[0].A, short[0].B
-    else:
-        short = short if analysis.circuit == "open" else []
+    else:  # an open circuit borders the short one's projection
         A = constraints.project(model.K, picked=short[0].A if short else None)
         B = constraints.project(model.M, picked=short[0].B if short else None)
-    factor, start = None, None
-    if analysis.band is None:
+    factor, start, seed = None, None, None
+    if analysis.band is None:  # a kept factorization at this shift: bordered for the open circuit, as is for the short
         factor = next((open_circuit_solve(A, kept.A.shape[0], kept.factor) for kept in short
                        if kept.factor[1] == (2 * np.pi * analysis.near) ** 2), None)
     if factor is not None and known is not None and analysis.circuit == "open":
         start = _open_circuit_start(constraints.T, known, factor[0], A.shape[0] - short[0].A.shape[0])
-    seed = None
-    kept = next((k for k in _SHORT_SOLVES if k.model() is model), None)
-    if known is not None and analysis.band is not None and analysis.circuit == "short" and kept is not None:
-        seed = (kept.factor, np.array([m.omega**2 for m in known]),
+    if known is not None and analysis.band is not None and analysis.circuit == "short" and short:
+        seed = (short[0].factor, np.array([m.omega**2 for m in known]),
                 free_values(constraints.T, np.column_stack([m.shape for m in known])))
     asked = f"{analysis.band[0]:g}-{analysis.band[1]:g} Hz" if analysis.band is not None else \
         f"{analysis.count} modes near {analysis.near or 0:g} Hz"

@@ -62,8 +62,9 @@ def _mkl_found() -> bool:
 
 
 class Shifted:
-    """A - shift B of symmetric A, B, not formed: a factorization takes its upper triangle from the pair's ``_Pencil``
-    (A's and B's upper triangles, made once per pair), a residual multiplies by A and B. Forming it and taking its
+    """A - shift B of symmetric A, B, not formed, for ``factorize`` and ``counted_factorization``: a factorization takes
+    its upper triangle from the pair's ``_Pencil`` (A's and B's upper triangles, made on the pair's second shift), a
+    residual multiplies by A and B. Forming it and taking its
     triangle on every shift cost a fifth of a factorization: 0.25 CPU seconds on the Cu-Be plate's quartic model
     (30,865 DOFs, 16.5 million entries; ``scipy.sparse`` merges two patterns and A's rows come unsorted from the
     projection), against 0.04 s from the pencil."""
@@ -87,15 +88,10 @@ class Shifted:
         return sp.csr_matrix(self.A - self.shift * self.B)
 
 
-def shifted(A: sp.spmatrix, B: sp.spmatrix, shift: float) -> Shifted:
-    """A - ``shift`` B for ``factorize`` and ``counted_factorization``, not formed (``Shifted``)."""
-    return Shifted(A, B, shift)
-
-
 class _Pencil:
     """The upper triangles of symmetric A and B in canonical form, so that A - s B of any s is one sparse
-    subtraction on sorted rows (0.03 s on the Cu-Be plate's quartic model, against 0.23 s to form it from A and B and
-    take its triangle; CPU seconds, the pencil itself 0.17 s once)."""
+    subtraction on sorted rows (``Shifted``; the pencil itself costs about one formed shift, 0.2 CPU seconds on the
+    Cu-Be plate's quartic model)."""
 
     def __init__(self, A: sp.spmatrix, B: sp.spmatrix):
         self.a, self.b = (upper_triangle(sp.csr_matrix(X, dtype=float)) for X in (A, B))
@@ -169,7 +165,7 @@ def shifted_solve(A: sp.spmatrix, B: sp.spmatrix, shift: float, factor: tuple | 
 
     def direct():
         if "solve" not in state:
-            state["solve"] = factorize(shifted(A, B, shift), solver=solver)[0]
+            state["solve"] = factorize(Shifted(A, B, shift), solver=solver)[0]
         return state["solve"]
 
     if factor is None:

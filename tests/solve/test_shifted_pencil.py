@@ -1,4 +1,4 @@
-"""A - s B not formed (``linalg.shifted``): its upper triangle from the pair's pencil is the formed matrix's, its
+"""A - s B not formed (``linalg.Shifted``): its upper triangle from the pair's pencil is the formed matrix's, its
 factorization and Sturm count are the formed matrix's, for every pair of symmetric patterns (B's within A's, as a
 stiffness and its mass, or not), A's rows unsorted as a projection leaves them."""
 
@@ -39,7 +39,7 @@ def test_the_pencils_upper_triangle_is_the_formed_matrixs(seed, n, nested, shift
     if nested:
         A = A + abs(B) + sp.diags(np.ones(n))  # B's pattern within A's, as a stiffness holds its mass's
     for s in (shift, 0.5 * shift + 1.0):  # the pair's first shift is formed, its second taken from its pencil
-        ours = linalg.shifted(A, B, s).upper()
+        ours = linalg.Shifted(A, B, s).upper()
         formed = sp.triu(A - s * B).tocsr()
         assert ours.has_canonical_format
         assert abs(ours - formed).max() == 0.0
@@ -57,7 +57,7 @@ def test_a_shifted_factorization_solves_and_counts_as_the_formed_one():
     shift = 0.5 * (lam[20] + lam[21])
     b = rng.standard_normal(n)
     for solver in linalg.available_solvers():
-        solve, _ = linalg.factorize(linalg.shifted(K, M, shift), solver=solver)
+        solve, _ = linalg.factorize(linalg.Shifted(K, M, shift), solver=solver)
         expected = np.linalg.solve(K.toarray() - shift * M.toarray(), b)
         assert np.allclose(solve(b), expected, rtol=1e-10, atol=1e-10 * np.abs(expected).max())
-        assert linalg.negative_eigenvalue_count(linalg.shifted(K, M, shift), solver=solver) == 21
+        assert linalg.negative_eigenvalue_count(linalg.Shifted(K, M, shift), solver=solver) == 21

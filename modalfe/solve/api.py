@@ -305,8 +305,10 @@ caches.register("open-circuit partner solves", _OPEN_SOLVES.clear)
 
 def _open_solve(model, near: float, count: int, solver: str, known) -> Modes:
     """The open-circuit modes of ``model``, at least ``count`` nearest ``near`` [Hz]: a kept solve at that shift with
-    as many (the partners of a table's modes, sought one by one, from one solve) or a new one, kept, started from the
-    short-circuit modes ``known`` of the same model (``modalfe.solve.levels.modes_of``)."""
+    as many (the partners of a table's modes, sought one by one, from one solve) or a new one, kept: the open modes
+    that can be partners of the short-circuit modes ``known`` of the same model, from them and a few solves
+    (``modalfe.solve.levels.modes_of``'s ``partners``; an open mode the floating electrodes do not couple is a short
+    mode unchanged, its own partner, and the others are not sought)."""
     from modalfe.solve.levels import modes_of
 
     _OPEN_SOLVES[:] = [kept for kept in _OPEN_SOLVES if kept[0]() is not None]
@@ -315,7 +317,7 @@ def _open_solve(model, near: float, count: int, solver: str, known) -> Modes:
             return opens
     analysis = Analysis(near=near, count=count, circuit="open")
     with single_threaded_blas():
-        opens = modes_of(model, analysis, fidelity="solid", solver=solver, known=known)
+        opens = modes_of(model, analysis, fidelity="solid", solver=solver, known=known, partners=True)
     _OPEN_SOLVES.insert(0, (weakref.ref(model), near, opens))
     del _OPEN_SOLVES[_KEPT_OPEN:]
     return opens

@@ -3,6 +3,7 @@ circuit, solve the eigen problem near the target and label each mode from its sh
 
 from __future__ import annotations
 
+import time
 import weakref
 from dataclasses import dataclass, replace
 
@@ -15,8 +16,9 @@ from modalfe.models.constraints import free_values
 from modalfe.progress import step
 from modalfe.results.labels import unique_labels
 from modalfe.results.modes import Mode, Modes
-from modalfe.solve.eigen import eigenpairs
+from modalfe.solve.eigen import EigenSolution, eigenpairs
 from modalfe.solve.linalg import single_threaded_blas
+from modalfe.solve.open_circuit import bordered_ritz, open_circuit_solve, open_circuit_start
 
 UNLABELLED = "unlabelled"  # the label of every mode of a level solved without labels (``solve_level``)
 _KEPT_FACTORS = 3  # short-circuit solves kept for an open-circuit solve of the same model
@@ -52,13 +54,15 @@ def solve_level(scene, analysis, *, fidelity: str = "solid", size_factor: float 
 
 
 def modes_of(model, analysis, *, fidelity: str, solver: str = "auto", timings: dict | None = None,
-             labels: bool = True, known: Modes | tuple[Mode, ...] | None = None) -> Modes:
+             labels: bool = True, known: Modes | tuple[Mode, ...] | None = None, partners: bool = False) -> Modes:
     """Modes of an assembled ``model`` (solid, plate or beam) for ``analysis``. An open-circuit solve of a model solved
     in short circuit borders that solve's matrices (``Constraints.project``) and, at its shift, reuses its
     factorization (``open_circuit_solve``). ``known``: short-circuit modes of ``model`` solved near a frequency (an
     answer), whose factorization was kept: a short-circuit band keeps those in it and seeks only the others at their
-    shift (``modalfe.solve.eigen.band_eigenpairs``); the open circuit at their shift starts from them
-    (``_open_circuit_start``)."""
+    shift (``modalfe.solve.eigen.band_eigenpairs``); the open circuit at their shift starts Lanczos from them, or
+    (``partners``: only the open modes that can be the partners of ``known`` are wanted, those the floating
+    electrodes couple and ``known`` themselves) is projected on them and a few solves
+    (``modalfe.solve.open_circuit.bordered_ritz``)."""
     _SHORT_SOLVES[:] = [kept for kept in _SHORT_SOLVES if kept.model() is not None]
     constraints = model.constraints(analysis.circuit)
     short = [kept for kept in _SHORT_SOLVES if kept.model() is model]  # this model's kept short-circuit solves
@@ -67,12 +71,24 @@ def modes_of(model, analysis, *, fidelity: str, solver: str = "auto", timings: d
     else:  # an open circuit borders the short one's projection
         A = constraints.project(model.K, picked=short[0].A if short else None)
         B = constraints.project(model.M, picked=short[0].B if short else None)
-    factor, start, seed = None, None, None
-    if analysis.band is None:  # a kept factorization at this shift: bordered for the open circuit, as is for the short
-        factor = next((open_circuit_solve(A, kept.A.shape[0], kept.factor) for kept in short
-                       if kept.factor[1] == (2 * np.pi * analysis.near) ** 2), None)
-    if factor is not None and known is not None and analysis.circuit == "open":
-        start = _open_circuit_start(constraints.T, known, factor[0], A.shape[0] - short[0].A.shape[0])
+    factor, start, seed, ritz = None, None, None, None
+    # a kept factorization at this shift: bordered for the open circuit, as is for the short
+    kept = next((k for k in short if k.factor[1] == (2 * np.pi * analysis.near) ** 2), None) \
+        if analysis.band is None else None
+    if kept is not None:
+        factor = open_circuit_solve(A, kept.A.shape[0], kept.factor)
+    if kept is not None and known is not None and analysis.circuit == "open" and partners and \
+            A.shape[0] > kept.A.shape[0]:
+        # the partners from the short modes and a few solves (``bordered_ritz``), else Lanczos started from them
+        short_modes = free_values(constraints.T, np.column_stack([m.shape for m in known]))[: kept.A.shape[0]]
+        started = time.perf_counter()
+        with step(f"{model.scene.name}: open circuit from the short one, {A.shape[0]} unknowns"), \
+                single_threaded_blas():
+            ritz = bordered_ritz(A, kept.A, kept.B, kept.factor, short_modes, analysis.count)
+        if ritz is not None:
+            ritz = EigenSolution(*ritz, 0.0, time.perf_counter() - started, "reused", factor=factor)
+    if factor is not None and known is not None and analysis.circuit == "open" and ritz is None:
+        start = open_circuit_start(constraints.T, known, factor[0], A.shape[0] - kept.A.shape[0])
     if known is not None and analysis.band is not None and analysis.circuit == "short" and short:
         seed = (short[0].factor, np.array([m.omega**2 for m in known]),
                 free_values(constraints.T, np.column_stack([m.shape for m in known])))
@@ -80,9 +96,11 @@ def modes_of(model, analysis, *, fidelity: str, solver: str = "auto", timings: d
         f"{analysis.count} modes near {analysis.near or 0:g} Hz"
     # ARPACK's dense products under one BLAS thread, whoever calls (``single_threaded_blas``: the admittance's band
     # completion ran beside PARDISO's threads at 3x the time a Lanczos step)
-    with step(f"{model.scene.name}, {fidelity} model, order {model.scene.mesh.order}: eigen solve, {asked}, "
-              f"{analysis.circuit} circuit, {A.shape[0]} unknowns"), single_threaded_blas():
-        solution = eigenpairs(A, B, analysis, solver, factor, seed, start)
+    solution = ritz
+    if solution is None:
+        with step(f"{model.scene.name}, {fidelity} model, order {model.scene.mesh.order}: eigen solve, {asked}, "
+                  f"{analysis.circuit} circuit, {A.shape[0]} unknowns"), single_threaded_blas():
+            solution = eigenpairs(A, B, analysis, solver, factor, seed, start)
     driven = "drive" in model.scene.electrodes.values()  # else the open circuit is the short one: nothing to reuse
     if analysis.circuit == "short" and driven and solution.factor is not None:
         _SHORT_SOLVES.insert(0, _ShortSolve(weakref.ref(model), A, B, solution.factor))
@@ -101,21 +119,6 @@ def modes_of(model, analysis, *, fidelity: str, solver: str = "auto", timings: d
                  mesh_frequency=model.scene.max_frequency)
 
 
-def _open_circuit_start(T, known, solve, floating: int) -> np.ndarray:
-    """A Lanczos start vector for the open-circuit modes from the short-circuit ones ``known`` of the same model
-    (open-circuit unknowns ``T``): their sum, each B-normalised, and the static response to a charge on each of
-    the ``floating`` electrodes (the open circuit's last unknowns; ``solve`` with the open matrix at the shift),
-    scaled like one mode: the open modes are the short ones but for that part."""
-    x = free_values(T, np.column_stack([m.shape for m in known])).sum(axis=1)
-    n = len(x)
-    for j in range(n - floating, n):
-        charge = np.zeros(n)
-        charge[j] = 1.0
-        static = solve(charge)
-        x = x + static * (np.linalg.norm(x) / len(known) / np.linalg.norm(static))
-    return x
-
-
 def short_circuit_pencil(model) -> tuple[sp.csr_matrix, sp.csr_matrix, tuple | None]:
     """(A, B, factor): the short-circuit pencil T^T K T, T^T M T of ``model`` and the factorization (solve, shift)
     of A - shift B its eigen solve kept (``_ShortSolve``); projected afresh, factor None, where none is kept (a
@@ -125,25 +128,3 @@ def short_circuit_pencil(model) -> tuple[sp.csr_matrix, sp.csr_matrix, tuple | N
         return kept.A, kept.B, kept.factor
     constraints = model.constraints("short")
     return constraints.project(model.K), constraints.project(model.M), None
-
-
-def open_circuit_solve(A_open, n_short: int, factor: tuple) -> tuple:
-    """(solve, shift) with A_open - shift B_open from the short-circuit factorization ``factor`` of the same model:
-    the open circuit's unknowns are the short circuit's plus one potential per floating electrode (the last
-    columns of ``PiezoUnknowns.constraints``), which carry no mass, so the shifted matrix is the short one
-    bordered by [b; c] and solves by its Schur complement c - b^T S^-1 b (one block solve, a column per floating
-    electrode)."""
-    short_solve, shift = factor
-    if A_open.shape[0] == n_short:  # no floating electrode in this model: the same matrix
-        return factor
-    b = A_open[n_short:, :n_short].toarray().T  # A is symmetric: its last rows, not a column slice of every row
-    c = A_open[n_short:, n_short:].toarray()
-    W = short_solve(b).reshape(b.shape)
-    schur = c - b.T @ W
-
-    def solve(r):
-        x = short_solve(r[:n_short])
-        y = np.linalg.solve(schur, r[n_short:] - b.T @ x)
-        return np.concatenate([x - W @ y, y])
-
-    return solve, shift

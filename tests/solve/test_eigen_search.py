@@ -202,7 +202,7 @@ def test_the_open_circuit_started_from_the_short_modes_finds_the_same_pairs_in_f
     # the k31 bar's open circuit from a start vector made of its short-circuit modes: the pairs of a generic start,
     # to well inside ARPACK's tol (1e-8 on the inverted values), and no more solves than from the generic start
     from modalfe.solve.eigen import _lanczos
-    from modalfe.solve.levels import _open_circuit_start
+    from modalfe.solve.open_circuit import open_circuit_start
     from modalfe.solve.linalg import factorize
 
     scene = k31_bar_scene(3e-3)
@@ -223,7 +223,7 @@ def test_the_open_circuit_started_from_the_short_modes_finds_the_same_pairs_in_f
     plain = _lanczos(A, B, sigma, 4, counting)
     generic = len(counted)
     counted.clear()
-    started = _lanczos(A, B, sigma, 4, counting, start=_open_circuit_start(T, short.modes, solve, floating))
+    started = _lanczos(A, B, sigma, 4, counting, start=open_circuit_start(T, short.modes, solve, floating))
     assert np.allclose(started[0], plain[0], rtol=1e-10, atol=0)
     assert len(counted) <= generic
 

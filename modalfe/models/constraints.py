@@ -56,6 +56,23 @@ class Constraints:
         first = Tc.indptr[:n_picked]
         return Tc.indices[first], Tc.data[first], sp.csr_matrix(Tc[:, n_picked:])
 
+    def _below(self, X: sp.csr_matrix) -> sp.csr_matrix:
+        """rest^T X: the floating electrodes' rows of X summed and scaled (CSR by CSR: a CSC left factor would
+        convert X whole)."""
+        return sp.csr_matrix(self._picked[2].T) @ X
+
+    def border(self, X: sp.spmatrix) -> tuple[np.ndarray, np.ndarray]:
+        """(b (n - m, m), c (m, m)): the last m rows and columns of T^T X T (symmetric ``X``; m floating electrodes),
+        their coupling with the other unknowns and their own block, without the rest of the projection."""
+        X, m = sp.csr_matrix(X), len(self.floating)
+        if self._picked is None:
+            full = self.project(X)
+            n = full.shape[0] - m
+            return full[n:, :n].toarray().T, full[n:, n:].toarray()
+        rows, scales, rest = self._picked
+        below = self._below(X)
+        return (below[:, rows] @ sp.diags(scales)).toarray().T, (below @ rest).toarray()
+
     def project(self, X: sp.spmatrix, *, picked: sp.csr_matrix | None = None) -> sp.csr_matrix:
         """T^T X T (CSR) of a full (ndofs, ndofs) matrix ``X``: the picked block by row and column indexing, scaled,
         bordered by the few ``rest`` columns and rows. Same result as the sparse triple product, which for quartic
@@ -75,7 +92,7 @@ class Constraints:
         if rest.shape[1] == 0:
             return picked
         right = sp.csr_matrix(sp.diags(scales) @ (X @ rest)[rows])
-        below = sp.csr_matrix(rest.T) @ X  # CSR by CSR: a CSC left factor would convert X whole
+        below = self._below(X)
         bottom = sp.hstack([below[:, rows] @ sp.diags(scales), below @ rest], format="csr")
         n = len(rows) + rest.shape[1]
         if right.nnz == 0 and bottom.nnz == 0:  # (a mass matrix: no inertia on the potentials) picked's arrays, shared

@@ -298,7 +298,8 @@ def open_circuit_modes(short: Modes | Mode, *, near: float | None = None, count:
     return partner_labels(short, opens) if isinstance(short, Modes) else opens
 
 
-_OPEN_SOLVES: list[tuple] = []  # (model held weakly, near, Modes): the partner search's last open solves, newest first
+# (model held weakly, near, Modes unbound from it: ``_bound``): the partner search's last open solves, newest first
+_OPEN_SOLVES: list[tuple] = []
 _KEPT_OPEN = 4
 caches.register("open-circuit partner solves", _OPEN_SOLVES.clear)
 
@@ -314,13 +315,19 @@ def _open_solve(model, near: float, count: int, solver: str, known) -> Modes:
     _OPEN_SOLVES[:] = [kept for kept in _OPEN_SOLVES if kept[0]() is not None]
     for ref, at, opens in _OPEN_SOLVES:
         if ref() is model and at == near and len(opens) >= count:
-            return opens
+            return _bound(opens, model)
     analysis = Analysis(near=near, count=count, circuit="open")
     with single_threaded_blas():
-        opens = modes_of(model, analysis, fidelity="solid", solver=solver, known=known, partners=True)
-    _OPEN_SOLVES.insert(0, (weakref.ref(model), near, opens))
+        # partners only, which keep the short modes' labels (``OpenCircuit``): their own are not needed
+        opens = modes_of(model, analysis, fidelity="solid", solver=solver, known=known, partners=True, labels=False)
+    _OPEN_SOLVES.insert(0, (weakref.ref(model), near, _bound(opens, None)))
     del _OPEN_SOLVES[_KEPT_OPEN:]
     return opens
+
+
+def _bound(modes: Modes, model) -> Modes:
+    """``modes`` bound to ``model``: kept unbound (None), so that a kept solve does not keep its model alive."""
+    return replace(modes, model=model, modes=tuple(replace(m, model=model) for m in modes))
 
 
 # most open-circuit modes sought for one partner where no short-circuit modes size the solve (``open_circuit_partner``)

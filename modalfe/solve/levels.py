@@ -66,44 +66,19 @@ def modes_of(model, analysis, *, fidelity: str, solver: str = "auto", timings: d
     _SHORT_SOLVES[:] = [kept for kept in _SHORT_SOLVES if kept.model() is not None]
     constraints = model.constraints(analysis.circuit)
     short = [kept for kept in _SHORT_SOLVES if kept.model() is model]  # this model's kept short-circuit solves
-    if analysis.circuit == "short" and short:  # the same projection again, whose shifts share one pencil (``Shifted``)
-        A, B = short[0].A, short[0].B
-    else:  # an open circuit borders the short one's projection
-        A = constraints.project(model.K, picked=short[0].A if short else None)
-        B = constraints.project(model.M, picked=short[0].B if short else None)
-    factor, start, seed, ritz = None, None, None, None
     # a kept factorization at this shift: bordered for the open circuit, as is for the short
     kept = next((k for k in short if k.factor[1] == (2 * np.pi * analysis.near) ** 2), None) \
         if analysis.band is None else None
-    if kept is not None:
-        factor = open_circuit_solve(A, kept.A.shape[0], kept.factor)
-    if kept is not None and known is not None and analysis.circuit == "open" and partners and \
-            A.shape[0] > kept.A.shape[0]:
-        # the partners from the short modes and a few solves (``bordered_ritz``), else Lanczos started from them
-        short_modes = free_values(constraints.T, np.column_stack([m.shape for m in known]))[: kept.A.shape[0]]
-        started = time.perf_counter()
-        with step(f"{model.scene.name}: open circuit from the short one, {A.shape[0]} unknowns"), \
-                single_threaded_blas():
-            ritz = bordered_ritz(A, kept.A, kept.B, kept.factor, short_modes, analysis.count)
-        if ritz is not None:
-            ritz = EigenSolution(*ritz, 0.0, time.perf_counter() - started, "reused", factor=factor)
-    if factor is not None and known is not None and analysis.circuit == "open" and ritz is None:
-        start = open_circuit_start(constraints.T, known, factor[0], A.shape[0] - kept.A.shape[0])
-    if known is not None and analysis.band is not None and analysis.circuit == "short" and short:
-        seed = (short[0].factor, np.array([m.omega**2 for m in known]),
-                free_values(constraints.T, np.column_stack([m.shape for m in known])))
-    asked = f"{analysis.band[0]:g}-{analysis.band[1]:g} Hz" if analysis.band is not None else \
-        f"{analysis.count} modes near {analysis.near or 0:g} Hz"
-    # ARPACK's dense products under one BLAS thread, whoever calls (``single_threaded_blas``: the admittance's band
-    # completion ran beside PARDISO's threads at 3x the time a Lanczos step)
-    solution = ritz
+    border = constraints.border(model.K) if analysis.circuit == "open" and kept is not None else None
+    solution, pencil = None, None
+    if partners and known is not None and border is not None and border[0].shape[1]:
+        solution = _partners_from_short(model, constraints, border, kept, known, analysis.count)
     if solution is None:
-        with step(f"{model.scene.name}, {fidelity} model, order {model.scene.mesh.order}: eigen solve, {asked}, "
-                  f"{analysis.circuit} circuit, {A.shape[0]} unknowns"), single_threaded_blas():
-            solution = eigenpairs(A, B, analysis, solver, factor, seed, start)
+        solution, pencil = _solved(model, analysis, constraints, short, kept, border, known, fidelity, solver)
+    n_free = constraints.T.shape[1]
     driven = "drive" in model.scene.electrodes.values()  # else the open circuit is the short one: nothing to reuse
     if analysis.circuit == "short" and driven and solution.factor is not None:
-        _SHORT_SOLVES.insert(0, _ShortSolve(weakref.ref(model), A, B, solution.factor))
+        _SHORT_SOLVES.insert(0, _ShortSolve(weakref.ref(model), *pencil, solution.factor))
         del _SHORT_SOLVES[_KEPT_FACTORS:]
     T = constraints.T
     shapes = T @ solution.vectors
@@ -115,8 +90,49 @@ def modes_of(model, analysis, *, fidelity: str, solver: str = "auto", timings: d
              for i, (f, (name, w)) in enumerate(zip(frequencies, names))]
     seconds = {**(timings or {}), "factorization": solution.factorization_seconds,
                "eigensolve": solution.eigensolve_seconds, "solver": solution.solver}
-    return Modes(tuple(modes), model, analysis.circuit, fidelity, A.shape[0], seconds,
+    return Modes(tuple(modes), model, analysis.circuit, fidelity, n_free, seconds,
                  mesh_frequency=model.scene.max_frequency)
+
+
+def _partners_from_short(model, constraints, border: tuple, kept: _ShortSolve, known,
+                         count: int) -> EigenSolution | None:
+    """The ``count`` open-circuit modes (unknowns ``constraints``, the short circuit's first) nearest the kept short
+    solve's shift that can be partners of the short modes ``known`` (``modalfe.solve.open_circuit.bordered_ritz``:
+    projected on them and a few solves with the kept factorization), None where that does not settle."""
+    started = time.perf_counter()
+    short_modes = free_values(constraints.T, np.column_stack([m.shape for m in known]))[: kept.A.shape[0]]
+    with step(f"{model.scene.name}: open circuit from the short one, {kept.A.shape[0]} unknowns"), \
+            single_threaded_blas():
+        ritz = bordered_ritz(*border, kept.A, kept.B, kept.factor, short_modes, count)
+    return None if ritz is None else EigenSolution(*ritz, 0.0, time.perf_counter() - started, "reused")
+
+
+def _solved(model, analysis, constraints, short: list, kept, border, known, fidelity: str,
+            solver: str) -> tuple[EigenSolution, tuple]:
+    """The eigen solve of ``model`` for ``analysis`` (``modalfe.solve.eigen.eigenpairs``) on its projected pencil
+    (the short circuit's kept projection, bordered for the open circuit: ``Constraints.project``) with the
+    factorization ``kept`` at its shift (bordered by ``border`` for the open circuit, ``open_circuit_solve``), a
+    short band seeded and an open circuit started from the short modes ``known``; and the pencil (A, B) solved."""
+    if analysis.circuit == "short" and short:  # the same projection again, whose shifts share one pencil (``Shifted``)
+        A, B = short[0].A, short[0].B
+    else:  # an open circuit borders the short one's projection
+        A = constraints.project(model.K, picked=short[0].A if short else None)
+        B = constraints.project(model.M, picked=short[0].B if short else None)
+    factor, start, seed = None, None, None
+    if kept is not None:
+        factor = kept.factor if border is None else open_circuit_solve(*border, kept.factor)
+    if factor is not None and known is not None and analysis.circuit == "open":
+        start = open_circuit_start(constraints.T, known, factor[0], A.shape[0] - kept.A.shape[0])
+    if known is not None and analysis.band is not None and analysis.circuit == "short" and short:
+        seed = (short[0].factor, np.array([m.omega**2 for m in known]),
+                free_values(constraints.T, np.column_stack([m.shape for m in known])))
+    asked = f"{analysis.band[0]:g}-{analysis.band[1]:g} Hz" if analysis.band is not None else \
+        f"{analysis.count} modes near {analysis.near or 0:g} Hz"
+    # ARPACK's dense products under one BLAS thread, whoever calls (``single_threaded_blas``: the admittance's band
+    # completion ran beside PARDISO's threads at 3x the time a Lanczos step)
+    with step(f"{model.scene.name}, {fidelity} model, order {model.scene.mesh.order}: eigen solve, {asked}, "
+              f"{analysis.circuit} circuit, {A.shape[0]} unknowns"), single_threaded_blas():
+        return eigenpairs(A, B, analysis, solver, factor, seed, start), (A, B)
 
 
 def short_circuit_pencil(model) -> tuple[sp.csr_matrix, sp.csr_matrix, tuple | None]:

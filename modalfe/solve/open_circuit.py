@@ -32,16 +32,16 @@ CONVERGED = 1e-11  # relative change of every sought Ritz value over one more bl
 RESIDUAL = 1e-6  # most relative residual of a sought Ritz pair (a spurious interior Ritz value has one near 1)
 
 
-def open_circuit_solve(A_open, n_short: int, factor: tuple) -> tuple:
+def open_circuit_solve(b: np.ndarray, c: np.ndarray, factor: tuple) -> tuple:
     """(solve, shift) with A_open - shift B_open from the short-circuit factorization ``factor`` of the same model:
     the open circuit's unknowns are the short circuit's plus one potential per floating electrode (the last
     columns of ``PiezoUnknowns.constraints``), which carry no mass, so the shifted matrix is the short one
-    bordered by [b; c] and solves by its Schur complement c - b^T S^-1 b (one block solve, a column per floating
-    electrode)."""
+    bordered by [b; c] (``Constraints.border``) and solves by its Schur complement c - b^T S^-1 b (one block solve,
+    a column per floating electrode)."""
     short_solve, shift = factor
-    if A_open.shape[0] == n_short:  # no floating electrode in this model: the same matrix
+    if b.shape[1] == 0:  # no floating electrode in this model: the same matrix
         return factor
-    b, c = border(A_open, n_short)
+    n_short = b.shape[0]
     W = short_solve(b).reshape(b.shape)
     schur = c - b.T @ W
 
@@ -51,12 +51,6 @@ def open_circuit_solve(A_open, n_short: int, factor: tuple) -> tuple:
         return np.concatenate([x - W @ y, y])
 
     return solve, shift
-
-
-def border(A_open, n_short: int) -> tuple[np.ndarray, np.ndarray]:
-    """(b (n_short, m), c (m, m)): the open-circuit matrix's border, its floating potentials' coupling and block."""
-    b = A_open[n_short:, :n_short].toarray().T  # A is symmetric: its last rows, not a column slice of every row
-    return b, A_open[n_short:, n_short:].toarray()
 
 
 def open_circuit_start(T, known, solve, floating: int) -> np.ndarray:
@@ -74,17 +68,18 @@ def open_circuit_start(T, known, solve, floating: int) -> np.ndarray:
     return x
 
 
-def bordered_ritz(A_open, A_short, B_short, factor: tuple, Phi: np.ndarray, count: int):
+def bordered_ritz(b: np.ndarray, c: np.ndarray, A_short, B_short, factor: tuple, Phi: np.ndarray, count: int):
     """(values (count,), vectors (n_open, count)): the ``count`` open-circuit eigenpairs nearest the shift of the
-    short-circuit pencil (``A_short``, ``B_short``; its factorization ``factor``: solve, sigma), by Rayleigh-Ritz
+    short-circuit pencil (``A_short``, ``B_short``; its factorization ``factor``: solve, sigma) bordered by the
+    floating electrodes' ``b`` and ``c`` (``Constraints.border``), by Rayleigh-Ritz
     on the short modes ``Phi`` (n_short, k; the solve's) and Krylov blocks S^-1 b, S^-1 B S^-1 b, ... each made
     B-orthogonal to the space before (so S^-1 b_left: module docstring), one block more until every sought Ritz
     value changes by less than ``CONVERGED`` of itself and its residual is below ``RESIDUAL``. Each block costs one
     solve and one product with B: its product with A follows from the solve's (A y = r + sigma B y for y = S^-1 r).
-    Vectors B-orthonormal, floating potentials last. None where ``MAX_BLOCKS`` blocks do not converge (the Lanczos
-    search then answers)."""
+    Vectors B-orthonormal, floating potentials last. An open mode the electrodes do not couple (b^T phi = 0) is a
+    short mode unchanged, which no block reaches: it is among the answer only if in ``Phi``. None where
+    ``MAX_BLOCKS`` blocks do not converge (the Lanczos search then answers)."""
     solve, sigma = factor
-    b, c = border(A_open, A_short.shape[0])
     c_inv_bT = np.linalg.solve(c, b.T)
     empty = np.zeros((A_short.shape[0], 0))
     space = _extended((empty, empty, empty), (Phi, B_short @ Phi, A_short @ Phi))

@@ -94,7 +94,7 @@ def test_round_fits_knows_a_mode_by_the_waves_of_its_rim():
         return displacement
 
     zero = np.zeros_like
-    # the inextensional n = 2 ring mode: u_theta = -u_r' / n... of half u_r's amplitude (Blevins 1979, Table 9-1)
+    # the inextensional n = 2 ring mode, u_r = -d u_theta / d theta (Blevins 1979, Table 9-1): u_theta = -sin(2 t) / 2
     assert study.round_fits(ring, field(lambda t: np.cos(2 * t), lambda t: -0.5 * np.sin(2 * t), zero))
     assert not study.round_fits(ring, field(lambda t: np.cos(3 * t), lambda t: np.sin(3 * t) / 3, zero))  # n = 3
     out_of_plane = field(lambda t: np.cos(2 * t), zero, lambda t: 0.2 * np.cos(2 * t))  # u_z 20 % of u_r

@@ -202,8 +202,8 @@ def test_the_open_circuit_started_from_the_short_modes_finds_the_same_pairs_in_f
     # the k31 bar's open circuit from a start vector made of its short-circuit modes: the pairs of a generic start,
     # to well inside ARPACK's tol (1e-8 on the inverted values), and no more solves than from the generic start
     from modalfe.solve.eigen import _lanczos
-    from modalfe.solve.open_circuit import open_circuit_start
     from modalfe.solve.linalg import factorize
+    from modalfe.solve.open_circuit import open_circuit_start
 
     scene = k31_bar_scene(3e-3)
     model, _ = build_model(scene, "solid")

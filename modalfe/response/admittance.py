@@ -496,13 +496,10 @@ def modal_admittance(modes, frequency, losses: Losses, *, residual: str = "centr
     if rigid:
         notes.append(f"{rigid} rigid-body modes (no charge) left to the residual")
     if factor > 1:
-        notes.append(f"solved on 1/{factor} of the device (symmetry); charge and capacitance scaled by {factor}")
-    if sigma == 0:
-        where = "zero frequency (static)"
-    elif sigma == centre:
-        where = "the band's centre"
-    else:
-        where = f"{np.sqrt(sigma) / 2 / np.pi:.6g} Hz (the band's centre lies on a resonance)"
+        notes.append(f"solved on 1/{factor} of the device (symmetry); charge and capacitance scaled by {factor}; theta "
+                     f"is the solved part's (the whole device's: sqrt({factor}) times it)")
+    where = "zero frequency (static)" if sigma == 0 else "the band's centre" if sigma == centre else \
+        f"{np.sqrt(sigma) / 2 / np.pi:.6g} Hz (the band's centre lies on a resonance)"
     method = (f"modal superposition of {len(used)} short-circuit modes, residual of the others at {where} "
               f"(mode-acceleration), {modes.dofs} DOFs")
     widths = (c + h / omega_r) / (2 * np.pi)  # half-power: 2 zeta f_r or eta f_r

@@ -150,6 +150,13 @@ def test_the_quarter_discs_capacitance_and_admittance_are_the_whole_discs(disc_m
         assert b_quarter[key] == pytest.approx(b_whole[key], rel=1e-4), key
     # |Y| over the band: the same modal sum of the driven modes (odd ones carry no charge), residual alike
     assert np.abs(y_quarter.Y) == pytest.approx(np.abs(y_whole.Y), rel=1e-3)
+    # theta is the quarter's own (sqrt(4) x smaller than the whole's: its modal mass is a quarter), and the output
+    # says so
+    (t_whole,) = [r["theta_N_per_V_sqrtkg"] for r in y_whole.modes if r["label"] == "R1"]
+    (t_quarter,) = [r["theta_N_per_V_sqrtkg"] for r in y_quarter.modes if r["label"] == "R1"]
+    assert abs(t_quarter) * 2 == pytest.approx(abs(t_whole), rel=1e-4)
+    assert any("theta is the solved part's" in note for note in y_quarter.notes)
+    assert not any("theta is the solved part's" in note for note in y_whole.notes)
 
 
 def test_a_half_ring_gives_the_whole_rings_modes_symmetric_about_its_cut():

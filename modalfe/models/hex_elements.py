@@ -184,6 +184,15 @@ class ElementHexGLL(ElementH1):
         phi, dphi = self._tensor(np.asarray(X)[:, None, :] if np.ndim(X) == 2 else X, idx)
         return (phi[0], dphi[:, 0]) if np.ndim(X) == 2 else (phi, dphi)
 
+    def values_at(self, mesh, X: np.ndarray, tind: np.ndarray) -> np.ndarray:
+        """(nloc, n) every global basis function's value at one reference point per element, ``X`` (3, n), of the
+        elements ``tind`` (n,) of ``mesh``: ``gbasis``' values, oriented per element, all functions at once and
+        without the gradients or the inverse map a point probe does not read."""
+        slots = self.slots(mesh)[:, :, tind]  # (3, nloc, n)
+        L = [lagrange_1d(self.nodes, X[d][:, None])[0][:, :, 0] for d in range(3)]  # (p + 1, n) each, as _tensor
+        element = np.arange(X.shape[1])
+        return L[0][slots[0], element] * L[1][slots[1], element] * L[2][slots[2], element]
+
     def gbasis(self, mapping, X: np.ndarray, i: int, tind=None):
         """Global basis function ``i`` on the elements ``tind`` (all when None), oriented per element."""
         if not 0 <= i < len(self.reference_slots):
@@ -250,6 +259,13 @@ class ElementHexS3(ElementHexGLL):
         if "S3" not in cache:
             cache["S3"] = _slots(np.asarray(mesh.t), 3)[:, :32].astype(np.int16)
         return cache["S3"]
+
+    def values_at(self, mesh, X: np.ndarray, tind: np.ndarray) -> np.ndarray:
+        """``ElementHexGLL.values_at`` for this element's own shape functions (each node's at its element's point)."""
+        slots = self.slots(mesh)[:, :, tind]  # (3, 32, n)
+        nloc, n = slots.shape[1], slots.shape[2]
+        at = np.broadcast_to(X[:, None, :], (3, nloc, n)).reshape(3, nloc * n, 1)
+        return self._tensor(at, slots.reshape(3, nloc * n))[0].reshape(nloc, n)
 
     def _tensor(self, X: np.ndarray, idx: np.ndarray):
         """Value (nel, nq) and reference gradient (3, nel, nq) of the shape function of the node at grid index

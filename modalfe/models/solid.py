@@ -68,6 +68,14 @@ class PiezoUnknowns:
         return np.einsum("ik,ik->k", u, self.attached_mass @ u) / np.where(total > 0, total, 1.0)
 
     def constraints(self, circuit: str) -> Constraints:
+        """``_constraints(circuit)``, made once per model and circuit: every step that maps free unknowns asks for it
+        (17 times in an admittance of the Cu-Be plate, 0.02 s each)."""
+        kept = self.__dict__.setdefault("_kept_constraints", {})
+        if circuit not in kept:
+            kept[circuit] = self._constraints(circuit)
+        return kept[circuit]
+
+    def _constraints(self, circuit: str) -> Constraints:
         """The map from free unknowns to the full DOF vector for a ``short`` or ``open`` circuit.
 
         Short: every electrode at 0 V. Open: each driven electrode floats as one shared unknown. The free

@@ -19,6 +19,8 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from skfem import Basis, ElementHex2, ElementHexS2, ElementVector, MeshHex
 
 from modalfe.models.hex_elements import ElementHexGLL, dof_locations, gll_points
@@ -450,3 +452,24 @@ def test_solid_model_hook(order):
     x = np.zeros(model.ndofs)
     x[: model.n_u] = np.tile([1.0, 2.0, 3.0], model.n_u // 3)  # a rigid translation, interleaved
     assert np.allclose(model.nodal_displacement(x), np.array([[1.0], [2.0], [3.0]]))
+
+
+@settings(max_examples=15, deadline=None)
+@given(p=st.integers(1, 4), serendipity=st.booleans(), seed=st.integers(0, 1000), points=st.integers(1, 40))
+def test_values_at_points_are_the_basis_values_point_by_point(p, serendipity, seed, points):
+    """``values_at`` (every function's value at one point per element, for point probes) is ``gbasis``' value,
+    function by function, on elements of every orientation: to the bit for the Lagrange element (the same products
+    in the same order), to rounding for the serendipity one (its monomial sums, einsum's order on other shapes)."""
+    from modalfe.models.hex_elements import ElementHexS3
+
+    mesh = messy_box(seed=seed)
+    elem = ElementHexS3() if serendipity else ElementHexGLL(p)
+    basis = Basis(mesh, elem, intorder=1)
+    rng = np.random.default_rng(seed)
+    cells, X = rng.integers(mesh.nelements, size=points), rng.uniform(0, 1, size=(3, points))
+    fast = elem.values_at(mesh, X, cells)
+    one_by_one = [elem.gbasis(basis.mapping, X[:, :, None], i, tind=cells)[0][:, 0] for i in range(len(fast))]
+    if serendipity:  # values O(1), sums of 32 monomial terms with coefficients up to ~10: rounding ~1e-14
+        assert np.allclose(fast, np.array(one_by_one), rtol=0, atol=1e-13)
+    else:
+        assert np.array_equal(fast, np.array(one_by_one))

@@ -10,18 +10,17 @@ the modal force per volt) with the residual of every mode left out taken at a sh
 acceleration method; Craig & Kurdila, Fundamentals of Structural Dynamics, 2nd ed. 2006, ch. 14 for sigma = 0;
 Preumont, Mechatronics, 2006, ch. 4 for the piezoelectric admittance):
 
-    Q / V = C_b + F . x_sigma - sum_r theta_r^2 / (omega_r^2 - sigma) + sum_r theta_r^2 / d_r(omega)
-    x_sigma = (A - sigma B)^-1 F,   d_r = omega_r^2 - omega^2 + i (2 zeta_r omega_r omega + eta_r omega_r^2)
+    Q / V = C_b + F . x_left + (omega^2 - sigma) x_left . B x_left + (omega^2 - sigma)^2 z . B x_left
+            + sum_r theta_r^2 / d_r(omega),   d_r = omega_r^2 - omega^2 + i (2 zeta_r omega_r omega + eta_r omega_r^2)
+    x_left = (A - sigma B)^-1 (F - sum_r B phi_r theta_r),   z = (A - sigma B)^-1 B x_left
 
-computed as F . x_left with x_left = (A - sigma B)^-1 (F - sum_r B phi_r theta_r), the load on the modes left out
-(the kept modes' terms subtracted before the solve, not after it: a kept mode beside sigma amplifies nothing), and
-the slope in omega^2 of the residual, F . (A - sigma B)^-1 B x_sigma less the kept terms, as x_left . B x_left.
+the residual of the modes left out, their terms taken out of the load before the solve (a kept mode beside sigma
+amplifies nothing), as its Taylor series in omega^2 about sigma (d/ds (A - s B)^-1 = (A - s B)^-1 B (A - s B)^-1):
+error theta^2 t^3 / (omega_r^2 - omega^2), t = (omega^2 - sigma) / (omega_r^2 - sigma), for a mode left out.
 
-``residual="static"``: sigma = 0 (the static capacitance and the quasi-static response of the modes left out;
-needs a supported body); ``"centre"`` (default): sigma = omega_c^2 at the band's centre, exact there, whose
-error for a mode left out, theta^2 (omega^2 - sigma) / ((omega_r^2 - omega^2)(omega_r^2 - sigma)), is smaller
-than the static one for every mode above the band and bounded for those below it (a free body's rigid modes,
-which carry no charge, are allowed).
+``residual="static"``: sigma = 0 (needs a supported body); ``"centre"`` (default): sigma in the band, the kept eigen
+solve's shift where it lies there (two direct solves), else the band's centre (``shifted_solve``): an error smaller
+than the static one for every mode above the band and bounded for those below it (a free body's rigid modes).
 
 Losses: mechanical viscous (modal zeta, Q = 1 / 2 zeta, Rayleigh alpha + beta omega_r^2 = 2 zeta_r omega_r) or
 hysteretic (loss factor eta, and per material eta_r = sum_m U_m,r / U_r / Qm_m, the modal strain-energy method,
@@ -317,17 +316,14 @@ def with_stated_errors(result: Admittance, modes, losses: Losses, residual: str)
         errors = derived_errors(modes, m, numbers, fine)
         c0_error = errors["C_S"][0] if math.isnan(c0_error) else max(c0_error, errors["C_S"][0])
         rows.append({**row, **{k: v for k, v in fine.items() if k in ("peak_hz", "peak_S", "dip_hz")},
-                     **{f"{k}_error": _finite_or_none(e) for k, (e, _) in errors.items() if k != "C_S"}})
+                     **{f"{k}_error": float(e) if math.isfinite(e) else None for k, (e, _) in errors.items()
+                        if k != "C_S"}})
     note = "stated errors of theta, the |Y| extrema and the clamped capacitance: from the frequencies' estimate " \
            "levels (the admittance of each level's modes)"
     if not every:
         note += "; the extrema's not estimated: the band's other modes state no error (solved on the working mode's " \
                 "answer only)"
     return replace(result, modes=tuple(rows), capacitance_error=c0_error, notes=(*result.notes, note))
-
-
-def _finite_or_none(x: float) -> float | None:
-    return float(x) if math.isfinite(x) else None
 
 
 def band_modes(scene, band: tuple[float, float], **resolution) -> Modes:
@@ -458,9 +454,11 @@ def modal_admittance(modes, frequency, losses: Losses, *, residual: str = "centr
     omega_r = np.array([m.omega for m in used])
     theta = np.array([float(m.shape @ load) for m in used])
     centre = (0.5 * (w.min() + w.max())) ** 2
-    sigma = 0.0 if residual == "static" else centre
     A, B, kept = short_circuit_pencil(model)
     kept = kept if residual == "centre" else None  # GMRES serves beside the eigen shift, not at 0: factorized there
+    # in the band, the kept eigen shift: direct solves there (GMRES at the centre: 8 solves a level on the Cu-Be plate)
+    sigma = 0.0 if residual == "static" else kept[1] if kept is not None and w.min() ** 2 <= kept[1] <= w.max() ** 2 \
+        else centre
     shapes = np.column_stack([m.shape for m in used]) if used else np.zeros((model.K.shape[0], 0))
     # the load on the modes left out (module docstring): a kept mode beside sigma (the band's centre 0.03 % from the
     # Cu-Be plate's (0,6)) is not in it, so GMRES on the eigen solve's kept factorization converges (``shifted_solve``)
@@ -478,15 +476,17 @@ def modal_admittance(modes, frequency, losses: Losses, *, residual: str = "centr
             raise SolverError(f"residual: the solve at {np.sqrt(sigma) / 2 / np.pi:.6g} Hz, beside the band's "
                               f"centre on a resonance, failed ({again})") from None
     c, h, text = modal_losses(used, model, losses)
-    q_res0 = C_b + float(F @ x_left)
-    q_res1 = float(x_left @ (B @ x_left))
+    B_x = B @ x_left
+    q_res0, q_res1 = C_b + float(F @ x_left), float(x_left @ B_x)
+    q_res2 = float(B_x @ shifted_solve(A, B, sigma, kept)(B_x))  # x_left . B (A - sigma B)^-1 B x_left
     C_S = clamped_capacitance(model)
     factor = model.copies
 
     def model_Y(frequency) -> np.ndarray:  # noqa: N802 (the admittance's own symbol)
         wf = 2 * np.pi * np.atleast_1d(np.asarray(frequency, dtype=float))
         d = omega_r[None, :] ** 2 - wf[:, None] ** 2 + 1j * (c[None, :] * wf[:, None] + h[None, :])
-        q = q_res0 + (wf**2 - sigma) * q_res1 + (theta[None, :] ** 2 / d).sum(axis=1) - 1j * losses.tan_delta * C_S
+        ds = wf**2 - sigma
+        q = q_res0 + ds * (q_res1 + ds * q_res2) + (theta[None, :] ** 2 / d).sum(axis=1) - 1j * losses.tan_delta * C_S
         return 1j * wf * factor * q
 
     notes = [note] if note else []
@@ -499,7 +499,8 @@ def modal_admittance(modes, frequency, losses: Losses, *, residual: str = "centr
         notes.append(f"solved on 1/{factor} of the device (symmetry); charge and capacitance scaled by {factor}; theta "
                      f"is the solved part's (the whole device's: sqrt({factor}) times it)")
     where = "zero frequency (static)" if sigma == 0 else "the band's centre" if sigma == centre else \
-        f"{np.sqrt(sigma) / 2 / np.pi:.6g} Hz (the band's centre lies on a resonance)"
+        f"{np.sqrt(sigma) / 2 / np.pi:.6g} Hz (the eigen solve's shift)" if kept is not None and sigma == kept[1] \
+        else f"{np.sqrt(sigma) / 2 / np.pi:.6g} Hz (the band's centre lies on a resonance)"
     method = (f"modal superposition of {len(used)} short-circuit modes, residual of the others at {where} "
               f"(mode-acceleration), {modes.dofs} DOFs")
     widths = (c + h / omega_r) / (2 * np.pi)  # half-power: 2 zeta f_r or eta f_r

@@ -78,16 +78,32 @@ def test_k31_bar_admittance_matches_the_closed_form(bar):
 def test_modal_admittance_matches_the_direct_fe(bar):
     scene, modes = bar
     # mass-proportional Rayleigh damping is diagonal in the modes (phi^T M phi = 1): both sides have the same
-    # losses, so what differs is only the second-order residual of the modes left out, whose error
-    # theta^2 (w^2 - s)^2 / ((w_r^2 - w^2)(w_r^2 - s)^2) peaks at 160 kHz from the 233 kHz axial mode (1.5e-3);
-    # the dielectric loss enters the modal sum as C0 (1 - i tan d), the direct solve as eps (1 - i tan d)
+    # losses, so what differs is only the residual of the modes left out, carried to (w^2 - s)^2, whose error
+    # theta^2 t^3 / (w_r^2 - w^2), t = (w^2 - s) / (w_r^2 - s), peaks at 160 kHz from the 233 kHz axial mode
+    # (4.4e-4 measured; 1.5e-3 with the series one term shorter, which this bound of 1e-3 fails); the dielectric
+    # loss enters the modal sum as C0 (1 - i tan d), the direct solve as eps (1 - i tan d)
     losses = resolve_losses(scene, damping="rayleigh=500,0", tan_delta=0.01)
     f = np.array([25e3, 35e3, 46.94e3, 60e3, 100e3, 160e3])
     modal = modal_admittance(modes, f, losses).Y
     direct = direct_admittance(modes.model, f, losses).Y
     rel = np.abs(modal - direct) / np.abs(direct)
-    assert rel.max() < 2e-3, rel
-    assert rel[2] < 1e-3, rel  # at the first resonance, where the mode dominates
+    assert rel.max() < 1e-3, rel
+    assert rel[2] < 1e-4, rel  # at the first resonance, where the mode dominates (2.3e-7 measured)
+
+
+def test_the_residual_is_taken_at_the_kept_eigen_shift_in_the_band():
+    # the 8 modes nearest 47 kHz (21-60 kHz) and the factorization their solve kept at 47 kHz: the residual's series
+    # is expanded there (two direct solves) and matches the direct FE over 30-65 kHz; measured 5e-8 to 2.7e-5, the
+    # largest at 65 kHz, next to the 60.5 kHz mode kept and farthest from the shift among the modes left out's
+    # t = (w^2 - s) / (w_r^2 - s); 1e-4 is 4x that, and the series one term shorter gives 2.3e-4 here
+    scene = k31_bar_scene(1.5e-3)
+    modes = solve_modes(scene, near=47e3, count=8, error_estimate=False)
+    losses = resolve_losses(scene, damping="rayleigh=500,0", tan_delta=0.01)
+    f = np.array([30e3, 40e3, 46.94e3, 55e3, 65e3])
+    modal = modal_admittance(modes, f, losses)
+    assert "at 47000 Hz (the eigen solve's shift)" in modal.method
+    direct = direct_admittance(modes.model, f, losses).Y
+    assert np.max(np.abs(modal.Y - direct) / np.abs(direct)) < 1e-4
 
 
 def test_material_losses_weight_qm_by_strain_energy(bar):

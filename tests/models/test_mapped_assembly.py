@@ -24,7 +24,7 @@ from modalfe.models.hex_elements import ElementHexGLL
 ELEMENTS = {"Hex1": ElementHex1, "S2": ElementHexS2, "GLL2": lambda: ElementHexGLL(2), "GLL3": lambda: ElementHexGLL(3)}
 
 
-def _swept_mesh(nx: int, ny: int, layers: np.ndarray, bend: float, twist: float) -> MeshHex2:
+def swept_mesh(nx: int, ny: int, layers: np.ndarray, bend: float, twist: float) -> MeshHex2:
     """A curved 27-node hexahedral mesh of the unit square's section swept through ``layers`` (ascending z): every
     node (corners, mid-sides, centres) moved in plane by a smooth map, so that the elements' sides are curved."""
     straight = MeshHex2.from_mesh(MeshHex1.init_tensor(np.linspace(0, 1, nx + 1), np.linspace(0, 1, ny + 1), layers))
@@ -92,7 +92,7 @@ def _check(mesh, scalar, intorder: int, mat) -> None:
 @pytest.mark.parametrize("element", ELEMENTS)
 def test_curved_hexahedra_match_scikit_fem(element):
     scalar = ELEMENTS[element]()
-    mesh = _swept_mesh(2, 1 if element == "GLL3" else 2, np.array([0.0, 0.15, 0.4]), bend=0.3, twist=-0.2)
+    mesh = swept_mesh(2, 1 if element == "GLL3" else 2, np.array([0.0, 0.15, 0.4]), bend=0.3, twist=-0.2)
     _check(mesh, scalar, 2 * max(2, getattr(scalar, "p", 2)), _material(0))
 
 
@@ -103,12 +103,12 @@ def test_curved_hexahedra_match_scikit_fem(element):
        element=st.sampled_from(["S2", "GLL2"]), seed=st.integers(0, 2**16))
 def test_random_swept_sections_match_scikit_fem(nx, ny, gaps, bend, twist, element, seed):
     # bends below 1/2 keep every element's Jacobian positive (x + b sin(pi y) x (1 - x) has d/dx >= 1 - |b|)
-    mesh = _swept_mesh(nx, ny, np.r_[0.0, np.cumsum(gaps)], bend, twist)
+    mesh = swept_mesh(nx, ny, np.r_[0.0, np.cumsum(gaps)], bend, twist)
     _check(mesh, ELEMENTS[element](), 4, _material(seed))  # the orientation of order-3 edge nodes: the case above
 
 
 def test_applies_to_hexahedra_only():
     from skfem import MeshTet
 
-    assert mapped_assembly.applies(_swept_mesh(1, 1, np.array([0.0, 1.0]), 0.1, 0.1))
+    assert mapped_assembly.applies(swept_mesh(1, 1, np.array([0.0, 1.0]), 0.1, 0.1))
     assert not mapped_assembly.applies(MeshTet())

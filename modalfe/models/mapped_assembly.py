@@ -70,13 +70,13 @@ class _Reference:
         self.dgeo = np.array([geo.lbasis(self.X, a)[1] for a in range(geo.doflocs.shape[0])]).transpose(2, 1, 0)
 
     def gradients(self, mesh, elements: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(physical gradients (nel, nq, 3, nloc) of the scalar shape functions, w_q |det DF| (nel, nq)) on
+        """(physical gradients (nel, nq, nloc, 3) of the scalar shape functions, w_q |det DF| (nel, nq)) on
         ``elements`` of ``mesh``: DF[i, j] = sum_a x_a,i dN_a/dX_j over the geometry nodes x_a."""
         x = mesh.doflocs[:, mesh.dofs.element_dofs[:, elements]]  # (3, ngeo, nel)
         DF = np.einsum("iae,qja->eqij", x, self.dgeo, optimize=True)
         det = np.linalg.det(DF)
         inv = np.linalg.inv(DF)  # inv[..., i, j] = dX_i / dx_j
-        G = np.einsum("eqij,qib->eqjb", inv, self.dphi, optimize=True)
+        G = np.einsum("eqij,qib->eqbj", inv, self.dphi, optimize=True)
         return G, np.abs(det) * self.W
 
 
@@ -91,11 +91,20 @@ def _chunks(elements: np.ndarray, nloc: int, nq: int) -> list[np.ndarray]:
 
 
 def _stiffness_products(G: np.ndarray, dx: np.ndarray) -> np.ndarray:
-    """S (9 (k, l), nel * nloc^2 (e, a, b)): S[k, l, a, b] = sum_q dx dphi_a/dx_k dphi_b/dx_l per element."""
-    nel, nq, _, nloc = G.shape
+    """S (nel * nloc^2 (e, a, b), 9 (k, l)): S[k, l, a, b] = sum_q dx dphi_a/dx_k dphi_b/dx_l per element, from the
+    gradients G (nel, nq, nloc, 3)."""
+    nel, nq, nloc, _ = G.shape
     flat = G.reshape(nel, nq, 3 * nloc)
-    S = np.matmul((flat * dx[:, :, None]).transpose(0, 2, 1), flat)  # (nel, (k, a), (l, b))
-    return S.reshape(nel, 3, nloc, 3, nloc).transpose(1, 3, 0, 2, 4).reshape(9, -1)
+    S = np.matmul((flat * dx[:, :, None]).transpose(0, 2, 1), flat)  # (nel, (a, k), (b, l))
+    return S.reshape(nel, nloc, 3, nloc, 3).transpose(0, 1, 3, 2, 4).reshape(-1, 9)
+
+
+def _summed(out: np.ndarray, at: np.ndarray, weights: np.ndarray) -> None:
+    """Add the element entries ``weights`` (m, c) at the pattern positions ``at`` (m,) into ``out`` (nnz, c): one
+    ``np.bincount`` over the c columns together."""
+    nnz, c = out.shape
+    index = (at[:, None] * c + np.arange(c)).ravel()
+    out += np.bincount(index, weights=weights.ravel(), minlength=nnz * c).reshape(nnz, c)
 
 
 def assemble_elastic(mesh, scalar, intorder: int, dofs: np.ndarray, parts: list[tuple[np.ndarray, object]],
@@ -113,20 +122,17 @@ def assemble_elastic(mesh, scalar, intorder: int, dofs: np.ndarray, parts: list[
     nloc = ref.phi.shape[1]
     pairs = (ref.phi[:, :, None] * ref.phi[:, None, :]).reshape(len(ref.W), -1)  # (nq, nloc^2)
     indptr, indices, pos = pattern(np.concatenate([dofs[:, elements] for elements, _ in parts], axis=1), n)
-    nnz = len(indices)
-    data, Ms = np.zeros((9, nnz)), np.zeros(nnz)
+    data = np.zeros((len(indices), 10))  # K's 3 x 3 block, then the scalar mass
     start = 0
     for elements, mat in parts:
         C = mat.C[VOIGT[:, :, None, None], VOIGT].transpose(0, 2, 1, 3).reshape(9, 9)  # [(c, d), (k, l)]
         for chunk in _chunks(elements, nloc, len(ref.W)):
             G, dx = ref.gradients(mesh, chunk)
             at = pos[start * nloc * nloc:(start + len(chunk)) * nloc * nloc]
-            weights = C @ _stiffness_products(G, dx)
-            for cd in range(9):
-                data[cd] += np.bincount(at, weights=weights[cd], minlength=nnz)
-            Ms += np.bincount(at, weights=(mat.rho * dx @ pairs).ravel(), minlength=nnz)
+            mass = (mat.rho * dx @ pairs).reshape(-1, 1)
+            _summed(data, at, np.hstack([_stiffness_products(G, dx) @ C.T, mass]))
             start += len(chunk)
-    return elastic_matrices(indptr, indices, data.T.reshape(-1, 3, 3), Ms, n)
+    return elastic_matrices(indptr, indices, data[:, :9].reshape(-1, 3, 3), data[:, 9], n)
 
 
 def assemble_piezo(mesh, scalar, intorder: int, dofs: np.ndarray, parts: list[tuple[np.ndarray, object]],
@@ -143,18 +149,14 @@ def assemble_piezo(mesh, scalar, intorder: int, dofs: np.ndarray, parts: list[tu
     ref = _Reference(mesh, scalar, intorder)
     nloc = ref.phi.shape[1]
     indptr, indices, pos = pattern(np.concatenate([index[dofs[:, elements]] for elements, _ in parts], axis=1), n_phi)
-    nnz = len(indices)
-    data, Kpp = np.zeros((3, nnz)), np.zeros(nnz)
+    data = np.zeros((len(indices), 4))  # K_uphi's three components, then K_phiphi
     start = 0
     for elements, mat in parts:
-        coupling = np.einsum("lck->ckl", mat.e[:, VOIGT]).reshape(3, 9)  # [c, (k, l)]
+        # [(k, l), c] e_l,ck for c = 0, 1, 2, then eps_kl
+        tensors = np.hstack([np.einsum("lck->klc", mat.e[:, VOIGT]).reshape(9, 3), mat.eps_S.reshape(9, 1)])
         for chunk in _chunks(elements, nloc, len(ref.W)):
             G, dx = ref.gradients(mesh, chunk)
             at = pos[start * nloc * nloc:(start + len(chunk)) * nloc * nloc]
-            S = _stiffness_products(G, dx)
-            weights = coupling @ S
-            for c in range(3):
-                data[c] += np.bincount(at, weights=weights[c], minlength=nnz)
-            Kpp += np.bincount(at, weights=mat.eps_S.reshape(9) @ S, minlength=nnz)
+            _summed(data, at, _stiffness_products(G, dx) @ tensors)
             start += len(chunk)
-    return piezo_matrices(indptr, indices, data.T, Kpp, index, n_phi, n_u)
+    return piezo_matrices(indptr, indices, data[:, :3], data[:, 3], index, n_phi, n_u)

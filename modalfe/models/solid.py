@@ -8,9 +8,10 @@ Linear piezoelectricity in e-form (Allik & Hughes 1970), unknowns u (displacemen
                                                K_phiphi = int grad N^T eps^S grad N
 
 The mass matrix acts on u only. Axis-aligned box elements (the structured hexahedra) are summed from
-integrals on the reference cube scaled per element (``modalfe.models.box_assembly``); the others (rotated
-frames, tetrahedra, distorted hexahedra) are computed in batches of elements and quadrature points from
-scikit-fem bases, then scattered.
+integrals on the reference cube scaled per element (``modalfe.models.box_assembly``); the other hexahedra
+(curved swept ones, rotated frames, distorted elements) from reference shape functions evaluated once and per-element
+Jacobians (``modalfe.models.mapped_assembly``); tetrahedra and radially poled parts in batches of elements and
+quadrature points from scikit-fem bases, then scattered.
 """
 
 from __future__ import annotations

@@ -80,7 +80,7 @@ class _Reference:
         return G, np.abs(det) * self.W
 
 
-_BATCH_BYTES = 150e6  # per batch of elements: fewer batches, fewer passes of ``np.bincount`` over the whole pattern
+_BATCH_BYTES = 150e6  # per batch of elements (its element matrices and gradients)
 
 
 def _chunks(elements: np.ndarray, nloc: int, nq: int) -> list[np.ndarray]:
@@ -95,16 +95,18 @@ def _stiffness_products(G: np.ndarray, dx: np.ndarray) -> np.ndarray:
     gradients G (nel, nq, nloc, 3)."""
     nel, nq, nloc, _ = G.shape
     flat = G.reshape(nel, nq, 3 * nloc)
-    S = np.matmul((flat * dx[:, :, None]).transpose(0, 2, 1), flat)  # (nel, (a, k), (b, l))
+    # (nel, (a, k), (b, l)); einsum's BLAS route, 6x np.matmul's on stacks of small matrices (80 of 64 x 192)
+    S = np.einsum("eqi,eqj->eij", flat * dx[:, :, None], flat, optimize=True)
     return S.reshape(nel, nloc, 3, nloc, 3).transpose(0, 1, 3, 2, 4).reshape(-1, 9)
 
 
 def _summed(out: np.ndarray, at: np.ndarray, weights: np.ndarray) -> None:
-    """Add the element entries ``weights`` (m, c) at the pattern positions ``at`` (m,) into ``out`` (nnz, c): one
-    ``np.bincount`` over the c columns together."""
-    nnz, c = out.shape
-    index = (at[:, None] * c + np.arange(c)).ravel()
-    out += np.bincount(index, weights=weights.ravel(), minlength=nnz * c).reshape(nnz, c)
+    """Add the element entries ``weights`` (m, c) at the pattern positions ``at`` (m,) into ``out`` (nnz, c): sorted
+    by position and reduced, so that a batch costs its own m entries, not the pattern's nnz (``np.bincount`` over the
+    whole pattern cost 2.4 s a batch on a 138,000-DOF cubic model, this 0.45 s)."""
+    order = np.argsort(at, kind="stable")
+    rows, start = np.unique(at[order], return_index=True)
+    out[rows] += np.add.reduceat(weights[order], start, axis=0)
 
 
 def assemble_elastic(mesh, scalar, intorder: int, dofs: np.ndarray, parts: list[tuple[np.ndarray, object]],

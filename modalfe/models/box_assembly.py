@@ -22,7 +22,7 @@ import numpy as np
 import scipy.sparse as sp
 
 BOX_TOLERANCE = 1e-12  # vertices within this fraction of the edge lengths of a box's corners
-_VOIGT = np.array([[0, 5, 4], [5, 1, 3], [4, 3, 2]])  # Voigt index of the strain component (i, j)
+VOIGT = np.array([[0, 5, 4], [5, 1, 3], [4, 3, 2]])  # Voigt index of the strain component (i, j)
 
 
 @dataclass(frozen=True)
@@ -104,7 +104,7 @@ def _scales(h: np.ndarray) -> np.ndarray:
     return np.prod(h, axis=0)[:, None, None] / (h.T[:, :, None] * h.T[:, None, :])
 
 
-def _pattern(dofs: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def pattern(dofs: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """CSR pattern (indptr, indices) of the DOF pairs sharing an element, and the position in it of each
     element entry (element, row, column; flat) of ``dofs`` (nloc, nel) over n unknowns."""
     nloc, nel = dofs.shape
@@ -147,17 +147,24 @@ def assemble_elastic(scalar, intorder: int, parts: list[tuple[Boxes, object]],
     if not parts:
         return sp.csr_matrix((3 * n, 3 * n)), sp.csr_matrix((3 * n, 3 * n))
     M_ref, S = _reference(scalar, intorder)
-    coef = np.concatenate([np.einsum("ekl,ckdl->ecdkl", _scales(boxes.h), mat.C[_VOIGT[:, :, None, None], _VOIGT])
+    coef = np.concatenate([np.einsum("ekl,ckdl->ecdkl", _scales(boxes.h), mat.C[VOIGT[:, :, None, None], VOIGT])
                            for boxes, mat in parts]).reshape(-1, 3, 3, 9)
     mass = np.concatenate([mat.rho * np.prod(boxes.h, axis=0) for boxes, mat in parts])
-    indptr, indices, pos = _pattern(np.concatenate([boxes.dofs for boxes, _ in parts], axis=1), n)
+    indptr, indices, pos = pattern(np.concatenate([boxes.dofs for boxes, _ in parts], axis=1), n)
     S = S.reshape(9, -1)
     data = np.empty((len(indices), 3, 3))
     for c in range(3):
         for d in range(3):
             data[:, c, d] = _sum(pos, coef[:, c, d], S, len(indices))
-    Kuu = sp.bsr_matrix((data, indices, indptr), shape=(3 * n, 3 * n)).tocsr()
     Ms = np.bincount(pos, weights=np.outer(mass, M_ref).ravel(), minlength=len(indices))
+    return elastic_matrices(indptr, indices, data, Ms, n)
+
+
+def elastic_matrices(indptr: np.ndarray, indices: np.ndarray, data: np.ndarray, Ms: np.ndarray,
+                     n: int) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+    """K_uu and M_uu (3n, 3n) from their data on the scalar CSR pattern (indptr, indices) of n DOFs: K's 3 x 3
+    blocks ``data`` (nnz, 3, 3), the scalar mass ``Ms`` (nnz,) on each component alike."""
+    Kuu = sp.bsr_matrix((data, indices, indptr), shape=(3 * n, 3 * n)).tocsr()
     return Kuu, _interleave(sp.csr_matrix((Ms, indices, indptr), shape=(n, n)))
 
 
@@ -175,13 +182,21 @@ def assemble_piezo(scalar, intorder: int, parts: list[tuple[Boxes, object]], ind
     _, S = _reference(scalar, intorder)
     S = S.reshape(9, -1)
     scales = [_scales(boxes.h) for boxes, _ in parts]
-    coupling = np.concatenate([np.einsum("ekl,lck->eckl", g, mat.e[:, _VOIGT]) for g, (_, mat) in zip(scales, parts)])
+    coupling = np.concatenate([np.einsum("ekl,lck->eckl", g, mat.e[:, VOIGT]) for g, (_, mat) in zip(scales, parts)])
     permittivity = np.concatenate([g * mat.eps_S for g, (_, mat) in zip(scales, parts)])
-    indptr, indices, pos = _pattern(np.concatenate([index[boxes.dofs] for boxes, _ in parts], axis=1), n_phi)
+    indptr, indices, pos = pattern(np.concatenate([index[boxes.dofs] for boxes, _ in parts], axis=1), n_phi)
     data = np.stack([_sum(pos, coupling[:, c].reshape(-1, 9), S, len(indices)) for c in range(3)], axis=1)
+    Kpp = _sum(pos, permittivity.reshape(-1, 9), S, len(indices))
+    return piezo_matrices(indptr, indices, data, Kpp, index, n_phi, n_u)
+
+
+def piezo_matrices(indptr: np.ndarray, indices: np.ndarray, data: np.ndarray, Kpp: np.ndarray, index: np.ndarray,
+                   n_phi: int, n_u: int) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+    """K_uphi (n_u, n_phi) and K_phiphi from their data on the CSR pattern (indptr, indices) of the potential
+    unknowns: K_uphi's columns of 3 (component c of the row's u DOF) ``data`` (nnz, 3), ``Kpp`` (nnz,);
+    ``index`` maps scalar DOFs to potential unknowns (-1 off the piezo parts)."""
     small = sp.bsr_matrix((data[:, :, None], indices, indptr), shape=(3 * n_phi, n_phi)).tocsr()  # rows 3 i + c
     used = np.flatnonzero(index >= 0)
     rows = (3 * used[:, None] + np.arange(3)).ravel()
     spread = sp.csr_matrix((np.ones(3 * n_phi), (rows, np.arange(3 * n_phi))), shape=(n_u, 3 * n_phi))
-    Kpp = _sum(pos, permittivity.reshape(-1, 9), S, len(indices))
     return (spread @ small).tocsr(), sp.csr_matrix((Kpp, indices, indptr), shape=(n_phi, n_phi))

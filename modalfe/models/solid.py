@@ -8,9 +8,10 @@ Linear piezoelectricity in e-form (Allik & Hughes 1970), unknowns u (displacemen
                                                K_phiphi = int grad N^T eps^S grad N
 
 The mass matrix acts on u only. Axis-aligned box elements (the structured hexahedra) are summed from
-integrals on the reference cube scaled per element (``modalfe.models.box_assembly``); the others (rotated
-frames, tetrahedra, distorted hexahedra) are computed in batches of elements and quadrature points from
-scikit-fem bases, then scattered.
+integrals on the reference cube scaled per element (``modalfe.models.box_assembly``); the other hexahedra
+(curved swept ones, rotated frames, distorted elements) from reference shape functions evaluated once and per-element
+Jacobians (``modalfe.models.mapped_assembly``); tetrahedra and radially poled parts in batches of elements and
+quadrature points from scikit-fem bases, then scattered.
 """
 
 from __future__ import annotations
@@ -24,7 +25,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from modalfe.errors import SceneError
-from modalfe.models import box_assembly
+from modalfe.models import box_assembly, mapped_assembly
 from modalfe.models.constraints import Constraints, shared_unknowns
 from modalfe.models.probing import probing
 from modalfe.models.symmetry import fold, solved_elements, unfold
@@ -350,8 +351,9 @@ def _chunk_size(u_basis, intorder: int) -> int:
 
 def _elastic(scene, device_mesh, u_basis, parts, frame) -> tuple[sp.csr_matrix, sp.csr_matrix, list]:
     """(K_uu, M_uu, piezo parts) over ``parts`` of the scene: axis-aligned box elements by
-    ``box_assembly`` (closed form), the others by quadrature; the piezo parts as (material, tensors, boxes, other
-    elements) for ``_piezo_blocks``."""
+    ``box_assembly`` (closed form), the others on hexahedra by ``mapped_assembly`` (but radially poled parts) and else
+    by quadrature on scikit-fem bases; the piezo parts as (material, tensors, boxes, elements by quadrature, elements
+    by ``mapped_assembly``) for ``_piezo_blocks``."""
     from skfem import Basis, ElementVector
 
     mesh = u_basis.mesh
@@ -361,20 +363,26 @@ def _elastic(scene, device_mesh, u_basis, parts, frame) -> tuple[sp.csr_matrix, 
     n_u = u_basis.N
     scalar_dofs = u_basis.element_dofs[::3] // 3
     K_blocks, M_blocks = [], []
-    boxes, piezo_parts = [], []
+    boxes, mapped, piezo_parts = [], [], []
     for part in parts:
         mat, tensors = material_of(scene, part, frame)
         found, rest = box_assembly.find_boxes(mesh, scalar, scalar_dofs, device_mesh.parts[part.name])
         boxes.append((found, mat))
+        by_map = rest if mapped_assembly.applies(mesh) and not radially_poled(part) else rest[:0]
         if part.poling:
-            piezo_parts.append((mat, tensors, found, rest))
-        for chunk in _chunks(rest, chunk_size):
+            piezo_parts.append((mat, tensors, found, rest[len(by_map):], by_map))
+        mapped.append((by_map, mat))
+        for chunk in _chunks(rest[len(by_map):], chunk_size):
             b = Basis(mesh, ElementVector(scalar), intorder=intorder, elements=chunk)
             Bv, V = _strain_and_value(b)
             C = tensors(b)[0]
             K_blocks.append(_scatter(b.element_dofs, b.element_dofs, _contract(Bv, C, Bv, b.dx), n_u, n_u))
             M_blocks.append(_scatter(b.element_dofs, b.element_dofs, mat.rho * _contract(V, None, V, b.dx), n_u, n_u))
     Kuu, Muu = box_assembly.assemble_elastic(scalar, intorder, boxes, n_u // 3)
+    if any(len(elements) for elements, _ in mapped):
+        Kmap, Mmap = mapped_assembly.assemble_elastic(
+            mesh, scalar, intorder, mapped_assembly.canonical_dofs(mesh, scalar, scalar_dofs), mapped, n_u // 3)
+        Kuu, Muu = Kuu + Kmap, Muu + Mmap
     return sum(K_blocks, Kuu).tocsr(), sum(M_blocks, Muu).tocsr(), piezo_parts
 
 
@@ -394,7 +402,7 @@ def material_of(scene, part, frame) -> tuple[object, object]:
     from modalfe.scene.materials import poled_tensors, poling_frames
 
     mat = scene.material(part.material)
-    if part.poling and part.poling_vector is None:  # radial: varies through the part
+    if radially_poled(part):  # varies through the part
         def tensors(basis):
             x = np.asarray(basis.global_coordinates())  # (3, nel, nq), in the rotated frame if any
             if frame is not None:
@@ -409,6 +417,12 @@ def material_of(scene, part, frame) -> tuple[object, object]:
         mat = mat.rotated(frame)
     constant = (mat.C, getattr(mat, "e", None), getattr(mat, "eps_S", None))
     return mat, lambda basis: constant
+
+
+def radially_poled(part) -> bool:
+    """Whether ``part`` is poled along its radius: its material tensors vary from point to point
+    (``material_of``); every other part's are constant."""
+    return bool(part.poling) and part.poling_vector is None
 
 
 def _supported_dofs(scene, device_mesh, u_basis) -> tuple[np.ndarray, tuple[np.ndarray, ...]]:
@@ -477,20 +491,28 @@ def _scatter(rows, cols, Ke, n_rows, n_cols) -> sp.csr_matrix:
 
 
 def _piezo_blocks(mesh, scalar, intorder, scalar_dofs, piezo_parts, n_u, chunk_size):
-    """K_uphi and K_phiphi over the piezo parts ((material, tensors, boxes, other elements) each, see
-    ``material_of``; a radially poled part has no box elements), on the potential unknowns they use."""
+    """K_uphi and K_phiphi over the piezo parts ((material, tensors, boxes, elements by quadrature, elements by
+    ``mapped_assembly``) each, see ``material_of`` and ``_elastic``; a radially poled part has no box elements), on
+    the potential unknowns they use."""
     from skfem import Basis, ElementVector
 
     if not piezo_parts:
         return np.array([], dtype=int), None, None
-    used = np.unique(np.concatenate([found.dofs.ravel() for _, _, found, _ in piezo_parts]
-                                    + [scalar_dofs[:, rest].ravel() for _, _, _, rest in piezo_parts]))
+    used = np.unique(np.concatenate([found.dofs.ravel() for _, _, found, _, _ in piezo_parts]
+                                    + [scalar_dofs[:, np.r_[rest, by_map]].ravel()
+                                       for _, _, _, rest, by_map in piezo_parts]))
     index = np.full(n_u // 3, -1)
     index[used] = np.arange(len(used))
     n_phi = len(used)
-    Kup, Kpp = box_assembly.assemble_piezo(scalar, intorder, [(found, mat) for mat, _, found, _ in piezo_parts],
+    Kup, Kpp = box_assembly.assemble_piezo(scalar, intorder, [(found, mat) for mat, _, found, _, _ in piezo_parts],
                                            index, n_phi, n_u)
-    for _, tensors, _, rest in piezo_parts:
+    mapped = [(by_map, mat) for mat, _, _, _, by_map in piezo_parts]
+    if any(len(elements) for elements, _ in mapped):
+        Kmap, Kpp_map = mapped_assembly.assemble_piezo(
+            mesh, scalar, intorder, mapped_assembly.canonical_dofs(mesh, scalar, scalar_dofs), mapped, index, n_phi,
+            n_u)
+        Kup, Kpp = Kup + Kmap, Kpp + Kpp_map
+    for _, tensors, _, rest, _ in piezo_parts:
         for chunk in _chunks(rest, chunk_size):
             ub = Basis(mesh, ElementVector(scalar), intorder=intorder, elements=chunk)
             pb = Basis(mesh, scalar, intorder=intorder, elements=chunk)

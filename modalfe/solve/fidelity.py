@@ -193,8 +193,8 @@ def h_plan(fine: Modes, levels: list[Modes], scene) -> EstimatePlan:
     ratios = [level_ratio(fine.model.mesh, level.model.mesh, scene) for level in levels]
     chain = uncoarsened(coarse.model.mesh, coarsest.model.mesh, scene)  # a part the x2.25 grid leaves as x1.5 has it
     usable = [ratio >= MIN_RATIO for ratio, _ in ratios]
-    unused = [f"x{factor:g} (its {where} is coarser than the solid's by {ratio:.2f} only)"
-              for factor, (ratio, where), ok in zip(CHECK_FACTORS, ratios, usable) if not ok and where]
+    unused = [f"x{factor:g} (its {where or 'main part'} is coarser than the solid's by {ratio:.2f} only)"
+              for factor, (ratio, where), ok in zip(CHECK_FACTORS, ratios, usable) if not ok]
     if all(usable) and chain[0] >= MIN_RATIO:
         method = "h-refinement: Richardson through three grids (elements x1, x1.5, x2.25)"
         if singular:
@@ -211,7 +211,8 @@ def h_plan(fine: Modes, levels: list[Modes], scene) -> EstimatePlan:
     grids = " and ".join(f"x{factor:g}" for factor, _, _ in found)
     method = (f"h-refinement: Richardson from two grids (elements x1 against {grids}"
               f"{', the larger' if len(found) > 1 else ''}) at order "
-              f"{MIN_ORDER:g}" + (f" ({singular})" if singular else "") + f"; not used as a step: {'; '.join(unused)}")
+              f"{MIN_ORDER:g}" + (f" ({singular})" if singular else "")
+              + (f"; not used as a step: {'; '.join(unused)}" if unused else ""))
     return EstimatePlan("grid", tuple(level for _, level, _ in found), tuple(ratio for _, _, ratio in found),
                         MIN_ORDER, method=method)
 

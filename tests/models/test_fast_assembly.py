@@ -1,4 +1,5 @@
-"""The box fast path of the solid assembly (modalfe/models/box_assembly.py) against the general path.
+"""The box fast path of the solid assembly (modalfe/models/box_assembly.py) against the general path (on hexahedra
+modalfe/models/mapped_assembly.py, itself checked against scikit-fem's forms in test_mapped_assembly.py).
 
 On axis-aligned boxes the fast path uses the general path's quadrature and basis functions, only summed
 in another order, so K and M agree to round-off: the difference of two sums of O(1e3) products of O(1)

@@ -81,3 +81,30 @@ def test_the_grid_probes_of_oriented_lagrange_hexahedra_are_skfems(order):
     ours, skfems = probing.probes(points).tocsr(), probing.basis.probes(points).tocsr()
     assert ours.shape == skfems.shape
     assert abs(ours - skfems).max() <= 1e-12
+
+
+def test_curved_hexahedra_locate_each_point_in_an_element_that_maps_back_to_it():
+    """Swept 27-node hexahedra with curved sides (``_HexLocator``): points made from known (element, reference
+    coordinates) are found in an element whose map sends the found coordinates back to the point, to round-off (1e-12
+    of the mesh's size; Newton stops at steps below 1e-8 of an element and converges quadratically), inside the
+    reference cube; a linear field (which the isoparametric element holds exactly) reads exactly; a point outside
+    raises."""
+    from skfem import ElementHex2
+
+    from tests.models.test_mapped_assembly import swept_mesh
+
+    mesh = swept_mesh(3, 2, np.array([0.0, 0.1, 0.35, 0.5]), bend=0.35, twist=-0.25)
+    basis = Basis(mesh, ElementHex2(), intorder=1)
+    rng = np.random.default_rng(3)
+    cells, X = rng.integers(0, mesh.nelements, 500), rng.random((3, 500))
+    points = basis.mapping.F(X[:, :, None], tind=cells)[:, :, 0]
+    probes = _probing(basis)
+    found, local = probes._locate(points)
+    back = basis.mapping.F(local[:, :, None], tind=found)[:, :, 0]
+    assert np.abs(back - points).max() < 1e-12
+    assert local.min() >= 0.0 and local.max() <= 1.0
+    x, y, z = basis.doflocs
+    assert probes.probes(points) @ (1 + 2 * x - 3 * y + 4 * z) == pytest.approx(
+        1 + 2 * points[0] - 3 * points[1] + 4 * points[2], abs=1e-12)
+    with pytest.raises(ValueError, match="lie in no element"):
+        probes.probes(np.array([[0.5], [0.5], [0.6]]))

@@ -258,6 +258,7 @@ class AxisymmetricModel(PiezoUnknowns):
     phi_nodes: np.ndarray  # scalar DOFs of the basis carrying a potential (poled parts)
     electrodes: dict[str, np.ndarray]
     electrode_higher: np.ndarray  # phi unknowns of higher-order DOFs on electrodes: zero on an equipotential face
+    region: np.ndarray  # index into section.regions of each element of the mesh
     timings: dict[str, float] = field(default_factory=dict)
     clamped: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
     attached_mass: None = None
@@ -290,6 +291,90 @@ class AxisymmetricModel(PiezoUnknowns):
         of one mode (its harmonic's block; the others carry none)."""
         vertices = self.basis.nodal_dofs[0]
         return sum(np.asarray(x)[[self.u_dof(h, vertices, c) for c in range(3)]] for h in range(len(self.harmonics)))
+
+    def parts_stiffness(self, names) -> sp.csr_matrix:
+        """(n_u, n_u) elastic stiffness K_uu of the parts named in ``names`` alone (c^E only, as the 3-D
+        ``modalfe.models.solid.parts_stiffness``), by the same assembly as the whole model's, every harmonic: for
+        the strain energy U = u^T K u / 2 of those parts."""
+        from skfem import Basis
+
+        N = self.basis.N
+        u_idx = np.arange(4 * N).reshape(N, 4)[:, :3].ravel()
+        blocks = {n: sp.csr_matrix((4 * N, 4 * N)) for n in self.harmonics}
+        for i, reg in enumerate(self.section.regions):
+            if reg.part not in names:
+                continue
+            sub = Basis(self.mesh, self.basis.elem, quadrature=self.basis.quadrature,
+                        elements=np.flatnonzero(self.region == i))
+            D = np.zeros((9, 9))
+            D[:6, :6] = reg.material.C
+            for n, block in _region_stiffness(sub, D, self.harmonics).items():
+                blocks[n] = blocks[n] + block
+        return sp.block_diag([(_circumference(n) * blocks[n]).tocsr()[u_idx][:, u_idx] for n in self.harmonics],
+                             format="csr")
+
+    def vertex_field(self, x: np.ndarray, part: str) -> tuple[np.ndarray, np.ndarray]:
+        """(points (3, m) [m], displacement (3, m) [m]) of the full DOF vector ``x`` at the vertices of ``part``'s
+        elements, revolved at ``_LABEL_ANGLES`` angles (those on the axis once)."""
+        i = [reg.part for reg in self.section.regions].index(part)
+        points, probes = self._revolved_vertices(np.unique(self.mesh.t[:, self.region == i]), axis_once=True)
+        return points, (probes @ np.asarray(x)).reshape(3, -1)
+
+    def face_integrals(self, group: str) -> list[tuple[str, np.ndarray, float]]:
+        """Per face of the group ``group``: (its side, g (basis.N,) with g_i = int v_i r ds over its meridian segment,
+        its area [m^2] = 2 pi int r ds), a face's area element being r dtheta ds (``_face_segment``)."""
+        from skfem import FacetBasis, Functional, LinearForm
+
+        regions = {reg.part: reg for reg in self.section.regions}
+        tol = 1e-9 * self.section.element_size
+        out = []
+        for face in self.scene.assembly().faces[group]:
+            facets = self.mesh.facets_satisfying(_face_segment(regions[face.part], face.side, tol))
+            fb = FacetBasis(self.mesh, self.basis.elem, facets=facets, intorder=self.basis.elem.maxdeg + 2)
+            out.append((face.side, LinearForm(lambda v, w: w.x[0] * v).assemble(fb),
+                        2 * np.pi * Functional(lambda w: w.x[0]).assemble(fb)))
+        return out
+
+    def face_load(self, load) -> np.ndarray:
+        """u DOF load (n_u,) of a ``force`` (total over the face group, uniform traction F / A) along the axis or a
+        normal ``pressure`` on a face group (traction -P n, n the outward normal: the axis on a top or bottom face,
+        the radial direction on a wall), as given: both are uniform round the circumference, so they load n = 0 only,
+        f = 2 pi t int v r ds (``face_integrals``). SceneError naming the load where it is not uniform round the axis
+        (``load_refusal``)."""
+        why = load_refusal(self.scene, load)
+        if why:
+            raise SceneError(why)
+        if 0 not in self.harmonics:
+            raise SceneError("harmonics: a load uniform round the axis drives n = 0 only, which is not solved")
+        h, nodes = self.harmonics.index(0), np.arange(self.basis.N)
+        faces = self.face_integrals(load.group)
+        area = sum(a for _, _, a in faces)
+        f = np.zeros(self.n_u)
+        for side, g, _ in faces:
+            if load.kind == "force":
+                component, t = 2, float(np.asarray(load.value) @ self.section.axis) / area
+            else:
+                component, outward = _FACE_NORMALS[side]
+                t = -load.value[0] * outward
+            f[self.u_dof(h, nodes, component)] += 2 * np.pi * t * g
+        return f
+
+    def face_mean(self, group: str) -> sp.csr_matrix:
+        """(3, ndofs) area mean of the revolved displacement (x, y, z) [m] over the face group ``group``: over the
+        circumference n = 0 keeps its axial motion (2 pi U_z), n = 1 its motion along theta = 0 (pi (U_r - U_t), the
+        module docstring's cos / sin set); the other harmonics and the twin direction average to zero."""
+        faces = self.face_integrals(group)
+        g = sum(gi for _, gi, _ in faces)
+        area = sum(a for _, _, a in faces)
+        nodes = np.arange(self.basis.N)
+        rows = np.zeros((3, self.ndofs))
+        if 0 in self.harmonics:
+            rows[:, self.u_dof(self.harmonics.index(0), nodes, 2)] = np.outer(self.section.axis, 2 * np.pi * g)
+        if 1 in self.harmonics:
+            h = self.harmonics.index(1)
+            rows[:, self.u_dof(h, nodes, 0)] = np.outer(self.section.radial, np.pi * g)
+            rows[:, self.u_dof(h, nodes, 1)] = np.outer(self.section.radial, -np.pi * g)
+        return sp.csr_matrix(rows / area)
 
     def rigid_translations(self) -> np.ndarray:
         """(3, ndofs) unit rigid translations along the local radial (theta = 0), its twin direction and the axis:
@@ -401,10 +486,18 @@ class AxisymmetricModel(PiezoUnknowns):
 
     @functools.cached_property
     def _label_probes(self) -> tuple[np.ndarray, sp.csr_matrix]:
+        return self._revolved_vertices(np.arange(self.mesh.p.shape[1]), axis_once=False)
+
+    def _revolved_vertices(self, vertices: np.ndarray, *, axis_once: bool) -> tuple[np.ndarray, sp.csr_matrix]:
+        """(points (3, m) [m], (3 m, ndofs) displacement probes) of the meridian mesh's ``vertices`` revolved at
+        ``_LABEL_ANGLES`` angles; those on the axis (one point per z, not a ring) once where ``axis_once``, else
+        left out."""
         r, z = self.mesh.p
-        vertices = np.flatnonzero(r > 1e-12 * self.section.element_size)  # the axis is one point per z, not a ring
+        on_axis = r[vertices] <= 1e-12 * self.section.element_size
         theta = np.linspace(0, 2 * np.pi, _LABEL_ANGLES, endpoint=False)
-        which, angle = np.repeat(vertices, len(theta)), np.tile(theta, len(vertices))
+        off = vertices[~on_axis]
+        which = np.concatenate([np.repeat(off, len(theta)), vertices[on_axis] if axis_once else []]).astype(int)
+        angle = np.concatenate([np.tile(theta, len(off)), np.zeros(len(which) - len(off) * len(theta))])
         e1, e3 = self.section.radial, self.section.axis
         e2 = np.cross(e3, e1)
         points = (self.section.origin[:, None] + np.outer(e1, r[which] * np.cos(angle))
@@ -418,6 +511,36 @@ class AxisymmetricModel(PiezoUnknowns):
         at ``_LABEL_ANGLES`` angles: the whole body's field the disc labeller reads (``modalfe.results.labels``)."""
         points, probes = self._label_probes
         return points, (probes @ np.asarray(x)).reshape(3, -1)
+
+
+# a face's (displacement component (0 r, 2 z), outward normal's sign along it) in the meridian plane
+_FACE_NORMALS = {"top": (2, 1.0), "bottom": (2, -1.0), "outer": (0, 1.0), "inner": (0, -1.0)}
+
+
+def load_refusal(scene, load) -> str | None:
+    """Why the axisymmetric model cannot take ``load`` (``modalfe.scene.loads.Load``), naming the field; None where
+    it can: a voltage, a force along the axis or a pressure on a face group (uniform round the axis: harmonic n = 0).
+    A force across the axis loads the n = 1 pair and a base acceleration needs supports, which the model has not."""
+    if load.kind == "voltage" or load.kind == "pressure":
+        return None
+    if load.kind == "force":
+        axis = np.eye(3)[AXES.index(scene.assembly().parts[0].axis)]
+        value = np.asarray(load.value, dtype=float)
+        if np.linalg.norm(value - (value @ axis) * axis) <= 1e-12 * np.linalg.norm(value):
+            return None
+        return (f"drive.load: a force across the axis ({load.describe()}) loads the harmonic n = 1 pair, which the "
+                f"axisymmetric forced response does not project; give a force along the axis or --fidelity solid")
+    return f"drive.load: a {load.kind} needs supports, which the axisymmetric model has not (free bodies only)"
+
+
+def _face_segment(reg: Region, side: str, tol: float):
+    """Predicate on facet midpoints (2, m) [m] of the meridian mesh: on the ``side`` of region ``reg`` (its top or
+    bottom: a segment of constant z; its outer or inner wall: one of constant r)."""
+    if side in ("top", "bottom"):
+        at = reg.z1 if side == "top" else reg.z0
+        return lambda x: (np.abs(x[1] - at) <= tol) & (x[0] >= reg.r0 - tol) & (x[0] <= reg.r1 + tol)
+    at = reg.r1 if side == "outer" else reg.r0
+    return lambda x: (np.abs(x[0] - at) <= tol) & (x[1] >= reg.z0 - tol) & (x[1] <= reg.z1 + tol)
 
 
 def _snapped(v: np.ndarray, lo: float, hi: float, slack: float) -> np.ndarray:
@@ -454,8 +577,6 @@ def assemble_axisymmetric(scene, *, harmonics: tuple[int, ...] | None = None, or
     basis = Basis(mesh, element, intorder=2 * order + 2)
     t_mesh = time.perf_counter() - t0
     N = basis.N
-    derivative = (lambda f, r: f / r, lambda f, r: f.grad[0], lambda f, r: f.grad[1])
-    maps = {n: strain_maps(n) for n in harmonics}
     K_blocks = {n: [] for n in harmonics}
     M_terms = []
     poled_elements = []
@@ -464,20 +585,8 @@ def assemble_axisymmetric(scene, *, harmonics: tuple[int, ...] | None = None, or
         if reg.poled:
             poled_elements.append(elements)
         sub = Basis(mesh, element, intorder=2 * order + 2, elements=elements)
-        D = coupled_tensor(reg.material)
-        forms = {}
-        for a in range(3):
-            for b in range(a, 3):
-                forms[a, b] = BilinearForm(lambda u, v, w, a=a, b=b: w.x[0] * derivative[a](v, w.x[0])
-                                           * derivative[b](u, w.x[0])).assemble(sub)
-                forms[b, a] = forms[a, b].T
-        for n in harmonics:
-            B = maps[n]
-            for a in range(3):
-                for b in range(3):
-                    block = B[a].T @ D @ B[b]
-                    if np.any(block):
-                        K_blocks[n].append(sp.kron(forms[a, b], block, format="csr"))
+        for n, block in _region_stiffness(sub, coupled_tensor(reg.material), harmonics).items():
+            K_blocks[n].append(block)
         mass = BilinearForm(lambda u, v, w: w.x[0] * u * v).assemble(sub)
         M_terms.append(reg.material.rho * mass)
     phi_nodes = (np.unique(basis.element_dofs[:, np.concatenate(poled_elements)]) if poled_elements
@@ -487,7 +596,7 @@ def assemble_axisymmetric(scene, *, harmonics: tuple[int, ...] | None = None, or
     K_u, K_up, K_p, M_u = [], [], [], []
     M_scalar = sum(M_terms)
     for n in harmonics:
-        c_n = 2 * np.pi if n == 0 else np.pi
+        c_n = _circumference(n)
         K4 = (c_n * sum(K_blocks[n])).tocsr()
         K_u.append(K4[u_idx][:, u_idx])
         K_up.append(K4[u_idx][:, phi_idx])
@@ -505,7 +614,34 @@ def assemble_axisymmetric(scene, *, harmonics: tuple[int, ...] | None = None, or
         higher.append(np.flatnonzero(np.isin(phi_nodes, edges)))
     timings = {"mesh": t_mesh, "assembly": time.perf_counter() - t0 - t_mesh}
     return AxisymmetricModel(scene, section, mesh, basis, harmonics, K, M, n_u, phi_nodes, electrodes,
-                             np.unique(np.concatenate(higher)), timings)
+                             np.unique(np.concatenate(higher)), region, timings)
+
+
+def _circumference(n: int) -> float:
+    """c_n = int cos^2 n theta dtheta over the circumference: 2 pi for n = 0 (its torsional set too), pi above."""
+    return 2 * np.pi if n == 0 else np.pi
+
+
+def _region_stiffness(sub, D: np.ndarray, harmonics) -> dict[int, sp.csr_matrix]:
+    """n -> int r [S; G]^T D [S; G] dr dz over the elements of the basis ``sub`` (4 unknowns per node: U_r, U_t, U_z,
+    Phi), without c_n: sum_ab kron(int r d_a(v) d_b(u), B_a^T D B_b), d = (value / r, d/dr, d/dz) (module
+    docstring)."""
+    from skfem import BilinearForm
+
+    derivative = (lambda f, r: f / r, lambda f, r: f.grad[0], lambda f, r: f.grad[1])
+    forms = {}
+    for a in range(3):
+        for b in range(a, 3):
+            forms[a, b] = BilinearForm(lambda u, v, w, a=a, b=b: w.x[0] * derivative[a](v, w.x[0])
+                                       * derivative[b](u, w.x[0])).assemble(sub)
+            forms[b, a] = forms[a, b].T
+    out = {}
+    for n in harmonics:
+        B = strain_maps(n)
+        blocks = [sp.kron(forms[a, b], B[a].T @ D @ B[b], format="csr") for a in range(3) for b in range(3)
+                  if np.any(B[a].T @ D @ B[b])]
+        out[n] = sum(blocks) if blocks else sp.csr_matrix((4 * sub.N, 4 * sub.N))
+    return out
 
 
 def _segment_dofs(basis, on_segment) -> tuple[np.ndarray, np.ndarray]:
@@ -533,14 +669,6 @@ def _electrode_dofs(scene, section: MeridianSection, basis) -> dict[str, tuple[n
     for group in scene.electrodes:
         found = []
         for face in scene.assembly().faces[group]:
-            reg = regions[face.part]
-            if face.side in ("top", "bottom"):
-                at = reg.z1 if face.side == "top" else reg.z0
-                found.append(_segment_dofs(basis, lambda x, at=at, reg=reg: (np.abs(x[1] - at) <= tol)
-                                           & (x[0] >= reg.r0 - tol) & (x[0] <= reg.r1 + tol)))
-            else:
-                at = reg.r1 if face.side == "outer" else reg.r0
-                found.append(_segment_dofs(basis, lambda x, at=at, reg=reg: (np.abs(x[0] - at) <= tol)
-                                           & (x[1] >= reg.z0 - tol) & (x[1] <= reg.z1 + tol)))
+            found.append(_segment_dofs(basis, _face_segment(regions[face.part], face.side, tol)))
         out[group] = tuple(np.unique(np.concatenate([f[i] for f in found])) for i in (0, 1))
     return out

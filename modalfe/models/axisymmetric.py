@@ -320,6 +320,22 @@ class AxisymmetricModel(PiezoUnknowns):
         points, probes = self._revolved_vertices(np.unique(self.mesh.t[:, self.region == i]), axis_once=True)
         return points, (probes @ np.asarray(x)).reshape(3, -1)
 
+    def on_face(self, group: str, points: np.ndarray, tol: float) -> np.ndarray:
+        """Whether each of ``points`` (n, 3) [m] of the revolved mesh (``revolved_mesh``: its walls are chords, up to
+        r (1 - cos(pi / sectors)) inside the round ones) lies on face group ``group``, within ``tol`` [m]."""
+        d = np.asarray(points, dtype=float).reshape(-1, 3) - self.section.origin
+        z = d @ self.section.axis
+        r = np.linalg.norm(d - np.outer(z, self.section.axis), axis=1)
+        chord = 1 - math.cos(math.pi / _LABEL_ANGLES)
+        regions = {reg.part: reg for reg in self.section.regions}
+        on = np.zeros(len(r), dtype=bool)
+        for face in self.scene.assembly().faces[group]:
+            reg = regions[face.part]
+            wall = face.side in ("outer", "inner")
+            slack = tol + chord * (reg.r1 if wall else 0.0)
+            on |= _face_segment(reg, face.side, slack)(np.array([r, z]))
+        return on
+
     def face_integrals(self, group: str) -> list[tuple[str, np.ndarray, float]]:
         """Per face of the group ``group``: (its side, g (basis.N,) with g_i = int v_i r ds over its meridian segment,
         its area [m^2] = 2 pi int r ds), a face's area element being r dtheta ds (``_face_segment``)."""
@@ -505,6 +521,25 @@ class AxisymmetricModel(PiezoUnknowns):
         P = sp.csr_matrix((np.ones(len(which)), (np.arange(len(which)), self.basis.nodal_dofs[0][which])),
                           shape=(len(which), self.basis.N))  # Lagrange: a vertex's value is its DOF
         return points, self._revolved(P, angle)
+
+    @functools.cached_property
+    def revolved_mesh(self) -> tuple[np.ndarray, np.ndarray, sp.csr_matrix, np.ndarray]:
+        """(points (m, 3) [m], hexahedra (k, 8) in VTK order, displacement probes (3 m, ndofs) component-major,
+        region index of each hexahedron): the meridian mesh's quadrilaterals (by their vertices) swept round the
+        axis in ``_LABEL_ANGLES`` sectors, the revolved body drawn and exported; a quadrilateral with an edge on the
+        axis sweeps to hexahedra whose axis edge is one line (degenerate, zero-area faces inside the body)."""
+        vertices = np.arange(self.mesh.p.shape[1])
+        points, probes = self._revolved_vertices(vertices, axis_once=True)
+        on_axis = self.mesh.p[0] <= 1e-12 * self.section.element_size
+        off = np.flatnonzero(~on_axis)
+        k = _LABEL_ANGLES
+        ids = np.zeros((len(vertices), k), dtype=int)  # point id of each vertex at each angle
+        ids[off] = np.arange(len(off) * k).reshape(len(off), k)
+        ids[on_axis] = (len(off) * k + np.arange(on_axis.sum()))[:, None]
+        # a quadrilateral counter-clockwise in (r, z) then at the next angle: the positive volume VTK needs
+        quads = self.mesh.t
+        cells = np.concatenate([np.hstack([ids[quads, j].T, ids[quads, (j + 1) % k].T]) for j in range(k)])
+        return points.T, cells, probes, np.tile(self.region, k)
 
     def label_field(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(points (3, m) [m], displacement (3, m) [m]) of the full DOF vector ``x`` on the mesh vertices revolved

@@ -22,6 +22,10 @@ whole device. Written:
   point-data order; NaN where the solve made no estimate);
 - a sidecar CSV ``<file>_modes.csv`` with the frequency table, units in every header.
 
+The axisymmetric model's answer is written on its revolved body (``AxisymmetricModel.revolved_mesh``: the meridian
+mesh's vertices swept round the axis, linear hexahedra), each mode revolved (displacement and potential at every
+point); its cells carry the parts but no strain, stress or field arrays yet (their CSV columns left empty).
+
 ``export_forced_vtu`` writes a forced response at resonance the same way, per unit load (``[m/V]``, ``[Pa/V]``...):
 its in-phase and quadrature parts and the von Mises stress's peak over the cycle (docs/export.md).
 """
@@ -35,7 +39,8 @@ from pathlib import Path
 import numpy as np
 
 from modalfe.errors import SolverError
-from modalfe.models.symmetry import image_signs, mirror_planes, mirrored
+from modalfe.models.axisymmetric import AxisymmetricModel
+from modalfe.models.symmetry import VTK_HEXAHEDRON, image_signs, mirror_planes, mirrored
 
 # VTK's edge order of the quadratic cells, as pairs of corner positions
 _HEX_EDGES = ((0, 1), (1, 2), (2, 3), (3, 0), (4, 5), (5, 6), (6, 7), (7, 4), (0, 4), (1, 5), (2, 6), (3, 7))
@@ -211,24 +216,34 @@ def _unit(name: str, per: str) -> str:
 def device_grid(model, states: list[tuple[str, np.ndarray]], *, per: str = ""):
     """A pyvista grid of the whole device (``quadratic_device``) with, for each (stem, real full DOF vector) of
     ``states``, the point arrays ``<stem> displacement [m]`` and ``<stem> potential [V]`` and the cell arrays
-    ``CELL_ARRAYS`` (``cell_fields``), units per unit load ``per`` (e.g. ``V``) where given; and the parts."""
+    ``CELL_ARRAYS`` (``cell_fields``), units per unit load ``per`` (e.g. ``V``) where given; and the parts. The
+    axisymmetric model's revolved body has the point arrays only (module docstring)."""
     import pyvista as pv
 
-    if not hasattr(model, "u_basis") or not hasattr(getattr(model, "mesh", None), "mesh"):
-        raise SolverError("export: VTU export needs the 3-D solid model (--fidelity solid)")
-    shapes = [x for _, x in states]
-    points, cells, cell_type, disp, pot, part_of = quadratic_device(model, shapes)
     names = [p.name for p in model.scene.full_assembly().parts]
-    index = {name: i for i, name in enumerate(names)}
-    part_id = np.array([index[n] for n in part_of], dtype=np.int32)
+    if isinstance(model, AxisymmetricModel):  # the revolved body: linear hexahedra, point arrays only
+        points, cells, probes, part_id = model.revolved_mesh
+        cell_type = VTK_HEXAHEDRON
+        disp = [np.asarray(probes @ x).reshape(3, -1).T for _, x in states]
+        potential = model.potential_probes(points)
+        pot = [np.asarray(potential @ x) for _, x in states]
+        per_cells = [{} for _ in states]
+    elif not hasattr(model, "u_basis") or not hasattr(getattr(model, "mesh", None), "mesh"):
+        raise SolverError("export: VTU export needs the 3-D solid or the axisymmetric model (--fidelity solid)")
+    else:
+        shapes = [x for _, x in states]
+        points, cells, cell_type, disp, pot, part_of = quadratic_device(model, shapes)
+        index = {name: i for i, name in enumerate(names)}
+        part_id = np.array([index[n] for n in part_of], dtype=np.int32)
+        per_cells = cell_fields(model, shapes)
     grid = pv.UnstructuredGrid(np.hstack([np.full((len(cells), 1), cells.shape[1]), cells]).ravel(),
                                np.full(len(cells), cell_type, dtype=np.uint8), points)
-    for (stem, _), u, phi, per_cell in zip(states, disp, pot, cell_fields(model, shapes), strict=True):
+    for (stem, _), u, phi, per_cell in zip(states, disp, pot, per_cells, strict=True):
         grid.point_data[f"{stem} {_unit('displacement [m]', per)}"] = u
         grid.point_data[f"{stem} {_unit('potential [V]', per)}"] = phi
         for name, values in per_cell.items():
             grid.cell_data[f"{stem} {_unit(name, per)}"] = values
-    grid.cell_data["part"] = part_id
+    grid.cell_data["part"] = np.asarray(part_id, dtype=np.int32)
     for i, name in enumerate(names):
         grid.cell_data[f"part:{name}"] = (part_id == i).astype(np.uint8)
     return grid
@@ -252,7 +267,7 @@ def export_vtu(modes, path: str | Path, *, table: bool = True) -> Path:
     grid.field_data["error estimate [relative]"] = np.array([m.error_estimate for m in mode_list])
     path = _save(grid, path)
     if table:
-        write_mode_table(mode_list, table_path(path))
+        write_mode_table(mode_list, table_path(path), cells=not isinstance(modes.model, AxisymmetricModel))
     return path
 
 
@@ -285,8 +300,9 @@ def table_path(vtu: str | Path) -> Path:
     return vtu.with_name(f"{vtu.stem}_modes.csv")
 
 
-def write_mode_table(modes, path: str | Path) -> Path:
-    """CSV of the modes' index, label, frequency [Hz], error estimate and their VTU array names."""
+def write_mode_table(modes, path: str | Path, *, cells: bool = True) -> Path:
+    """CSV of the modes' index, label, frequency [Hz], error estimate and their VTU array names (the cell arrays'
+    empty where the VTU has none: ``cells`` False)."""
     path = Path(path)
     with path.open("w", newline="") as f:
         writer = csv.writer(f)
@@ -295,5 +311,5 @@ def write_mode_table(modes, path: str | Path) -> Path:
             error = "" if math.isnan(m.error_estimate) else f"{m.error_estimate:.3g}"
             writer.writerow([m.index, m.label, f"{m.frequency:.6f}", error, m.circuit,
                              f"{mode_array_name(m)} displacement [m]", f"{mode_array_name(m)} potential [V]",
-                             *(f"{mode_array_name(m)} {name}" for name in CELL_ARRAYS)])
+                             *(f"{mode_array_name(m)} {name}" if cells else "" for name in CELL_ARRAYS)])
     return path

@@ -265,3 +265,30 @@ def test_forced_response_per_volt_written_by_forced_vtu(tmp_path):
     assert np.all(peak >= np.maximum(*phases) * (1 - 1e-9)) and np.all(peak <= (phases[0] + phases[1]) * (1 + 1e-9))
     assert peak.max() > 0
     assert mesh.field_data["frequency [Hz]"][0] == pytest.approx(fig.mode.frequency, rel=1e-12)
+
+
+def test_the_axisymmetric_answer_is_exported_on_its_revolved_body(tmp_path):
+    """Issue 36 item 1: the axisymmetric model's modes go through the same export, on the meridian mesh swept round
+    the axis (linear hexahedra, positive volumes summing to the inscribed polygonal disc's), each mode's displacement
+    at the points the revolved field the point probes read there (two routes: vertex values turned by the harmonic's
+    cos / sin, and a point search in the meridian mesh), the frequencies as field data, the CSV's cell-array columns
+    empty (no strain or stress recovered on the revolved body yet)."""
+    from modalfe.models.axisymmetric import _LABEL_ANGLES
+    from tests.oracles.discs import PZT5A_DISC
+
+    modes = solve_modes(PZT5A_DISC, fidelity="axisymmetric", harmonics=3, error_estimate=False)
+    path = export_vtu(modes, tmp_path / "disc.vtu")
+    grid = pv.read(path)
+    volumes = grid.compute_cell_sizes(length=False, area=False).cell_data["Volume"]
+    k = _LABEL_ANGLES
+    polygon = k / 2 * np.sin(2 * np.pi / k) * 10e-3**2 * 1e-3  # the disc's 20 x 1 mm, inscribed polygon
+    assert volumes.min() > 0 and volumes.sum() == pytest.approx(polygon, rel=1e-9)  # round-off only
+    np.testing.assert_allclose(grid.field_data["frequency [Hz]"], modes.frequencies, rtol=0)
+    for mode in modes:
+        u = grid.point_data[f"{mode_array_name(mode)} displacement [m]"]
+        peak = np.abs(u).max()
+        np.testing.assert_allclose(u, mode.displacement(grid.points), rtol=0, atol=REL * peak)
+    with open(table_path(path)) as fh:
+        rows = list(csv.DictReader(fh))
+    assert [r["label"] for r in rows] == [m.label for m in modes]
+    assert all(r["stress array"] == "" and r["displacement array"] for r in rows)

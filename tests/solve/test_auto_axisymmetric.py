@@ -29,7 +29,7 @@ def test_auto_answers_a_free_disc_with_the_axisymmetric_model():
     from the 3-D solid's estimate levels, and the note says so (one answer in every command: forced, show and export
     take it too, tests/cli/test_one_answer.py). At tol 2 %: the solid's coarse levels of this coarse mesh read the
     (2,0) mode's model error 0.88 % (a thin disc's flexural mode poorly resolved there, docs/axisymmetric.md), past
-    the default 0.5 %, where the solid answers (the next test's case)."""
+    the default 0.5 %, where the solid answers."""
     tol = 0.02
     scene = _al_disc()
     assert reduced_fidelities(scene) == ["axisymmetric"]

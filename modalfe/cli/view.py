@@ -168,10 +168,9 @@ def _export(args) -> int:
     scene, modes = _modes(args, lambda scene: {"near": args.near, "count": args.count})
     path = export_vtu(modes, args.vtu)
     scene_page(args, scene)
-    what = ("the axisymmetric answer revolved: linear cells, part names; per mode displacement [m] and potential [V] "
-            "at the points" if modes.fidelity == "axisymmetric" else
-            "quadratic cells, part names; per mode displacement [m] and potential [V] at the nodes, strain, stress, "
-            "von Mises and electric field as cell means")
+    cells = "the axisymmetric answer revolved: linear cells" if modes.fidelity == "axisymmetric" else "quadratic cells"
+    what = (f"{cells}, part names; per mode displacement [m] and potential [V] at the nodes, strain, stress, von Mises "
+            f"and electric field as cell means")
     print(f"{scene.name}: {len(modes)} modes -> {path} ({what}; each mode's stated error), frequency table -> "
           f"{table_path(path)}")
     return 0

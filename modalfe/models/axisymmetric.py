@@ -67,6 +67,10 @@ _ON_SURFACE = 1e-9  # element sizes by which a probed point may lie outside the 
 # (``modalfe.solve.axisymmetric.solve_axisymmetric`` raises them until the top one holds no mode of the answer)
 FIRST_HARMONICS = 4
 _LABEL_ANGLES = 64  # angles the meridian is revolved at for the disc labeller (harmonics up to 10 resolved)
+# each meridian element cut in DISPLAY_SPLIT x DISPLAY_SPLIT cells for the revolved body drawn and exported: an
+# element (order 2-4) varies through its span, which one cell would average away (a disc one element thick bends
+# through it: a flexural mode's cell-mean stress through the whole thickness is zero)
+DISPLAY_SPLIT = 3
 
 
 @dataclass(frozen=True)
@@ -496,50 +500,140 @@ class AxisymmetricModel(PiezoUnknowns):
     def potential_probes(self, points: np.ndarray) -> sp.csr_matrix:
         """(n, ndofs) matrix giving the potential [V] at ``points`` (n, 3) [m] (zero outside the poled parts)."""
         r, theta, z = self._cylindrical(points)
-        P = sp.csc_matrix(self.basis.probes(np.array([r, z])))[:, self.phi_nodes]
+        return self._potential_revolved(sp.csr_matrix(self.basis.probes(np.array([r, z]))), theta)
+
+    def _potential_revolved(self, P: sp.csr_matrix, theta: np.ndarray) -> sp.csr_matrix:
+        """(n, ndofs) potential probes from the meridian probes ``P`` (n, basis.N) of n points at angles ``theta``
+        (n,): the harmonics' cos n theta Phi summed."""
+        P = sp.csc_matrix(P)[:, self.phi_nodes]
         row = [sp.diags(np.cos(n * theta)) @ P for n in self.harmonics]
-        return sp.hstack([sp.csr_matrix((len(r), self.n_u)), *row], format="csr")
+        return sp.hstack([sp.csr_matrix((P.shape[0], self.n_u)), *row], format="csr")
 
     @functools.cached_property
     def _label_probes(self) -> tuple[np.ndarray, sp.csr_matrix]:
         return self._revolved_vertices(np.arange(self.mesh.p.shape[1]), axis_once=False)
 
     def _revolved_vertices(self, vertices: np.ndarray, *, axis_once: bool) -> tuple[np.ndarray, sp.csr_matrix]:
-        """(points (3, m) [m], (3 m, ndofs) displacement probes) of the meridian mesh's ``vertices`` revolved at
-        ``_LABEL_ANGLES`` angles; those on the axis (one point per z, not a ring) once where ``axis_once``, else
-        left out."""
-        r, z = self.mesh.p
-        on_axis = r[vertices] <= 1e-12 * self.section.element_size
+        """(points (3, m) [m], (3 m, ndofs) displacement probes) of the meridian mesh's ``vertices`` revolved
+        (``_revolved_points``; a Lagrange vertex's value is its DOF)."""
+        P = sp.csr_matrix((np.ones(len(vertices)), (np.arange(len(vertices)), self.basis.nodal_dofs[0][vertices])),
+                          shape=(len(vertices), self.basis.N))
+        points, which, angle = self._revolved_points(self.mesh.p[:, vertices], axis_once=axis_once)
+        return points, self._revolved(P[which], angle)
+
+    def _revolved_points(self, rz: np.ndarray, *, axis_once: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(points (3, m) [m], meridian point of each (m,), its angle (m,) [rad]) of the meridian points ``rz``
+        (2, n) [m] revolved at ``_LABEL_ANGLES`` angles (those of one meridian point consecutive); those on the axis
+        (one point per z, not a ring) once, after the others, where ``axis_once``, else left out."""
+        r, z = rz
+        on_axis = r <= 1e-12 * self.section.element_size
         theta = np.linspace(0, 2 * np.pi, _LABEL_ANGLES, endpoint=False)
-        off = vertices[~on_axis]
-        which = np.concatenate([np.repeat(off, len(theta)), vertices[on_axis] if axis_once else []]).astype(int)
+        off = np.flatnonzero(~on_axis)
+        which = np.concatenate([np.repeat(off, len(theta)), np.flatnonzero(on_axis) if axis_once else []]).astype(int)
         angle = np.concatenate([np.tile(theta, len(off)), np.zeros(len(which) - len(off) * len(theta))])
         e1, e3 = self.section.radial, self.section.axis
         e2 = np.cross(e3, e1)
         points = (self.section.origin[:, None] + np.outer(e1, r[which] * np.cos(angle))
                   + np.outer(e2, r[which] * np.sin(angle)) + np.outer(e3, z[which]))
-        P = sp.csr_matrix((np.ones(len(which)), (np.arange(len(which)), self.basis.nodal_dofs[0][which])),
-                          shape=(len(which), self.basis.N))  # Lagrange: a vertex's value is its DOF
-        return points, self._revolved(P, angle)
+        return points, which, angle
 
     @functools.cached_property
-    def revolved_mesh(self) -> tuple[np.ndarray, np.ndarray, sp.csr_matrix, np.ndarray]:
+    def _display(self) -> tuple[np.ndarray, np.ndarray, sp.csr_matrix]:
+        """(points (2, m) [m] of the meridian plane, cells (n_el DISPLAY_SPLIT^2, 4) into them, (m, basis.N) scalar
+        probes at the points): each element cut in DISPLAY_SPLIT x DISPLAY_SPLIT, cell e DISPLAY_SPLIT^2 + s the
+        sub-square s = i + DISPLAY_SPLIT j of element e (reference coordinates [i, i + 1] x [j, j + 1] /
+        DISPLAY_SPLIT), corners in the element's own order; a point's probe the element's basis at its reference
+        coordinates (no point search: a corner on the boundary is off the mesh by round-off)."""
+        from skfem import Basis
+
+        k = DISPLAY_SPLIT
+        corners = np.array([[0.0, 1.0, 1.0, 0.0], [0.0, 0.0, 1.0, 1.0]])
+        reference = np.hstack([(corners + np.array([[i], [j]])) / k for j in range(k) for i in range(k)])
+        flat = self.basis.mapping.F(reference).reshape(2, -1)  # (2, nel k^2 4): element, then sub-square, corner
+        scale = float(np.abs(flat).max())
+        _, first, index = np.unique(np.round(flat / scale, 10), axis=1, return_index=True, return_inverse=True)
+        at = Basis(self.mesh, self.basis.elem, quadrature=(reference, np.ones(reference.shape[1])))
+        element, point = np.divmod(first, reference.shape[1])
+        values = np.array([np.asarray(at.basis[i][0])[element, point] for i in range(at.Nbfun)])  # (Nbfun, m)
+        P = sp.csr_matrix((values.T.ravel(), (np.repeat(np.arange(len(first)), at.Nbfun),
+                                               self.basis.element_dofs[:, element].T.ravel())),
+                          shape=(len(first), self.basis.N))
+        return flat[:, first], index.reshape(-1, 4), P
+
+    @functools.cached_property
+    def revolved_mesh(self) -> tuple[np.ndarray, np.ndarray, sp.csr_matrix, sp.csr_matrix, np.ndarray]:
         """(points (m, 3) [m], hexahedra (k, 8) in VTK order, displacement probes (3 m, ndofs) component-major,
-        region index of each hexahedron): the meridian mesh's quadrilaterals (by their vertices) swept round the
-        axis in ``_LABEL_ANGLES`` sectors, the revolved body drawn and exported; a quadrilateral with an edge on the
+        potential probes (m, ndofs), region index of each hexahedron): the meridian mesh's elements, each cut in
+        DISPLAY_SPLIT x DISPLAY_SPLIT (``_display``), swept round the axis in ``_LABEL_ANGLES`` sectors, the revolved
+        body drawn and exported (hexahedron a n_cells + c: sector a, meridian cell c); a cell with an edge on the
         axis sweeps to hexahedra whose axis edge is one line (degenerate, zero-area faces inside the body)."""
-        vertices = np.arange(self.mesh.p.shape[1])
-        points, probes = self._revolved_vertices(vertices, axis_once=True)
-        on_axis = self.mesh.p[0] <= 1e-12 * self.section.element_size
+        rz, quads, P = self._display
+        on_axis = rz[0] <= 1e-12 * self.section.element_size
+        points, which, angle = self._revolved_points(rz, axis_once=True)
         off = np.flatnonzero(~on_axis)
         k = _LABEL_ANGLES
-        ids = np.zeros((len(vertices), k), dtype=int)  # point id of each vertex at each angle
+        ids = np.zeros((rz.shape[1], k), dtype=int)  # point id of each meridian point at each angle
         ids[off] = np.arange(len(off) * k).reshape(len(off), k)
         ids[on_axis] = (len(off) * k + np.arange(on_axis.sum()))[:, None]
-        # a quadrilateral counter-clockwise in (r, z) then at the next angle: the positive volume VTK needs
-        quads = self.mesh.t
-        cells = np.concatenate([np.hstack([ids[quads, j].T, ids[quads, (j + 1) % k].T]) for j in range(k)])
-        return points.T, cells, probes, np.tile(self.region, k)
+        # a cell in the element's corner order, then at the next angle: the positive volume VTK needs
+        cells = np.concatenate([np.hstack([ids[quads, j], ids[quads, (j + 1) % k]]) for j in range(k)])
+        return (points.T, cells, self._revolved(P[which], angle), self._potential_revolved(P[which], angle),
+                np.tile(np.repeat(self.region, DISPLAY_SPLIT**2), k))
+
+    def cell_fields(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(strain (k, 6) [-] with engineering shears, stress (k, 6) [Pa], electric field (k, 3) [V/m]) in the xyz
+        frame, Voigt order xx, yy, zz, yz, xz, xy, of the full DOF vector ``x`` on each hexahedron of
+        ``revolved_mesh``: the mean over its meridian cell (weight r dr dz, Gauss points of the model's order in the
+        cell) of the strain table's [S; G] of each harmonic (module docstring), taken at the sector's middle angle
+        (cos / sin n theta), the stress T = c^E S - e^T E = rows 0-5 of the region's coupled tensor times [S; G],
+        E = -G (zero outside the poled parts); turned from the local (r, theta, z) frame to xyz."""
+        from skfem import Basis
+        from skfem.quadrature import get_quadrature
+
+        x = np.asarray(x, dtype=float)
+        split = DISPLAY_SPLIT
+        X, W = get_quadrature(self.mesh.elem.refdom, 2 * self.basis.elem.maxdeg)
+        subs = [Basis(self.mesh, self.basis.elem, quadrature=((X + np.array([[i], [j]])) / split, W / split**2))
+                for j in range(split) for i in range(split)]
+        n_cells = self.mesh.t.shape[1] * split**2
+        k = _LABEL_ANGLES
+        theta = (np.arange(k) + 0.5) * 2 * np.pi / k
+        local = np.zeros((k, n_cells, 9))
+        for h, n in enumerate(self.harmonics):
+            phi = np.zeros(self.basis.N)
+            phi[self.phi_nodes] = x[self.phi_dof(h, np.arange(len(self.phi_nodes)))]
+            fields = [x[self.u_dof(h, np.arange(self.basis.N), c)] for c in range(3)] + [phi]
+            B0, Br, Bz = strain_maps(n)
+            mean = np.zeros((9, n_cells))
+            for at, sub in enumerate(subs):
+                r = np.asarray(sub.global_coordinates())[0]  # at the quadrature points (nel, nq) [m]
+                weight = sub.dx * r  # r dr dz
+                q = [sub.interpolate(f) for f in fields]
+                values = np.array([np.asarray(f) for f in q])  # (4, nel, nq)
+                grads = np.array([f.grad for f in q])  # (4, 2, nel, nq)
+                SG = (np.einsum("ij,jeq->ieq", B0, values / r) + np.einsum("ij,jeq->ieq", Br, grads[:, 0])
+                      + np.einsum("ij,jeq->ieq", Bz, grads[:, 1]))
+                mean[:, at::split**2] = np.sum(SG * weight, axis=-1) / np.sum(weight, axis=-1)
+            angle = np.ones((k, 9))
+            angle[:, _COS] = np.cos(n * theta)[:, None]
+            angle[:, _SIN] = np.sin(n * theta)[:, None] if n else 1.0  # n = 0: the torsional set, no angle
+            local += angle[:, None, :] * mean.T[None]
+        region = np.repeat(self.region, split**2)
+        stress = np.zeros((k, n_cells, 6))
+        field = np.zeros((k, n_cells, 3))
+        for i, reg in enumerate(self.section.regions):
+            at = region == i
+            stress[:, at] = local[:, at] @ coupled_tensor(reg.material)[:6].T
+            if reg.poled:
+                field[:, at] = -local[:, at, 6:]
+        e1, e3 = self.section.radial, self.section.axis
+        e2 = np.cross(e3, e1)
+        R = np.stack([np.outer(np.cos(theta), e1) + np.outer(np.sin(theta), e2),
+                      -np.outer(np.sin(theta), e1) + np.outer(np.cos(theta), e2),
+                      np.tile(e3, (k, 1))], axis=-1)  # (k, 3, 3): columns e_r, e_theta, e_z in xyz
+        strain = _turned(_tensor(local[..., :6], 0.5), R)
+        return (_voigt(strain, 2.0).reshape(-1, 6), _voigt(_turned(_tensor(stress, 1.0), R), 1.0).reshape(-1, 6),
+                np.einsum("kij,kej->kei", R, field).reshape(-1, 3))
 
     def label_field(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(points (3, m) [m], displacement (3, m) [m]) of the full DOF vector ``x`` on the mesh vertices revolved
@@ -576,6 +670,28 @@ def _face_segment(reg: Region, side: str, tol: float):
         return lambda x: (np.abs(x[1] - at) <= tol) & (x[0] >= reg.r0 - tol) & (x[0] <= reg.r1 + tol)
     at = reg.r1 if side == "outer" else reg.r0
     return lambda x: (np.abs(x[0] - at) <= tol) & (x[1] >= reg.z0 - tol) & (x[1] <= reg.z1 + tol)
+
+
+_VOIGT_PAIRS = ((0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1))  # Voigt order xx, yy, zz, yz, xz, xy
+
+
+def _tensor(voigt: np.ndarray, shear: float) -> np.ndarray:
+    """(..., 3, 3) symmetric tensors of Voigt (..., 6) whose shear entries are multiplied by ``shear`` (1/2 for an
+    engineering strain, 1 for a stress)."""
+    t = np.zeros((*voigt.shape[:-1], 3, 3))
+    for v, (i, j) in enumerate(_VOIGT_PAIRS):
+        t[..., i, j] = t[..., j, i] = voigt[..., v] * (shear if i != j else 1.0)
+    return t
+
+
+def _voigt(tensor: np.ndarray, shear: float) -> np.ndarray:
+    """Voigt (..., 6) of (..., 3, 3) tensors, shear entries times ``shear`` (2 for an engineering strain)."""
+    return np.stack([tensor[..., i, j] * (shear if i != j else 1.0) for i, j in _VOIGT_PAIRS], axis=-1)
+
+
+def _turned(tensor: np.ndarray, R: np.ndarray) -> np.ndarray:
+    """R T R^T of the tensors (k, m, 3, 3) with the rotations R (k, 3, 3): local (r, theta, z) to xyz."""
+    return np.einsum("kia,kmab,kjb->kmij", R, tensor, R)
 
 
 def _snapped(v: np.ndarray, lo: float, hi: float, slack: float) -> np.ndarray:

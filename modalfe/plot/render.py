@@ -82,7 +82,7 @@ def mode_grid(mode):
 
     model = mode.model
     if isinstance(model, AxisymmetricModel):  # the meridian mesh swept round the axis, the mode revolved on it
-        points, cells, probes, part_id = model.revolved_mesh
+        points, cells, probes, _, part_id = model.revolved_mesh
         fields = {"displacement": np.asarray(probes @ mode.shape).reshape(3, -1).T}
         kind, names = VTK_HEXAHEDRON, [reg.part for reg in model.section.regions]
     else:

@@ -193,7 +193,7 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
     if not outputs:
         raise SolverError("forced: no outputs; give --outputs (face groups) or set drive.outputs")
     check_outputs(scene, outputs)
-    why = solid_only(scene, load, stress=parts is not None, state=state)
+    why = solid_only(scene, load, stress=parts is not None)
     if why and resolution.get("fidelity") == "axisymmetric":
         raise SolverError(f"{why} (fidelity 'axisymmetric' asked)")
     modes = solid_modes(scene, needs="the forced response" + (f" ({why})" if why else ""),
@@ -295,19 +295,16 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
                          resonant if state else None)
 
 
-def solid_only(scene, load, *, stress: bool, state: bool) -> str | None:
+def solid_only(scene, load, *, stress: bool) -> str | None:
     """What of a forced response asked of a body of revolution needs the 3-D solid rather than the axisymmetric
-    model (None: nothing, the axisymmetric answer serves): the peak stress (``stress``), the resonant state written
-    to a VTU (``state``), a load the model cannot project on its harmonics
-    (``modalfe.models.axisymmetric.load_refusal``)."""
+    model (None: nothing, the axisymmetric answer serves): the peak stress (``stress``), a load the model cannot
+    project on its harmonics (``modalfe.models.axisymmetric.load_refusal``)."""
     from modalfe.models.axisymmetric import load_refusal, round_parts
 
     if not round_parts(scene):
         return None
     if stress:
         return "--stress: the peak stress is computed on the 3-D solid"
-    if state:
-        return "--vtu: the resonant state is written on the 3-D solid"
     return load_refusal(scene, load)
 
 

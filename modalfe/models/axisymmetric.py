@@ -356,27 +356,38 @@ class AxisymmetricModel(PiezoUnknowns):
         return out
 
     def face_load(self, load) -> np.ndarray:
-        """u DOF load (n_u,) of a ``force`` (total over the face group, uniform traction F / A) along the axis or a
-        normal ``pressure`` on a face group (traction -P n, n the outward normal: the axis on a top or bottom face,
-        the radial direction on a wall), as given: both are uniform round the circumference, so they load n = 0 only,
-        f = 2 pi t int v r ds (``face_integrals``). SceneError naming the load where it is not uniform round the axis
-        (``load_refusal``)."""
+        """u DOF load (n_u,) of a ``force`` (total over the face group, uniform traction t = F / A) or a normal
+        ``pressure`` on a face group (traction -P n, n the outward normal: the axis on a top or bottom face, the radial
+        direction on a wall), as given, projected on the harmonics by its circumferential Fourier components: the
+        pressure and a force's axial part are uniform round the circumference, n = 0, f_z = 2 pi t_z int v r ds
+        (``face_integrals``); a force's part t_1 along the radial direction theta = 0 loads n = 1 (t_r = t_1 cos
+        theta, t_theta = -t_1 sin theta: f_r = pi t_1 int v r ds, f_theta = -pi t_1 int v r ds). SceneError naming
+        the load where it has a part the model does not carry (``load_refusal``) or its harmonic is not solved."""
         why = load_refusal(self.scene, load)
         if why:
             raise SceneError(why)
-        if 0 not in self.harmonics:
-            raise SceneError("harmonics: a load uniform round the axis drives n = 0 only, which is not solved")
-        h, nodes = self.harmonics.index(0), np.arange(self.basis.N)
+        value = np.asarray(load.value, dtype=float)
+        parts = {0: float(value @ self.section.axis)} if load.kind == "force" else {0: 1.0}
+        if load.kind == "force" and abs(value @ self.section.radial) > 0:
+            parts[1] = float(value @ self.section.radial)
+        for n, size in parts.items():
+            if size and n not in self.harmonics:
+                raise SceneError(f"harmonics: the {load.describe()} drives n = {n}, which is not solved")
+        nodes = np.arange(self.basis.N)
         faces = self.face_integrals(load.group)
         area = sum(a for _, _, a in faces)
         f = np.zeros(self.n_u)
         for side, g, _ in faces:
-            if load.kind == "force":
-                component, t = 2, float(np.asarray(load.value) @ self.section.axis) / area
-            else:
+            if load.kind == "pressure":
                 component, outward = _FACE_NORMALS[side]
-                t = -load.value[0] * outward
-            f[self.u_dof(h, nodes, component)] += 2 * np.pi * t * g
+                f[self.u_dof(self.harmonics.index(0), nodes, component)] += 2 * np.pi * -load.value[0] * outward * g
+                continue
+            if parts[0]:
+                f[self.u_dof(self.harmonics.index(0), nodes, 2)] += 2 * np.pi * parts[0] / area * g
+            if parts.get(1):
+                h = self.harmonics.index(1)
+                f[self.u_dof(h, nodes, 0)] += np.pi * parts[1] / area * g
+                f[self.u_dof(h, nodes, 1)] -= np.pi * parts[1] / area * g
         return f
 
     def face_mean(self, group: str) -> sp.csr_matrix:
@@ -648,17 +659,22 @@ _FACE_NORMALS = {"top": (2, 1.0), "bottom": (2, -1.0), "outer": (0, 1.0), "inner
 
 def load_refusal(scene, load) -> str | None:
     """Why the axisymmetric model cannot take ``load`` (``modalfe.scene.loads.Load``), naming the field; None where
-    it can: a voltage, a force along the axis or a pressure on a face group (uniform round the axis: harmonic n = 0).
-    A force across the axis loads the n = 1 pair and a base acceleration needs supports, which the model has not."""
+    it can: a voltage, a pressure on a face group, a force in the plane of the axis and the radial direction
+    theta = 0 (``meridian_section``'s: the axis's next one in x, y, z). A force's part along the third direction loads
+    the other member of each n = 1 pair, which the model does not solve (it solves the pair once), and a base
+    acceleration needs supports, which the model has not."""
     if load.kind == "voltage" or load.kind == "pressure":
         return None
     if load.kind == "force":
-        axis = np.eye(3)[AXES.index(scene.assembly().parts[0].axis)]
+        k = AXES.index(scene.assembly().parts[0].axis)
+        across = (k + 2) % 3  # the axis, the radial direction theta = 0, and this one: a right-handed frame
         value = np.asarray(load.value, dtype=float)
-        if np.linalg.norm(value - (value @ axis) * axis) <= 1e-12 * np.linalg.norm(value):
+        if abs(value[across]) <= 1e-12 * np.linalg.norm(value):
             return None
-        return (f"drive.load: a force across the axis ({load.describe()}) loads the harmonic n = 1 pair, which the "
-                f"axisymmetric forced response does not project; give a force along the axis or --fidelity solid")
+        plane = "".join(sorted((AXES[k], AXES[(k + 1) % 3])))
+        return (f"drive.load: the force's {AXES[across]} part ({load.describe()}) loads the other member of the n = 1 "
+                f"pairs, which the axisymmetric model solves once (the {plane} plane's); give the force in the "
+                f"{plane} plane (turn the device) or --fidelity solid")
     return f"drive.load: a {load.kind} needs supports, which the axisymmetric model has not (free bodies only)"
 
 

@@ -35,13 +35,18 @@ def model():
 
 
 def test_face_loads_do_the_work_of_the_total_force_on_a_rigid_motion(model):
-    """A force F along the axis spread over the top face does work F on the unit axial translation; a pressure P
-    pushing into the top face -P pi a^2 on it, into the rim -P 2 pi a h on the uniform radial expansion U_r = 1
-    (n = 0): the revolved integrals 2 pi int t v r ds."""
+    """A force F along the axis spread over the top face does work F on the unit axial translation, and a force's
+    part across the axis along x (theta = 0) its work on the unit x translation (n = 1: U_r = 1, U_t = -1); a
+    pressure P pushing into the top face -P pi a^2 on the axial one, into the rim -P 2 pi a h on the uniform radial
+    expansion U_r = 1 (n = 0): the revolved integrals (2 pi or pi) int t v r ds."""
     n_u = model.n_u
-    axial = model.rigid_translations()[2, :n_u]
+    R = model.rigid_translations()[:, :n_u]
+    axial = R[2]
     f = model.face_load(Load(kind="force", group="electrode_a", value=(0, 0, 2.0)))
     assert axial @ f == pytest.approx(2.0, rel=EXACT)
+    # across the axis along x (theta = 0): the n = 1 part, work 1.5 N on the unit x translation, none on the axial
+    f = model.face_load(Load(kind="force", group="rim", value=(1.5, 0, 2.0)))
+    assert R[0] @ f == pytest.approx(1.5, rel=EXACT) and axial @ f == pytest.approx(2.0, rel=EXACT)
     f = model.face_load(Load(kind="pressure", group="electrode_a", value=(3.0,)))
     assert axial @ f == pytest.approx(-3.0 * math.pi * RADIUS**2, rel=EXACT)
     expansion = np.zeros(n_u)
@@ -66,15 +71,15 @@ def test_a_part_alone_stiffens_as_the_whole_model_where_it_is_the_whole(model):
     assert abs(K - K_uu).max() <= EXACT * abs(K_uu).max()
 
 
-def test_a_force_across_the_axis_is_refused_before_any_solve(monkeypatch):
-    """A sideways force loads the n = 1 pair, which the axisymmetric forced response does not project: the load is
-    named, and nothing is solved."""
+def test_a_force_on_the_pairs_other_member_is_refused_before_any_solve(monkeypatch):
+    """A force along y (across the axis, normal to the x-z plane whose n = 1 pair members the model solves) loads the
+    other member of each pair: the load is named, and nothing is solved."""
     from modalfe.solve import api
 
     monkeypatch.setattr(api, "solve_modes", lambda *a, **k: pytest.fail("solved"))
-    with pytest.raises(SolverError, match=r"^drive\.load: a force across the axis"):
+    with pytest.raises(SolverError, match=r"^drive\.load: the force's y part"):
         forced_figures(load_scene(PZT5A_DISC), selector="R1", near=99e3, outputs=("electrode_a",),
-                       load="force electrode_a=1,0,0", fidelity="axisymmetric")
+                       load="force electrode_a=0,1,0", fidelity="axisymmetric")
 
 
 def test_the_disc_driven_by_voltage_has_the_3d_solids_figures():

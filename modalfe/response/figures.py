@@ -152,7 +152,9 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
     True (every part) or part names for the peak stress and field at resonance; ``state``: keep the mode and the
     full response at resonance per unit load (for ``modalfe.report.export.export_forced_vtu``). The mode is the one
     ``modes`` gives for the scene's question about it (``modalfe.solve.api.working_question``), solved at
-    ``resolution`` (``solve_modes``' tol, fidelity, error_estimate) on the 3-D solid."""
+    ``resolution`` (``solve_modes``' tol, fidelity, error_estimate) on the 3-D solid or, for a body of revolution,
+    the axisymmetric model (its mode revolved: ``modalfe.models.axisymmetric``), unless the question needs the solid
+    (``solid_only``)."""
     from modalfe.response.admittance import clamped_capacitance
     from modalfe.response.forced import Damping, harmonic_response, open_circuit, reduce, resonant_state
     from modalfe.response.loads import Load, check_forcing, check_outputs

@@ -44,17 +44,18 @@ def register(subparsers) -> None:
 
 
 def _modes(args, question):
-    """(scene, the modes ``modes`` answers ``question(scene)`` with at the command's --tol): the solid's."""
+    """(scene, the modes ``modes`` answers ``question(scene)`` with at the command's --tol): the solid's or the
+    axisymmetric model's (drawn and exported revolved)."""
     from modalfe.cli.options import parse_overrides, solve_keywords
     from modalfe.models.estimate import estimate_size
     from modalfe.scene import load_scene
-    from modalfe.solve.api import solid_modes
+    from modalfe.solve.api import REVOLVED, solid_modes
 
     scene = load_scene(args.scene, **parse_overrides(args.set))
     asked = question(scene)
     log.info("%s: solving %s, %s", scene.name, asked, estimate_size(scene).describe())
     start = time.perf_counter()
-    modes = solid_modes(scene, needs=f"modalfe {args.command}", **asked, **solve_keywords(args))
+    modes = solid_modes(scene, needs=f"modalfe {args.command}", takes=REVOLVED, **asked, **solve_keywords(args))
     log_timings(modes, time.perf_counter() - start)
     return scene, modes
 
@@ -167,7 +168,9 @@ def _export(args) -> int:
     scene, modes = _modes(args, lambda scene: {"near": args.near, "count": args.count})
     path = export_vtu(modes, args.vtu)
     scene_page(args, scene)
-    print(f"{scene.name}: {len(modes)} modes -> {path} (quadratic cells, part names; per mode displacement [m] and "
-          f"potential [V] at the nodes, strain, stress, von Mises and electric field as cell means; each mode's "
-          f"stated error), frequency table -> {table_path(path)}")
+    cells = "the axisymmetric answer revolved: linear cells" if modes.fidelity == "axisymmetric" else "quadratic cells"
+    what = (f"{cells}, part names; per mode displacement [m] and potential [V] at the nodes, strain, stress, von Mises "
+            f"and electric field as cell means")
+    print(f"{scene.name}: {len(modes)} modes -> {path} ({what}; each mode's stated error), frequency table -> "
+          f"{table_path(path)}")
     return 0

@@ -131,7 +131,7 @@ def evaluate_point(scene_ref: str, params: dict, base: dict, selector: str, near
     from modalfe.errors import SolverError
     from modalfe.results.modes import select
     from modalfe.scene import load_scene
-    from modalfe.solve.api import solid_modes, working_question
+    from modalfe.solve.api import REVOLVED, solid_modes, working_question
 
     start = time.perf_counter()
     row = {"params": params, "status": "ok", "label": "", "frequency_hz": None, "error_estimate": None,
@@ -142,7 +142,7 @@ def evaluate_point(scene_ref: str, params: dict, base: dict, selector: str, near
         # and ``forced`` ask it (one answer); elsewhere the window of ``count`` modes around ``near``
         own = asks_own_question(scene, selector, near)
         question = working_question(scene, selector) if own else {"near": near, "count": count, "mode": selector}
-        modes = solid_modes(scene, needs="the sweep", **question, **(resolution or {}))
+        modes = solid_modes(scene, needs="the sweep", takes=REVOLVED, **question, **(resolution or {}))
         full = scene.full_assembly()
         main = full.main_part
         lo, hi = full.bounds

@@ -67,6 +67,10 @@ _ON_SURFACE = 1e-9  # element sizes by which a probed point may lie outside the 
 # (``modalfe.solve.axisymmetric.solve_axisymmetric`` raises them until the top one holds no mode of the answer)
 FIRST_HARMONICS = 4
 _LABEL_ANGLES = 64  # angles the meridian is revolved at for the disc labeller (harmonics up to 10 resolved)
+# each meridian element cut in DISPLAY_SPLIT x DISPLAY_SPLIT cells for the revolved body drawn and exported: an
+# element (order 2-4) varies through its span, which one cell would average away (a disc one element thick bends
+# through it: a flexural mode's cell-mean stress through the whole thickness is zero)
+DISPLAY_SPLIT = 3
 
 
 @dataclass(frozen=True)
@@ -258,6 +262,7 @@ class AxisymmetricModel(PiezoUnknowns):
     phi_nodes: np.ndarray  # scalar DOFs of the basis carrying a potential (poled parts)
     electrodes: dict[str, np.ndarray]
     electrode_higher: np.ndarray  # phi unknowns of higher-order DOFs on electrodes: zero on an equipotential face
+    region: np.ndarray  # index into section.regions of each element of the mesh
     timings: dict[str, float] = field(default_factory=dict)
     clamped: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
     attached_mass: None = None
@@ -290,6 +295,117 @@ class AxisymmetricModel(PiezoUnknowns):
         of one mode (its harmonic's block; the others carry none)."""
         vertices = self.basis.nodal_dofs[0]
         return sum(np.asarray(x)[[self.u_dof(h, vertices, c) for c in range(3)]] for h in range(len(self.harmonics)))
+
+    def parts_stiffness(self, names) -> sp.csr_matrix:
+        """(n_u, n_u) elastic stiffness K_uu of the parts named in ``names`` alone (c^E only, as the 3-D
+        ``modalfe.models.solid.parts_stiffness``), by the same assembly as the whole model's, every harmonic: for
+        the strain energy U = u^T K u / 2 of those parts."""
+        from skfem import Basis
+
+        N = self.basis.N
+        u_idx = np.arange(4 * N).reshape(N, 4)[:, :3].ravel()
+        blocks = {n: sp.csr_matrix((4 * N, 4 * N)) for n in self.harmonics}
+        for i, reg in enumerate(self.section.regions):
+            if reg.part not in names:
+                continue
+            sub = Basis(self.mesh, self.basis.elem, quadrature=self.basis.quadrature,
+                        elements=np.flatnonzero(self.region == i))
+            D = np.zeros((9, 9))
+            D[:6, :6] = reg.material.C
+            for n, block in _region_stiffness(sub, D, self.harmonics).items():
+                blocks[n] = blocks[n] + block
+        return sp.block_diag([(_circumference(n) * blocks[n]).tocsr()[u_idx][:, u_idx] for n in self.harmonics],
+                             format="csr")
+
+    def vertex_field(self, x: np.ndarray, part: str) -> tuple[np.ndarray, np.ndarray]:
+        """(points (3, m) [m], displacement (3, m) [m]) of the full DOF vector ``x`` at the vertices of ``part``'s
+        elements, revolved at ``_LABEL_ANGLES`` angles (those on the axis once)."""
+        i = [reg.part for reg in self.section.regions].index(part)
+        points, probes = self._revolved_vertices(np.unique(self.mesh.t[:, self.region == i]), axis_once=True)
+        return points, (probes @ np.asarray(x)).reshape(3, -1)
+
+    def on_face(self, group: str, points: np.ndarray, tol: float) -> np.ndarray:
+        """Whether each of ``points`` (n, 3) [m] of the revolved mesh (``revolved_mesh``: its walls are chords, up to
+        r (1 - cos(pi / sectors)) inside the round ones) lies on face group ``group``, within ``tol`` [m]."""
+        d = np.asarray(points, dtype=float).reshape(-1, 3) - self.section.origin
+        z = d @ self.section.axis
+        r = np.linalg.norm(d - np.outer(z, self.section.axis), axis=1)
+        chord = 1 - math.cos(math.pi / _LABEL_ANGLES)
+        regions = {reg.part: reg for reg in self.section.regions}
+        on = np.zeros(len(r), dtype=bool)
+        for face in self.scene.assembly().faces[group]:
+            reg = regions[face.part]
+            wall = face.side in ("outer", "inner")
+            slack = tol + chord * (reg.r1 if wall else 0.0)
+            on |= _face_segment(reg, face.side, slack)(np.array([r, z]))
+        return on
+
+    def face_integrals(self, group: str) -> list[tuple[str, np.ndarray, float]]:
+        """Per face of the group ``group``: (its side, g (basis.N,) with g_i = int v_i r ds over its meridian segment,
+        its area [m^2] = 2 pi int r ds), a face's area element being r dtheta ds (``_face_segment``)."""
+        from skfem import FacetBasis, Functional, LinearForm
+
+        regions = {reg.part: reg for reg in self.section.regions}
+        tol = 1e-9 * self.section.element_size
+        out = []
+        for face in self.scene.assembly().faces[group]:
+            facets = self.mesh.facets_satisfying(_face_segment(regions[face.part], face.side, tol))
+            fb = FacetBasis(self.mesh, self.basis.elem, facets=facets, intorder=self.basis.elem.maxdeg + 2)
+            out.append((face.side, LinearForm(lambda v, w: w.x[0] * v).assemble(fb),
+                        2 * np.pi * Functional(lambda w: w.x[0]).assemble(fb)))
+        return out
+
+    def face_load(self, load) -> np.ndarray:
+        """u DOF load (n_u,) of a ``force`` (total over the face group, uniform traction t = F / A) or a normal
+        ``pressure`` on a face group (traction -P n, n the outward normal: the axis on a top or bottom face, the radial
+        direction on a wall), as given, projected on the harmonics by its circumferential Fourier components: the
+        pressure and a force's axial part are uniform round the circumference, n = 0, f_z = 2 pi t_z int v r ds
+        (``face_integrals``); a force's part t_1 along the radial direction theta = 0 loads n = 1 (t_r = t_1 cos
+        theta, t_theta = -t_1 sin theta: f_r = pi t_1 int v r ds, f_theta = -pi t_1 int v r ds). SceneError naming
+        the load where it has a part the model does not carry (``load_refusal``) or its harmonic is not solved."""
+        why = load_refusal(self.scene, load)
+        if why:
+            raise SceneError(why)
+        value = np.asarray(load.value, dtype=float)
+        parts = {0: float(value @ self.section.axis)} if load.kind == "force" else {0: 1.0}
+        if load.kind == "force" and abs(value @ self.section.radial) > 0:
+            parts[1] = float(value @ self.section.radial)
+        for n, size in parts.items():
+            if size and n not in self.harmonics:
+                raise SceneError(f"harmonics: the {load.describe()} drives n = {n}, which is not solved")
+        nodes = np.arange(self.basis.N)
+        faces = self.face_integrals(load.group)
+        area = sum(a for _, _, a in faces)
+        f = np.zeros(self.n_u)
+        for side, g, _ in faces:
+            if load.kind == "pressure":
+                component, outward = _FACE_NORMALS[side]
+                f[self.u_dof(self.harmonics.index(0), nodes, component)] += 2 * np.pi * -load.value[0] * outward * g
+                continue
+            if parts[0]:
+                f[self.u_dof(self.harmonics.index(0), nodes, 2)] += 2 * np.pi * parts[0] / area * g
+            if parts.get(1):
+                h = self.harmonics.index(1)
+                f[self.u_dof(h, nodes, 0)] += np.pi * parts[1] / area * g
+                f[self.u_dof(h, nodes, 1)] -= np.pi * parts[1] / area * g
+        return f
+
+    def face_mean(self, group: str) -> sp.csr_matrix:
+        """(3, ndofs) area mean of the revolved displacement (x, y, z) [m] over the face group ``group``: over the
+        circumference n = 0 keeps its axial motion (2 pi U_z), n = 1 its motion along theta = 0 (pi (U_r - U_t), the
+        module docstring's cos / sin set); the other harmonics and the twin direction average to zero."""
+        faces = self.face_integrals(group)
+        g = sum(gi for _, gi, _ in faces)
+        area = sum(a for _, _, a in faces)
+        nodes = np.arange(self.basis.N)
+        rows = np.zeros((3, self.ndofs))
+        if 0 in self.harmonics:
+            rows[:, self.u_dof(self.harmonics.index(0), nodes, 2)] = np.outer(self.section.axis, 2 * np.pi * g)
+        if 1 in self.harmonics:
+            h = self.harmonics.index(1)
+            rows[:, self.u_dof(h, nodes, 0)] = np.outer(self.section.radial, np.pi * g)
+            rows[:, self.u_dof(h, nodes, 1)] = np.outer(self.section.radial, -np.pi * g)
+        return sp.csr_matrix(rows / area)
 
     def rigid_translations(self) -> np.ndarray:
         """(3, ndofs) unit rigid translations along the local radial (theta = 0), its twin direction and the axis:
@@ -395,29 +511,203 @@ class AxisymmetricModel(PiezoUnknowns):
     def potential_probes(self, points: np.ndarray) -> sp.csr_matrix:
         """(n, ndofs) matrix giving the potential [V] at ``points`` (n, 3) [m] (zero outside the poled parts)."""
         r, theta, z = self._cylindrical(points)
-        P = sp.csc_matrix(self.basis.probes(np.array([r, z])))[:, self.phi_nodes]
+        return self._potential_revolved(sp.csr_matrix(self.basis.probes(np.array([r, z]))), theta)
+
+    def _potential_revolved(self, P: sp.csr_matrix, theta: np.ndarray) -> sp.csr_matrix:
+        """(n, ndofs) potential probes from the meridian probes ``P`` (n, basis.N) of n points at angles ``theta``
+        (n,): the harmonics' cos n theta Phi summed."""
+        P = sp.csc_matrix(P)[:, self.phi_nodes]
         row = [sp.diags(np.cos(n * theta)) @ P for n in self.harmonics]
-        return sp.hstack([sp.csr_matrix((len(r), self.n_u)), *row], format="csr")
+        return sp.hstack([sp.csr_matrix((P.shape[0], self.n_u)), *row], format="csr")
 
     @functools.cached_property
     def _label_probes(self) -> tuple[np.ndarray, sp.csr_matrix]:
-        r, z = self.mesh.p
-        vertices = np.flatnonzero(r > 1e-12 * self.section.element_size)  # the axis is one point per z, not a ring
+        return self._revolved_vertices(np.arange(self.mesh.p.shape[1]), axis_once=False)
+
+    def _revolved_vertices(self, vertices: np.ndarray, *, axis_once: bool) -> tuple[np.ndarray, sp.csr_matrix]:
+        """(points (3, m) [m], (3 m, ndofs) displacement probes) of the meridian mesh's ``vertices`` revolved
+        (``_revolved_points``; a Lagrange vertex's value is its DOF)."""
+        P = sp.csr_matrix((np.ones(len(vertices)), (np.arange(len(vertices)), self.basis.nodal_dofs[0][vertices])),
+                          shape=(len(vertices), self.basis.N))
+        points, which, angle = self._revolved_points(self.mesh.p[:, vertices], axis_once=axis_once)
+        return points, self._revolved(P[which], angle)
+
+    def _revolved_points(self, rz: np.ndarray, *, axis_once: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(points (3, m) [m], meridian point of each (m,), its angle (m,) [rad]) of the meridian points ``rz``
+        (2, n) [m] revolved at ``_LABEL_ANGLES`` angles (those of one meridian point consecutive); those on the axis
+        (one point per z, not a ring) once, after the others, where ``axis_once``, else left out."""
+        r, z = rz
+        on_axis = r <= 1e-12 * self.section.element_size
         theta = np.linspace(0, 2 * np.pi, _LABEL_ANGLES, endpoint=False)
-        which, angle = np.repeat(vertices, len(theta)), np.tile(theta, len(vertices))
+        off = np.flatnonzero(~on_axis)
+        which = np.concatenate([np.repeat(off, len(theta)), np.flatnonzero(on_axis) if axis_once else []]).astype(int)
+        angle = np.concatenate([np.tile(theta, len(off)), np.zeros(len(which) - len(off) * len(theta))])
         e1, e3 = self.section.radial, self.section.axis
         e2 = np.cross(e3, e1)
         points = (self.section.origin[:, None] + np.outer(e1, r[which] * np.cos(angle))
                   + np.outer(e2, r[which] * np.sin(angle)) + np.outer(e3, z[which]))
-        P = sp.csr_matrix((np.ones(len(which)), (np.arange(len(which)), self.basis.nodal_dofs[0][which])),
-                          shape=(len(which), self.basis.N))  # Lagrange: a vertex's value is its DOF
-        return points, self._revolved(P, angle)
+        return points, which, angle
+
+    @functools.cached_property
+    def _display(self) -> tuple[np.ndarray, np.ndarray, sp.csr_matrix]:
+        """(points (2, m) [m] of the meridian plane, cells (n_el DISPLAY_SPLIT^2, 4) into them, (m, basis.N) scalar
+        probes at the points): each element cut in DISPLAY_SPLIT x DISPLAY_SPLIT, cell e DISPLAY_SPLIT^2 + s the
+        sub-square s = i + DISPLAY_SPLIT j of element e (reference coordinates [i, i + 1] x [j, j + 1] /
+        DISPLAY_SPLIT), corners in the element's own order; a point's probe the element's basis at its reference
+        coordinates (no point search: a corner on the boundary is off the mesh by round-off)."""
+        from skfem import Basis
+
+        k = DISPLAY_SPLIT
+        corners = np.array([[0.0, 1.0, 1.0, 0.0], [0.0, 0.0, 1.0, 1.0]])
+        reference = np.hstack([(corners + np.array([[i], [j]])) / k for j in range(k) for i in range(k)])
+        flat = self.basis.mapping.F(reference).reshape(2, -1)  # (2, nel k^2 4): element, then sub-square, corner
+        scale = float(np.abs(flat).max())
+        _, first, index = np.unique(np.round(flat / scale, 10), axis=1, return_index=True, return_inverse=True)
+        at = Basis(self.mesh, self.basis.elem, quadrature=(reference, np.ones(reference.shape[1])))
+        element, point = np.divmod(first, reference.shape[1])
+        values = np.array([np.asarray(at.basis[i][0])[element, point] for i in range(at.Nbfun)])  # (Nbfun, m)
+        P = sp.csr_matrix((values.T.ravel(), (np.repeat(np.arange(len(first)), at.Nbfun),
+                                               self.basis.element_dofs[:, element].T.ravel())),
+                          shape=(len(first), self.basis.N))
+        return flat[:, first], index.reshape(-1, 4), P
+
+    @functools.cached_property
+    def revolved_mesh(self) -> tuple[np.ndarray, np.ndarray, sp.csr_matrix, sp.csr_matrix, np.ndarray]:
+        """(points (m, 3) [m], hexahedra (k, 8) in VTK order, displacement probes (3 m, ndofs) component-major,
+        potential probes (m, ndofs), region index of each hexahedron): the meridian mesh's elements, each cut in
+        DISPLAY_SPLIT x DISPLAY_SPLIT (``_display``), swept round the axis in ``_LABEL_ANGLES`` sectors, the revolved
+        body drawn and exported (hexahedron a n_cells + c: sector a, meridian cell c); a cell with an edge on the
+        axis sweeps to hexahedra whose axis edge is one line (degenerate, zero-area faces inside the body)."""
+        rz, quads, P = self._display
+        on_axis = rz[0] <= 1e-12 * self.section.element_size
+        points, which, angle = self._revolved_points(rz, axis_once=True)
+        off = np.flatnonzero(~on_axis)
+        k = _LABEL_ANGLES
+        ids = np.zeros((rz.shape[1], k), dtype=int)  # point id of each meridian point at each angle
+        ids[off] = np.arange(len(off) * k).reshape(len(off), k)
+        ids[on_axis] = (len(off) * k + np.arange(on_axis.sum()))[:, None]
+        # a cell in the element's corner order, then at the next angle: the positive volume VTK needs
+        cells = np.concatenate([np.hstack([ids[quads, j], ids[quads, (j + 1) % k]]) for j in range(k)])
+        return (points.T, cells, self._revolved(P[which], angle), self._potential_revolved(P[which], angle),
+                np.tile(np.repeat(self.region, DISPLAY_SPLIT**2), k))
+
+    def cell_fields(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(strain (k, 6) [-] with engineering shears, stress (k, 6) [Pa], electric field (k, 3) [V/m]) in the xyz
+        frame, Voigt order xx, yy, zz, yz, xz, xy, of the full DOF vector ``x`` on each hexahedron of
+        ``revolved_mesh``: the mean over its meridian cell (weight r dr dz, Gauss points of the model's order in the
+        cell) of the strain table's [S; G] of each harmonic (module docstring), taken at the sector's middle angle
+        (cos / sin n theta), the stress T = c^E S - e^T E = rows 0-5 of the region's coupled tensor times [S; G],
+        E = -G (zero outside the poled parts); turned from the local (r, theta, z) frame to xyz."""
+        from skfem import Basis
+        from skfem.quadrature import get_quadrature
+
+        x = np.asarray(x, dtype=float)
+        split = DISPLAY_SPLIT
+        X, W = get_quadrature(self.mesh.elem.refdom, 2 * self.basis.elem.maxdeg)
+        subs = [Basis(self.mesh, self.basis.elem, quadrature=((X + np.array([[i], [j]])) / split, W / split**2))
+                for j in range(split) for i in range(split)]
+        n_cells = self.mesh.t.shape[1] * split**2
+        k = _LABEL_ANGLES
+        theta = (np.arange(k) + 0.5) * 2 * np.pi / k
+        local = np.zeros((k, n_cells, 9))
+        for h, n in enumerate(self.harmonics):
+            phi = np.zeros(self.basis.N)
+            phi[self.phi_nodes] = x[self.phi_dof(h, np.arange(len(self.phi_nodes)))]
+            fields = [x[self.u_dof(h, np.arange(self.basis.N), c)] for c in range(3)] + [phi]
+            B0, Br, Bz = strain_maps(n)
+            mean = np.zeros((9, n_cells))
+            for at, sub in enumerate(subs):
+                r = np.asarray(sub.global_coordinates())[0]  # at the quadrature points (nel, nq) [m]
+                weight = sub.dx * r  # r dr dz
+                q = [sub.interpolate(f) for f in fields]
+                values = np.array([np.asarray(f) for f in q])  # (4, nel, nq)
+                grads = np.array([f.grad for f in q])  # (4, 2, nel, nq)
+                SG = (np.einsum("ij,jeq->ieq", B0, values / r) + np.einsum("ij,jeq->ieq", Br, grads[:, 0])
+                      + np.einsum("ij,jeq->ieq", Bz, grads[:, 1]))
+                mean[:, at::split**2] = np.sum(SG * weight, axis=-1) / np.sum(weight, axis=-1)
+            angle = np.ones((k, 9))
+            angle[:, _COS] = np.cos(n * theta)[:, None]
+            angle[:, _SIN] = np.sin(n * theta)[:, None] if n else 1.0  # n = 0: the torsional set, no angle
+            local += angle[:, None, :] * mean.T[None]
+        region = np.repeat(self.region, split**2)
+        stress = np.zeros((k, n_cells, 6))
+        field = np.zeros((k, n_cells, 3))
+        for i, reg in enumerate(self.section.regions):
+            at = region == i
+            stress[:, at] = local[:, at] @ coupled_tensor(reg.material)[:6].T
+            if reg.poled:
+                field[:, at] = -local[:, at, 6:]
+        e1, e3 = self.section.radial, self.section.axis
+        e2 = np.cross(e3, e1)
+        R = np.stack([np.outer(np.cos(theta), e1) + np.outer(np.sin(theta), e2),
+                      -np.outer(np.sin(theta), e1) + np.outer(np.cos(theta), e2),
+                      np.tile(e3, (k, 1))], axis=-1)  # (k, 3, 3): columns e_r, e_theta, e_z in xyz
+        strain = _turned(_tensor(local[..., :6], 0.5), R)
+        return (_voigt(strain, 2.0).reshape(-1, 6), _voigt(_turned(_tensor(stress, 1.0), R), 1.0).reshape(-1, 6),
+                np.einsum("kij,kej->kei", R, field).reshape(-1, 3))
 
     def label_field(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(points (3, m) [m], displacement (3, m) [m]) of the full DOF vector ``x`` on the mesh vertices revolved
         at ``_LABEL_ANGLES`` angles: the whole body's field the disc labeller reads (``modalfe.results.labels``)."""
         points, probes = self._label_probes
         return points, (probes @ np.asarray(x)).reshape(3, -1)
+
+
+# a face's (displacement component (0 r, 2 z), outward normal's sign along it) in the meridian plane
+_FACE_NORMALS = {"top": (2, 1.0), "bottom": (2, -1.0), "outer": (0, 1.0), "inner": (0, -1.0)}
+
+
+def load_refusal(scene, load) -> str | None:
+    """Why the axisymmetric model cannot take ``load`` (``modalfe.scene.loads.Load``), naming the field; None where
+    it can: a voltage, a pressure on a face group, a force in the plane of the axis and the radial direction
+    theta = 0 (``meridian_section``'s: the axis's next one in x, y, z). A force's part along the third direction loads
+    the other member of each n = 1 pair, which the model does not solve (it solves the pair once), and a base
+    acceleration needs supports, which the model has not."""
+    if load.kind == "voltage" or load.kind == "pressure":
+        return None
+    if load.kind == "force":
+        k = AXES.index(scene.assembly().parts[0].axis)
+        across = (k + 2) % 3  # the axis, the radial direction theta = 0, and this one: a right-handed frame
+        value = np.asarray(load.value, dtype=float)
+        if abs(value[across]) <= 1e-12 * np.linalg.norm(value):
+            return None
+        plane = "".join(sorted((AXES[k], AXES[(k + 1) % 3])))
+        return (f"drive.load: the force's {AXES[across]} part ({load.describe()}) loads the other member of the n = 1 "
+                f"pairs, which the axisymmetric model solves once (the {plane} plane's); give the force in the "
+                f"{plane} plane (turn the device) or --fidelity solid")
+    return f"drive.load: a {load.kind} needs supports, which the axisymmetric model has not (free bodies only)"
+
+
+def _face_segment(reg: Region, side: str, tol: float):
+    """Predicate on facet midpoints (2, m) [m] of the meridian mesh: on the ``side`` of region ``reg`` (its top or
+    bottom: a segment of constant z; its outer or inner wall: one of constant r)."""
+    if side in ("top", "bottom"):
+        at = reg.z1 if side == "top" else reg.z0
+        return lambda x: (np.abs(x[1] - at) <= tol) & (x[0] >= reg.r0 - tol) & (x[0] <= reg.r1 + tol)
+    at = reg.r1 if side == "outer" else reg.r0
+    return lambda x: (np.abs(x[0] - at) <= tol) & (x[1] >= reg.z0 - tol) & (x[1] <= reg.z1 + tol)
+
+
+_VOIGT_PAIRS = ((0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1))  # Voigt order xx, yy, zz, yz, xz, xy
+
+
+def _tensor(voigt: np.ndarray, shear: float) -> np.ndarray:
+    """(..., 3, 3) symmetric tensors of Voigt (..., 6) whose shear entries are multiplied by ``shear`` (1/2 for an
+    engineering strain, 1 for a stress)."""
+    t = np.zeros((*voigt.shape[:-1], 3, 3))
+    for v, (i, j) in enumerate(_VOIGT_PAIRS):
+        t[..., i, j] = t[..., j, i] = voigt[..., v] * (shear if i != j else 1.0)
+    return t
+
+
+def _voigt(tensor: np.ndarray, shear: float) -> np.ndarray:
+    """Voigt (..., 6) of (..., 3, 3) tensors, shear entries times ``shear`` (2 for an engineering strain)."""
+    return np.stack([tensor[..., i, j] * (shear if i != j else 1.0) for i, j in _VOIGT_PAIRS], axis=-1)
+
+
+def _turned(tensor: np.ndarray, R: np.ndarray) -> np.ndarray:
+    """R T R^T of the tensors (k, m, 3, 3) with the rotations R (k, 3, 3): local (r, theta, z) to xyz."""
+    return np.einsum("kia,kmab,kjb->kmij", R, tensor, R)
 
 
 def _snapped(v: np.ndarray, lo: float, hi: float, slack: float) -> np.ndarray:
@@ -454,8 +744,6 @@ def assemble_axisymmetric(scene, *, harmonics: tuple[int, ...] | None = None, or
     basis = Basis(mesh, element, intorder=2 * order + 2)
     t_mesh = time.perf_counter() - t0
     N = basis.N
-    derivative = (lambda f, r: f / r, lambda f, r: f.grad[0], lambda f, r: f.grad[1])
-    maps = {n: strain_maps(n) for n in harmonics}
     K_blocks = {n: [] for n in harmonics}
     M_terms = []
     poled_elements = []
@@ -464,20 +752,8 @@ def assemble_axisymmetric(scene, *, harmonics: tuple[int, ...] | None = None, or
         if reg.poled:
             poled_elements.append(elements)
         sub = Basis(mesh, element, intorder=2 * order + 2, elements=elements)
-        D = coupled_tensor(reg.material)
-        forms = {}
-        for a in range(3):
-            for b in range(a, 3):
-                forms[a, b] = BilinearForm(lambda u, v, w, a=a, b=b: w.x[0] * derivative[a](v, w.x[0])
-                                           * derivative[b](u, w.x[0])).assemble(sub)
-                forms[b, a] = forms[a, b].T
-        for n in harmonics:
-            B = maps[n]
-            for a in range(3):
-                for b in range(3):
-                    block = B[a].T @ D @ B[b]
-                    if np.any(block):
-                        K_blocks[n].append(sp.kron(forms[a, b], block, format="csr"))
+        for n, block in _region_stiffness(sub, coupled_tensor(reg.material), harmonics).items():
+            K_blocks[n].append(block)
         mass = BilinearForm(lambda u, v, w: w.x[0] * u * v).assemble(sub)
         M_terms.append(reg.material.rho * mass)
     phi_nodes = (np.unique(basis.element_dofs[:, np.concatenate(poled_elements)]) if poled_elements
@@ -487,7 +763,7 @@ def assemble_axisymmetric(scene, *, harmonics: tuple[int, ...] | None = None, or
     K_u, K_up, K_p, M_u = [], [], [], []
     M_scalar = sum(M_terms)
     for n in harmonics:
-        c_n = 2 * np.pi if n == 0 else np.pi
+        c_n = _circumference(n)
         K4 = (c_n * sum(K_blocks[n])).tocsr()
         K_u.append(K4[u_idx][:, u_idx])
         K_up.append(K4[u_idx][:, phi_idx])
@@ -505,7 +781,34 @@ def assemble_axisymmetric(scene, *, harmonics: tuple[int, ...] | None = None, or
         higher.append(np.flatnonzero(np.isin(phi_nodes, edges)))
     timings = {"mesh": t_mesh, "assembly": time.perf_counter() - t0 - t_mesh}
     return AxisymmetricModel(scene, section, mesh, basis, harmonics, K, M, n_u, phi_nodes, electrodes,
-                             np.unique(np.concatenate(higher)), timings)
+                             np.unique(np.concatenate(higher)), region, timings)
+
+
+def _circumference(n: int) -> float:
+    """c_n = int cos^2 n theta dtheta over the circumference: 2 pi for n = 0 (its torsional set too), pi above."""
+    return 2 * np.pi if n == 0 else np.pi
+
+
+def _region_stiffness(sub, D: np.ndarray, harmonics) -> dict[int, sp.csr_matrix]:
+    """n -> int r [S; G]^T D [S; G] dr dz over the elements of the basis ``sub`` (4 unknowns per node: U_r, U_t, U_z,
+    Phi), without c_n: sum_ab kron(int r d_a(v) d_b(u), B_a^T D B_b), d = (value / r, d/dr, d/dz) (module
+    docstring)."""
+    from skfem import BilinearForm
+
+    derivative = (lambda f, r: f / r, lambda f, r: f.grad[0], lambda f, r: f.grad[1])
+    forms = {}
+    for a in range(3):
+        for b in range(a, 3):
+            forms[a, b] = BilinearForm(lambda u, v, w, a=a, b=b: w.x[0] * derivative[a](v, w.x[0])
+                                       * derivative[b](u, w.x[0])).assemble(sub)
+            forms[b, a] = forms[a, b].T
+    out = {}
+    for n in harmonics:
+        B = strain_maps(n)
+        blocks = [sp.kron(forms[a, b], B[a].T @ D @ B[b], format="csr") for a in range(3) for b in range(3)
+                  if np.any(B[a].T @ D @ B[b])]
+        out[n] = sum(blocks) if blocks else sp.csr_matrix((4 * sub.N, 4 * sub.N))
+    return out
 
 
 def _segment_dofs(basis, on_segment) -> tuple[np.ndarray, np.ndarray]:
@@ -533,14 +836,6 @@ def _electrode_dofs(scene, section: MeridianSection, basis) -> dict[str, tuple[n
     for group in scene.electrodes:
         found = []
         for face in scene.assembly().faces[group]:
-            reg = regions[face.part]
-            if face.side in ("top", "bottom"):
-                at = reg.z1 if face.side == "top" else reg.z0
-                found.append(_segment_dofs(basis, lambda x, at=at, reg=reg: (np.abs(x[1] - at) <= tol)
-                                           & (x[0] >= reg.r0 - tol) & (x[0] <= reg.r1 + tol)))
-            else:
-                at = reg.r1 if face.side == "outer" else reg.r0
-                found.append(_segment_dofs(basis, lambda x, at=at, reg=reg: (np.abs(x[0] - at) <= tol)
-                                           & (x[1] >= reg.z0 - tol) & (x[1] <= reg.z1 + tol)))
+            found.append(_segment_dofs(basis, _face_segment(regions[face.part], face.side, tol)))
         out[group] = tuple(np.unique(np.concatenate([f[i] for f in found])) for i in (0, 1))
     return out

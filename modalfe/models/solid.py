@@ -191,6 +191,13 @@ class Model(PiezoUnknowns):
         """Displacement (3, n_vertices) at the mesh vertices from a full DOF vector."""
         return np.asarray(x[: self.n_u])[self.u_basis.nodal_dofs]
 
+    def vertex_field(self, x: np.ndarray, part: str) -> tuple[np.ndarray, np.ndarray]:
+        """(points (3, m) [m], displacement (3, m) [m]) of the full DOF vector ``x`` at the mesh vertices of
+        ``part``'s elements."""
+        mesh = self.mesh.mesh
+        vertices = np.unique(mesh.t[:, self.mesh.parts[part]])
+        return mesh.p[:, vertices], self.nodal_displacement(x)[:, vertices]
+
     def displacement_probes(self, points: np.ndarray) -> sp.csr_matrix:
         """(3 n, ndofs) matrix giving (ux, uy, uz) [m] at ``points`` (n, 3) [m] of the whole device from a full
         DOF vector, rows component-major (all ux, then uy, then uz); a symmetric model reads mirror images."""

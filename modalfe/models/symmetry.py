@@ -83,7 +83,10 @@ def solved_elements(model, cells: np.ndarray, corners: np.ndarray) -> tuple[np.n
         image = (copy >> level) & 1 == 1
         vertex[image] = MIRRORED_ORDER[kind][vertex[image]]
         sign[:, image] *= flip[:, None]
-    return np.asarray(cells) % solved, (np.array(HEX_MAPPING[:8])[vertex] if kind == 12 else vertex), sign
+    return np.asarray(cells) % solved, (np.array(HEX_MAPPING[:8])[vertex] if kind == VTK_HEXAHEDRON else vertex), sign
+
+
+VTK_HEXAHEDRON = 12  # VTK's cell type numbers (vtkCellType.h)
 
 
 def _cells(model) -> tuple[np.ndarray, int]:
@@ -92,7 +95,7 @@ def _cells(model) -> tuple[np.ndarray, int]:
 
     dm = model.mesh
     if dm.element == "hex":
-        return dm.mesh.t[HEX_MAPPING[:8]].T, 12  # VTK_HEXAHEDRON
+        return dm.mesh.t[HEX_MAPPING[:8]].T, VTK_HEXAHEDRON
     return dm.mesh.t.T, 10  # VTK_TETRA
 
 

@@ -30,7 +30,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from modalfe.models.symmetry import mirror_planes, whole_device_mesh
+from modalfe.models.axisymmetric import AxisymmetricModel
+from modalfe.models.symmetry import VTK_HEXAHEDRON, mirror_planes, whole_device_mesh
 
 log = logging.getLogger(__name__)
 
@@ -80,8 +81,13 @@ def mode_grid(mode):
     import pyvista as pv
 
     model = mode.model
-    shape = model.nodal_displacement(mode.shape)  # at the vertices, which the cells drawn use
-    points, cells, kind, fields, part_id, names = whole_device_mesh(model, {"displacement": shape})
+    if isinstance(model, AxisymmetricModel):  # the meridian mesh swept round the axis, the mode revolved on it
+        points, cells, probes, _, part_id = model.revolved_mesh
+        fields = {"displacement": np.asarray(probes @ mode.shape).reshape(3, -1).T}
+        kind, names = VTK_HEXAHEDRON, [reg.part for reg in model.section.regions]
+    else:
+        shape = model.nodal_displacement(mode.shape)  # at the vertices, which the cells drawn use
+        points, cells, kind, fields, part_id, names = whole_device_mesh(model, {"displacement": shape})
     n = cells.shape[1]
     grid = pv.UnstructuredGrid(np.hstack([np.full((len(cells), 1), n), cells]).ravel(),
                                np.full(len(cells), kind, dtype=np.uint8), points)
@@ -171,11 +177,14 @@ def _facet_marker(mode, group: str, kind: str, surface, centres: np.ndarray, tol
     between two parts) is not drawn."""
     from scipy.spatial import cKDTree
 
-    mesh = mode.model.mesh.mesh
-    facets = mesh.facets[:, mode.model.mesh.faces[group]]
-    at = mesh.p[:, facets].mean(axis=1).T  # facet centroids (corner nodes)
-    distance, _ = cKDTree(at).query(centres, distance_upper_bound=10 * tol)
-    on = np.flatnonzero(np.isfinite(distance))
+    if isinstance(mode.model, AxisymmetricModel):
+        on = np.flatnonzero(mode.model.on_face(group, centres, 10 * tol))
+    else:
+        mesh = mode.model.mesh.mesh
+        facets = mesh.facets[:, mode.model.mesh.faces[group]]
+        at = mesh.p[:, facets].mean(axis=1).T  # facet centroids (corner nodes)
+        distance, _ = cKDTree(at).query(centres, distance_upper_bound=10 * tol)
+        on = np.flatnonzero(np.isfinite(distance))
     if not len(on):
         return
     poly = surface.compute_normals(cell_normals=True, point_normals=True, split_vertices=False).extract_cells(on)
@@ -256,7 +265,11 @@ def surface_field(mode, surface):
     reference coordinates (a curved element's face, where the drawn chord may cross a ring's hole, included: no
     point search, no parts' exact shapes asked)."""
     fine = subdivided(surface, SUBDIVISIONS)
-    P = mode.model.element_probes(fine.point_data["element"], fine.point_data["corners"], fine.point_data["weights"])
+    if isinstance(mode.model, AxisymmetricModel):  # the revolved field at the points themselves
+        P = mode.model.displacement_probes(fine.points)
+    else:
+        P = mode.model.element_probes(fine.point_data["element"], fine.point_data["corners"],
+                                      fine.point_data["weights"])
     fine.point_data["w"] = np.asarray(P @ mode.shape).reshape(3, -1)[2]
     return fine
 

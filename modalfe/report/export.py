@@ -22,6 +22,11 @@ whole device. Written:
   point-data order; NaN where the solve made no estimate);
 - a sidecar CSV ``<file>_modes.csv`` with the frequency table, units in every header.
 
+The axisymmetric model's answer is written on its revolved body (``AxisymmetricModel.revolved_mesh``: the meridian
+mesh's elements cut in ``DISPLAY_SPLIT`` x ``DISPLAY_SPLIT`` and swept round the axis, linear hexahedra), each
+mode revolved: displacement and potential at every point, and per cell the same arrays, each the mean over the
+cell's meridian part of the harmonics' strain table at the sector's middle angle (``AxisymmetricModel.cell_fields``).
+
 ``export_forced_vtu`` writes a forced response at resonance the same way, per unit load (``[m/V]``, ``[Pa/V]``...):
 its in-phase and quadrature parts and the von Mises stress's peak over the cycle (docs/export.md).
 """
@@ -35,7 +40,8 @@ from pathlib import Path
 import numpy as np
 
 from modalfe.errors import SolverError
-from modalfe.models.symmetry import image_signs, mirror_planes, mirrored
+from modalfe.models.axisymmetric import AxisymmetricModel
+from modalfe.models.symmetry import VTK_HEXAHEDRON, image_signs, mirror_planes, mirrored
 
 # VTK's edge order of the quadratic cells, as pairs of corner positions
 _HEX_EDGES = ((0, 1), (1, 2), (2, 3), (3, 0), (4, 5), (5, 6), (6, 7), (7, 4), (0, 4), (1, 5), (2, 6), (3, 7))
@@ -150,12 +156,16 @@ def cell_fields(model, shapes: list[np.ndarray]) -> list[dict[str, np.ndarray]]:
     (n_cells,) and the electric field (n_cells, 3) (0 where there is no potential). A mirrored cell's tensors
     are ``S T R`` and its field ``R E``, with S the displacement's image signs and R the reflection (the
     potential is copied unchanged, as ``quadratic_device`` copies it)."""
-    from modalfe.response.stress import part_fields, von_mises
+    from modalfe.response.stress import part_fields
 
     scene = model.scene
-    n = model.mesh.mesh.nelements
     out = []
     for x in shapes:
+        if isinstance(model, AxisymmetricModel):  # the revolved body's cells (``AxisymmetricModel.cell_fields``)
+            strain, stress, field = model.cell_fields(x)
+            out.append(_cell_arrays(strain, stress, field))
+            continue
+        n = model.mesh.mesh.nelements
         strain, stress, field = np.full((n, 6), np.nan), np.full((n, 6), np.nan), np.zeros((n, 3))
         for part in model.mesh.parts:
             f = part_fields(model, x, part)
@@ -166,17 +176,24 @@ def cell_fields(model, shapes: list[np.ndarray]) -> list[dict[str, np.ndarray]]:
                 field[f.elements] = (np.sum(f.field * f.weights, axis=-1) / volume).T
         if np.isnan(strain).any():
             raise SolverError("export: a cell belongs to no part of the mesh")
-        mises = von_mises(stress.T)
-        strain = strain[:, _VOIGT_OF] * np.where(_SHEAR, 0.5, 1.0)
-        stress = stress[:, _VOIGT_OF]
+        arrays = _cell_arrays(strain, stress, field)
         for (axis, _), sign in zip(mirror_planes(scene), image_signs(scene)):
             reflection = np.ones(3)
             reflection[axis] = -1.0
             tensor_sign = np.outer(sign, reflection).ravel()
-            strain, stress = np.vstack([strain, strain * tensor_sign]), np.vstack([stress, stress * tensor_sign])
-            mises, field = np.concatenate([mises, mises]), np.vstack([field, field * reflection])
-        out.append(dict(zip(CELL_ARRAYS, (strain, stress, mises, field), strict=True)))
+            for name, signs in zip(CELL_ARRAYS, (tensor_sign, tensor_sign, 1.0, reflection), strict=True):
+                arrays[name] = np.concatenate([arrays[name], arrays[name] * signs])
+        out.append(arrays)
     return out
+
+
+def _cell_arrays(strain: np.ndarray, stress: np.ndarray, field: np.ndarray) -> dict[str, np.ndarray]:
+    """``CELL_ARRAYS`` of cells' Voigt strain (engineering shears) and stress (n, 6) and field (n, 3): the tensors
+    (n, 9) row-major (tensor strain: half the engineering shears), the von Mises stress (n,), the field."""
+    from modalfe.response.stress import von_mises
+
+    return dict(zip(CELL_ARRAYS, (strain[:, _VOIGT_OF] * np.where(_SHEAR, 0.5, 1.0), stress[:, _VOIGT_OF],
+                                  von_mises(stress.T), field), strict=True))
 
 
 def _part_names(model, points: np.ndarray, cells: np.ndarray) -> np.ndarray:
@@ -211,24 +228,33 @@ def _unit(name: str, per: str) -> str:
 def device_grid(model, states: list[tuple[str, np.ndarray]], *, per: str = ""):
     """A pyvista grid of the whole device (``quadratic_device``) with, for each (stem, real full DOF vector) of
     ``states``, the point arrays ``<stem> displacement [m]`` and ``<stem> potential [V]`` and the cell arrays
-    ``CELL_ARRAYS`` (``cell_fields``), units per unit load ``per`` (e.g. ``V``) where given; and the parts."""
+    ``CELL_ARRAYS`` (``cell_fields``), units per unit load ``per`` (e.g. ``V``) where given; and the parts (the
+    axisymmetric model's: on its revolved body, module docstring)."""
     import pyvista as pv
 
-    if not hasattr(model, "u_basis") or not hasattr(getattr(model, "mesh", None), "mesh"):
-        raise SolverError("export: VTU export needs the 3-D solid model (--fidelity solid)")
-    shapes = [x for _, x in states]
-    points, cells, cell_type, disp, pot, part_of = quadratic_device(model, shapes)
     names = [p.name for p in model.scene.full_assembly().parts]
-    index = {name: i for i, name in enumerate(names)}
-    part_id = np.array([index[n] for n in part_of], dtype=np.int32)
+    if isinstance(model, AxisymmetricModel):  # the revolved body: linear hexahedra, point arrays only
+        points, cells, probes, potential, part_id = model.revolved_mesh
+        cell_type = VTK_HEXAHEDRON
+        disp = [np.asarray(probes @ x).reshape(3, -1).T for _, x in states]
+        pot = [np.asarray(potential @ x) for _, x in states]
+        per_cells = cell_fields(model, [x for _, x in states])
+    elif not hasattr(model, "u_basis") or not hasattr(getattr(model, "mesh", None), "mesh"):
+        raise SolverError("export: VTU export needs the 3-D solid or the axisymmetric model (--fidelity solid)")
+    else:
+        shapes = [x for _, x in states]
+        points, cells, cell_type, disp, pot, part_of = quadratic_device(model, shapes)
+        index = {name: i for i, name in enumerate(names)}
+        part_id = np.array([index[n] for n in part_of], dtype=np.int32)
+        per_cells = cell_fields(model, shapes)
     grid = pv.UnstructuredGrid(np.hstack([np.full((len(cells), 1), cells.shape[1]), cells]).ravel(),
                                np.full(len(cells), cell_type, dtype=np.uint8), points)
-    for (stem, _), u, phi, per_cell in zip(states, disp, pot, cell_fields(model, shapes), strict=True):
+    for (stem, _), u, phi, per_cell in zip(states, disp, pot, per_cells, strict=True):
         grid.point_data[f"{stem} {_unit('displacement [m]', per)}"] = u
         grid.point_data[f"{stem} {_unit('potential [V]', per)}"] = phi
         for name, values in per_cell.items():
             grid.cell_data[f"{stem} {_unit(name, per)}"] = values
-    grid.cell_data["part"] = part_id
+    grid.cell_data["part"] = np.asarray(part_id, dtype=np.int32)
     for i, name in enumerate(names):
         grid.cell_data[f"part:{name}"] = (part_id == i).astype(np.uint8)
     return grid

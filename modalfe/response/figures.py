@@ -152,7 +152,9 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
     True (every part) or part names for the peak stress and field at resonance; ``state``: keep the mode and the
     full response at resonance per unit load (for ``modalfe.report.export.export_forced_vtu``). The mode is the one
     ``modes`` gives for the scene's question about it (``modalfe.solve.api.working_question``), solved at
-    ``resolution`` (``solve_modes``' tol, fidelity, error_estimate) on the 3-D solid."""
+    ``resolution`` (``solve_modes``' tol, fidelity, error_estimate) on the 3-D solid or, for a body of revolution,
+    the axisymmetric model (its mode revolved: ``modalfe.models.axisymmetric``), unless the question needs the solid
+    (``solid_only``)."""
     from modalfe.response.admittance import clamped_capacitance
     from modalfe.response.forced import Damping, harmonic_response, open_circuit, reduce, resonant_state
     from modalfe.response.loads import Load, check_forcing, check_outputs
@@ -160,7 +162,7 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
     from modalfe.response.stress import limit_loads, part_peaks
     from modalfe.results.labels import check_selector
     from modalfe.results.modes import select
-    from modalfe.solve.api import derived_errors, solid_modes, sought_near, working_question
+    from modalfe.solve.api import REVOLVED, derived_errors, solid_modes, sought_near, working_question
 
     if load is None:
         load, load_source = scene.drive.load, scene.drive.load_source
@@ -193,7 +195,11 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
     if not outputs:
         raise SolverError("forced: no outputs; give --outputs (face groups) or set drive.outputs")
     check_outputs(scene, outputs)
-    modes = solid_modes(scene, needs="the forced response", **question, **resolution)
+    why = solid_only(scene, load, stress=parts is not None)
+    if why and resolution.get("fidelity") == "axisymmetric":
+        raise SolverError(f"{why} (fidelity 'axisymmetric' asked)")
+    modes = solid_modes(scene, needs="the forced response" + (f" ({why})" if why else ""),
+                        takes=() if why else REVOLVED, **question, **resolution)
     mode = select(modes, selector, near)
     damping, source = (damping, "set by the user") if losses is None else mode_damping(mode, losses)
     rom = reduce(mode, outputs=outputs, damping=damping, load=None if voltage else load)
@@ -289,6 +295,19 @@ def forced_figures(scene, *, selector: str | None = None, near: float | None = N
                          "voltage on the driven electrodes", load_source, load.unit, velocity, absolute, peaks, limits,
                          mode.error_estimate, modes.resolution, fa, errors, clamped, mode,
                          resonant if state else None)
+
+
+def solid_only(scene, load, *, stress: bool) -> str | None:
+    """What of a forced response asked of a body of revolution needs the 3-D solid rather than the axisymmetric
+    model (None: nothing, the axisymmetric answer serves): the peak stress (``stress``), a load the model cannot
+    project on its harmonics (``modalfe.models.axisymmetric.load_refusal``)."""
+    from modalfe.models.axisymmetric import load_refusal, round_parts
+
+    if not round_parts(scene):
+        return None
+    if stress:
+        return "--stress: the peak stress is computed on the 3-D solid"
+    return load_refusal(scene, load)
 
 
 def device_numbers(rom, fa: float | None, peaks=None, clamped: float | None = None) -> dict[str, float]:
@@ -424,11 +443,9 @@ def _face_peak(mode, rom) -> tuple[float, tuple[float, float]]:
     if "zmax" in main.sides:
         w, at = _grid_peak(mode, main)
         return float(q * w), at
-    model = mode.model
-    mesh = model.mesh.mesh
-    vertices = np.unique(mesh.t[:, model.mesh.parts[main.name]])
-    top = vertices[np.abs(mesh.p[2, vertices] - main.hi[2]) <= 1e-9 * max(main.size)]
-    vertices = top if len(top) else vertices
-    w = np.abs(model.nodal_displacement(mode.shape)[2, vertices])
-    k = vertices[np.argmax(w)]
-    return float(q * w.max()), (float(mesh.p[0, k]), float(mesh.p[1, k]))
+    points, u = mode.model.vertex_field(mode.shape, main.name)
+    top = np.abs(points[2] - main.hi[2]) <= 1e-9 * max(main.size)
+    if top.any():
+        points, u = points[:, top], u[:, top]
+    k = int(np.argmax(np.abs(u[2])))
+    return float(q * abs(u[2, k])), (float(points[0, k]), float(points[1, k]))

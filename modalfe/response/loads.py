@@ -26,6 +26,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from modalfe.errors import SceneError
+from modalfe.models.axisymmetric import AxisymmetricModel
 from modalfe.scene.loads import Load, check_forcing
 
 MEAN_PREFIX = "mean:"
@@ -82,7 +83,8 @@ def load_vector(model, load: Load) -> tuple[np.ndarray, np.ndarray]:
     if load.kind == "base-acceleration":
         f[: model.n_u] = -(model.M[: model.n_u, : model.n_u] @ rigid_translation(model, load.axis))
         return f, np.zeros(model.ndofs)
-    f[: model.n_u] = face_traction_load(model, load) / load.magnitude
+    traction = model.face_load(load) if isinstance(model, AxisymmetricModel) else face_traction_load(model, load)
+    f[: model.n_u] = traction / load.magnitude
     return f, np.zeros(model.ndofs)
 
 
@@ -150,6 +152,8 @@ def face_mean_operator(model, group: str, *, per_element: int = 4) -> sp.csr_mat
     points beyond a mirror plane read their images (``Model.displacement_probes``)."""
     from modalfe.geometry.parts import Box
 
+    if isinstance(model, AxisymmetricModel):  # the revolved body's mean, exact over the circumference
+        return model.face_mean(group)
     full = model.scene.full_assembly()
     if not all(isinstance(full.part(f.part), Box) for f in full.faces[group]):
         return _facet_mean_operator(model, group, full)

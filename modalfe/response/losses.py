@@ -123,9 +123,10 @@ def mode_damping(mode: Mode, losses: Losses) -> tuple[Damping, str]:
         return Damping(zeta=v[0] / 2), f"{losses.mechanical_source}; the loss factor's viscous equivalent at resonance"
     if kind != "material":
         return Damping.parse(losses.mechanical), losses.mechanical_source
-    if not hasattr(mode.model, "u_basis"):
-        return Damping.parse(losses.fallback), (f"{losses.fallback_source}; this model (not the 3-D solid) "
-                                                "has no per-material strain energy for the materials' Qm")
+    if not _per_part(mode.model):
+        return Damping.parse(losses.fallback), (f"{losses.fallback_source}; this model (not the 3-D solid or the "
+                                                "axisymmetric one) has no per-material strain energy for the "
+                                                "materials' Qm")
     if not qm_table(mode.model):
         return Damping.parse(losses.fallback), (f"{losses.fallback_source}; no material of the scene has a "
                                                 "sourced Qm")
@@ -169,8 +170,8 @@ caches.register("per-material stiffness", _MATERIAL_STIFFNESS.clear)
 def material_stiffness(model, names) -> dict[str, sp.csr_matrix]:
     """(n_u, n_u) elastic stiffness K_uu of the parts made of each material in ``names`` (solid model), for the
     modal strain energy U_m = u^T K_m u / 2; assembled once per model and set of names."""
-    if not hasattr(model, "u_basis"):
-        raise SolverError("material losses: need the 3-D solid model")
+    if not _per_part(model):
+        raise SolverError("material losses: need the 3-D solid model or the axisymmetric one")
     kept = _MATERIAL_STIFFNESS.setdefault(model, {})
     key = frozenset(names)
     if key not in kept:
@@ -178,14 +179,24 @@ def material_stiffness(model, names) -> dict[str, sp.csr_matrix]:
     return kept[key]
 
 
+def _per_part(model) -> bool:
+    """Whether ``model`` assembles its parts' stiffness alone: the 3-D solid, the axisymmetric model."""
+    from modalfe.models.axisymmetric import AxisymmetricModel
+
+    return hasattr(model, "u_basis") or isinstance(model, AxisymmetricModel)
+
+
 def _assembled_material_stiffness(model, names: frozenset) -> dict[str, sp.csr_matrix]:
+    from modalfe.models.axisymmetric import AxisymmetricModel
     from modalfe.models.solid import parts_stiffness
 
     scene = model.scene
     made_of: dict[str, set[str]] = {}
     for part in scene.assembly().parts:
         made_of.setdefault(scene.material(part.material).name, set()).add(part.name)
-    return {name: parts_stiffness(model, made_of[name]) for name in names if name in made_of}
+    assembled = model.parts_stiffness if isinstance(model, AxisymmetricModel) else \
+        (lambda parts: parts_stiffness(model, parts))
+    return {name: assembled(made_of[name]) for name in names if name in made_of}
 
 
 def qm_table(model) -> dict[str, float]:

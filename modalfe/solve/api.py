@@ -367,6 +367,9 @@ def derived_errors(modes: Modes, mode, values, fine: dict[str, float] | None = N
     fine = values(mode) if fine is None else fine
     if modes.estimate is None:
         reason = f"not estimated ({modes.estimate_method or 'no estimate levels kept'})"
+        if modes.fidelity == "axisymmetric":
+            reason = ("not estimated (the axisymmetric answer keeps no estimate level for the numbers derived from a "
+                      f"mode; its frequencies': {modes.estimate_method})")
         return {name: (math.nan, reason) for name in fine}
     with single_threaded_blas():
         return modes.estimate.derived_errors(mode, values, fine, eigenvalues)

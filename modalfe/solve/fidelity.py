@@ -75,13 +75,6 @@ FORECAST_GRID = 0.39
 FORECAST_FIRST_STEP = 0.12
 
 
-# rungs ``auto`` leaves out unless asked (``solve_auto``'s ``fidelities``): the axisymmetric model answers ``modes``,
-# ``table`` and ``admittance`` but not yet ``forced``, ``show`` or ``export``, which need the 3-D solid, so auto
-# choosing it would give a body of revolution two frequencies across commands (2.5e-6 apart on the PZT-5A disc's R1,
-# each within its stated error), against one answer in every command
-AUTO_SKIPS = ("axisymmetric",)
-
-
 def reduced_fidelities(scene) -> list[str]:
     """Reduced models that can stand for ``scene``, cheapest first: the beam or plate model of its kind; the
     axisymmetric model where every part is round (``modalfe.models.axisymmetric.round_parts``: whether it is a body
@@ -250,8 +243,8 @@ def solve_estimated(rung: Rung, analysis, fidelity: str, *, error_estimate: bool
 
 
 def solve_auto(rung: Rung, analysis, *, tol: float, check=None, fidelities: tuple[str, ...] | None = None) -> Modes:
-    """The cheapest fidelity of the reduced ``fidelities`` (default ``reduced_fidelities`` but ``AUTO_SKIPS``, which
-    the note names; () for the solid alone) and the solid whose estimated error on the checked modes is within
+    """The cheapest fidelity of the reduced ``fidelities`` (default ``reduced_fidelities``; () for the solid alone)
+    and the solid whose estimated error on the checked modes is within
     ``tol``; the solid's estimate levels are solved once, as the reduced models' cross-check, for the forecast of
     where the solid starts and, if the solid answers, for its own estimate. The solid's ladder (start, steps) is the
     same whichever reduced models were tried, so that ``auto`` and ``solid`` answer a question the solid answers on
@@ -265,9 +258,7 @@ def solve_auto(rung: Rung, analysis, *, tol: float, check=None, fidelities: tupl
             levels.extend(solid_levels(rung, analysis))
         return levels
 
-    tried = [f for f in reduced_fidelities(scene) if f not in AUTO_SKIPS] if fidelities is None else fidelities
-    reasons += [f"{f} model not tried by auto (forced, show and export need the 3-D solid: ask --fidelity {f})"
-                for f in reduced_fidelities(scene) if f not in tried and fidelities is None]
+    tried = reduced_fidelities(scene) if fidelities is None else fidelities
     for fidelity in tried:
         try:
             fine = (solve_revolved(rung, analysis, tol=tol, check=check) if fidelity == "axisymmetric"

@@ -336,3 +336,27 @@ def test_a_failed_second_process_says_why(plate, tmp_path):
 
     with pytest.raises(RenderProcessError, match="rendering process failed"):
         RenderProcess().render(plate[0], str(tmp_path / "missing" / "x.png"), "iso")
+
+
+def test_an_axisymmetric_mode_is_drawn_revolved_with_its_marks_and_nodal_lines():
+    """Issue 36 item 1: the axisymmetric answer is drawn on its meridian mesh swept round the axis; the PZT-5A
+    disc's (3,1) mode shows both electrodes (top and bottom faces) and nodal lines at the zero of its revolved field
+    (as the plate's above: within 5 % of the peak)."""
+    from modalfe.plot.render import mode_grid, nodal_lines, render_mode
+    from tests.oracles.discs import PZT5A_DISC
+
+    modes = solve_modes(PZT5A_DISC, fidelity="axisymmetric", harmonics=3, near=77e3, count=2, error_estimate=False)
+    mode = modes.labelled("(3,1)")
+    plotter = render_mode(mode, window_size=(600, 300), view="iso+bottom")
+    try:
+        markers = plotter._modalfe["markers"]
+        assert {m.group for m in markers} == {"electrode_a", "electrode_b"}
+        for i, m in enumerate(markers):  # each seen from its side, as the plates' markers above
+            view = "iso" if "iso" in m.seen_from() else "bottom"
+            assert _visible_pixels(plotter, f"marker:{m.group}:{i}:{view}") > 20, m.group
+    finally:
+        plotter.close()
+    surface = mode_grid(mode).extract_surface(algorithm=None).triangulate()
+    peak = float(np.abs(surface.point_data["w"]).max())
+    lines = nodal_lines(mode, surface)
+    assert lines.n_points and np.abs(mode.displacement(lines.points)[:, 2]).max() < 0.05 * peak

@@ -265,3 +265,64 @@ def test_forced_response_per_volt_written_by_forced_vtu(tmp_path):
     assert np.all(peak >= np.maximum(*phases) * (1 - 1e-9)) and np.all(peak <= (phases[0] + phases[1]) * (1 + 1e-9))
     assert peak.max() > 0
     assert mesh.field_data["frequency [Hz]"][0] == pytest.approx(fig.mode.frequency, rel=1e-12)
+
+
+def test_the_axisymmetric_answer_is_exported_on_its_revolved_body(tmp_path):
+    """Issue 36 item 1: the axisymmetric model's modes go through the same export, on the meridian mesh swept round
+    the axis (linear hexahedra, positive volumes summing to the inscribed polygonal disc's), each mode's displacement
+    and potential at the points the revolved fields the point probes read there (two routes: the elements' basis at
+    the points' reference coordinates turned by the harmonic's cos / sin, and a point search in the meridian mesh),
+    the frequencies as field data, the cell arrays present."""
+    from modalfe.models.axisymmetric import _LABEL_ANGLES, DISPLAY_SPLIT
+    from tests.oracles.discs import PZT5A_DISC
+
+    modes = solve_modes(PZT5A_DISC, fidelity="axisymmetric", harmonics=3, error_estimate=False)
+    path = export_vtu(modes, tmp_path / "disc.vtu")
+    grid = pv.read(path)
+    volumes = grid.compute_cell_sizes(length=False, area=False).cell_data["Volume"]
+    k = _LABEL_ANGLES
+    polygon = k / 2 * np.sin(2 * np.pi / k) * 10e-3**2 * 1e-3  # the disc's 20 x 1 mm, inscribed polygon
+    assert grid.n_cells == k * DISPLAY_SPLIT**2 * modes.model.mesh.t.shape[1]
+    assert volumes.min() > 0 and volumes.sum() == pytest.approx(polygon, rel=1e-9)  # round-off only
+    np.testing.assert_allclose(grid.field_data["frequency [Hz]"], modes.frequencies, rtol=0)
+    for mode in modes:
+        u = grid.point_data[f"{mode_array_name(mode)} displacement [m]"]
+        peak = np.abs(u).max()
+        np.testing.assert_allclose(u, mode.displacement(grid.points), rtol=0, atol=REL * peak)
+        phi = grid.point_data[f"{mode_array_name(mode)} potential [V]"]
+        np.testing.assert_allclose(phi, mode.potential(grid.points), rtol=0, atol=REL * np.abs(phi).max())
+    with open(table_path(path)) as fh:
+        rows = list(csv.DictReader(fh))
+    assert [r["label"] for r in rows] == [m.label for m in modes]
+    assert all(f"{r['stress array']}" in grid.cell_data for r in rows)
+
+
+def test_the_revolved_cells_strain_stress_and_field_are_exact_for_uniform_fields():
+    """The axisymmetric cell arrays on fields they hold exactly: a uniform expansion (n = 0: U_r = a r, U_z = a z),
+    the in-plane pure shear u = b (x, -y, 0) (n = 2: U_r = b r, U_t = -b r), a uniform axial field E0 (n = 0:
+    Phi = -E0 z), plus a rigid radial translation (n = 1) and a rigid twist (n = 0: U_t = r), which strain nothing:
+    every cell reads the strain (a + b, a - b, a), the field (0, 0, E0) and T = c^E S - e^T E in xyz (PZT-5A poled
+    along the axis is transversely isotropic about it: its tensors are the same in every turned frame), to 1e-7 of
+    the values (the means of constants, the 1 / r terms of polynomials the elements hold; the fields' projection on
+    the basis, a mass-matrix solve, leaves up to 5e-9 of them: a wrong term would be of the values' size)."""
+    from modalfe.models.axisymmetric import assemble_axisymmetric
+    from modalfe.scene.materials import material
+    from tests.oracles.discs import PZT5A_DISC
+
+    model = assemble_axisymmetric(load_scene(PZT5A_DISC), harmonics=(0, 1, 2), order=2)
+    a, b, E0 = 1e-4, 3e-5, 2e5
+    nodes = np.arange(model.basis.N)
+    x = model.rigid_translations()[0].copy()
+    for n, c, f in ((0, 0, lambda p: a * p[0]), (0, 2, lambda p: a * p[1]), (2, 0, lambda p: b * p[0]),
+                    (2, 1, lambda p: -b * p[0]), (0, 1, lambda p: p[0])):
+        x[model.u_dof(model.harmonics.index(n), nodes, c)] += model.basis.project(f)
+    phi = model.basis.project(lambda p: -E0 * p[1])
+    x[model.phi_dof(0, np.arange(len(model.phi_nodes)))] = phi[model.phi_nodes]
+    strain, stress, field = model.cell_fields(x)
+    S = np.array([a + b, a - b, a, 0, 0, 0])
+    pzt = material("PZT-5A")
+    E = np.array([0, 0, E0])
+    np.testing.assert_allclose(strain, np.tile(S, (len(strain), 1)), rtol=0, atol=1e-7 * a)
+    np.testing.assert_allclose(field, np.tile(E, (len(field), 1)), rtol=0, atol=1e-7 * E0)
+    T = pzt.C @ S - pzt.e.T @ E
+    np.testing.assert_allclose(stress, np.tile(T, (len(stress), 1)), rtol=0, atol=1e-7 * np.abs(T).max())

@@ -43,7 +43,6 @@ potential one floating unknown (its n >= 1 potentials stay zero in both circuits
 
 from __future__ import annotations
 
-import functools
 import itertools
 import math
 import time
@@ -55,22 +54,21 @@ import scipy.sparse as sp
 from modalfe.errors import SceneError
 from modalfe.geometry.shapes import AXES, Cylinder, Ring
 from modalfe.models.constraints import Constraints
+from modalfe.models.meridian_forms import (
+    circumference,
+    coupled_tensor,
+    local_material,
+    region_stiffness,
+    segment_dofs,
+)
+from modalfe.models.revolved import REVOLVED_ANGLES, Revolved
 from modalfe.models.solid import PiezoUnknowns
 
 ORDERS = (2, 3, 4)  # Lagrange quadrilateral orders offered (scikit-fem ElementQuadP)
-# relative tolerance of the material checks: a tensor unchanged by a turn about the axis, no cos-sin coupling
-_ISOTROPY_TOL = 1e-9
-_COS = [0, 1, 2, 4, 6, 8]  # generalised strain rows carried by cos n theta (rr, tt, zz, rz, G_r, G_z)
-_SIN = [3, 5, 7]  # rows carried by sin n theta (tz, rt, G_t)
 _ON_SURFACE = 1e-9  # element sizes by which a probed point may lie outside the mesh's bounds (round-off)
 # harmonics assembled where ``mesh.harmonics`` is None and none are given: the first try of the solve's rule
 # (``modalfe.solve.axisymmetric.solve_axisymmetric`` raises them until the top one holds no mode of the answer)
 FIRST_HARMONICS = 4
-_LABEL_ANGLES = 64  # angles the meridian is revolved at for the disc labeller (harmonics up to 10 resolved)
-# each meridian element cut in DISPLAY_SPLIT x DISPLAY_SPLIT cells for the revolved body drawn and exported: an
-# element (order 2-4) varies through its span, which one cell would average away (a disc one element thick bends
-# through it: a flexural mode's cell-mean stress through the whole thickness is zero)
-DISPLAY_SPLIT = 3
 
 
 @dataclass(frozen=True)
@@ -154,72 +152,9 @@ def meridian_section(scene, size_factor: float = 1.0) -> MeridianSection:
         r0, r1 = (0.0, part.radius) if isinstance(part, Cylinder) else (part.inner, part.outer)
         z0 = float(part.centre[k])
         regions.append(Region(part.name, r0, r1, z0, z0 + part.height,
-                              _local_material(scene, part, frame), bool(part.poling)))
+                              local_material(scene, part, frame), bool(part.poling)))
     size = min(element_sizes(scene).values()) * size_factor
     return MeridianSection(tuple(regions), axis, origin, radial, size)
-
-
-def _local_material(scene, part, frame: np.ndarray):
-    """The part's material in the local (r, theta, z) frame: a ceramic poled along +-z (the axis) or +-radial turned
-    so its 3-axis points that way, any other material seen from ``frame`` (rows: local axes in xyz); SceneError
-    naming the part's poling or material where the result would couple harmonics (not symmetric about the axis)."""
-    from modalfe.scene.materials import poling_frames
-
-    mat = scene.material(part.material)
-    if part.poling:
-        if part.poling.endswith("radial"):
-            direction = np.array([1.0, 0.0, 0.0])
-        elif part.poling[1] == part.axis:
-            direction = np.array([0.0, 0.0, 1.0])
-        else:
-            raise SceneError(f"parts.{part.name}.poling: '{part.poling}' is across the axis '{part.axis}', "
-                             f"not axisymmetric (pole along the axis or radially)")
-        local = mat.rotated(poling_frames(direction if part.poling[0] != "-" else -direction))
-    else:
-        local = mat.rotated(frame)
-        if local.is_piezoelectric:  # an unpoled ceramic: its elastic tensor only, as the 3-D model
-            from modalfe.scene.materials import ElasticMaterial
-
-            local = ElasticMaterial(local.name, local.C, local.rho, local.source)
-    D = coupled_tensor(local)
-    couples = np.abs(D[np.ix_(_COS, _SIN)]).max() > _ISOTROPY_TOL * np.abs(D).max()
-    radial = bool(part.poling) and part.poling.endswith("radial")  # cylindrically orthotropic: no turn invariance
-    if couples or not (radial or _turn_invariant(local)):
-        raise SceneError(f"parts.{part.name}.material: '{part.material}' is not transversely isotropic about the "
-                         f"axis '{part.axis}'; the axisymmetric model needs a body of revolution")
-    return local
-
-
-def _turn_invariant(material) -> bool:
-    """Whether ``material``'s tensors are unchanged by a turn about its local z (transverse isotropy about z)."""
-    c, s = math.cos(0.3), math.sin(0.3)
-    turned = coupled_tensor(material.rotated(np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])))
-    D = coupled_tensor(material)
-    return bool(np.abs(turned - D).max() <= _ISOTROPY_TOL * np.abs(D).max())
-
-
-def coupled_tensor(material) -> np.ndarray:
-    """[[c^E, e^T], [e, -eps^S]] (9, 9) on (S, G = -E) of a material (zero coupling and permittivity if passive):
-    the e-form energy density S^T c^E S + 2 S^T e^T G - G^T eps^S G (Allik & Hughes 1970)."""
-    D = np.zeros((9, 9))
-    D[:6, :6] = material.C
-    if material.is_piezoelectric:
-        D[:6, 6:], D[6:, :6], D[6:, 6:] = material.e.T, material.e, -material.eps_S
-    return D
-
-
-def strain_maps(n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(B0, Br, Bz), each (9, 4) on q = (U_r, U_t, U_z, Phi): [S; G] = B0 q / r + Br q,r + Bz q,z for harmonic
-    ``n`` (the strain table of the module docstring)."""
-    B0, Br, Bz = np.zeros((9, 4)), np.zeros((9, 4)), np.zeros((9, 4))
-    Br[0, 0] = 1.0  # S_rr = U_r,r
-    B0[1, 0], B0[1, 1] = 1.0, n  # S_tt = (U_r + n U_t) / r
-    Bz[2, 2] = 1.0  # S_zz = U_z,z
-    Bz[3, 1], B0[3, 2] = 1.0, -n  # S_tz = U_t,z - n U_z / r
-    Bz[4, 0], Br[4, 2] = 1.0, 1.0  # S_rz = U_r,z + U_z,r
-    Br[5, 1], B0[5, 0], B0[5, 1] = 1.0, -n, -1.0  # S_rt = U_t,r - (n U_r + U_t) / r
-    Br[6, 3], B0[7, 3], Bz[8, 3] = 1.0, -n, 1.0  # G = (Phi,r, -n Phi / r, Phi,z)
-    return B0, Br, Bz
 
 
 def meridian_mesh(section: MeridianSection):
@@ -244,7 +179,7 @@ def meridian_mesh(section: MeridianSection):
 
 
 @dataclass(frozen=True, eq=False)
-class AxisymmetricModel(PiezoUnknowns):
+class AxisymmetricModel(PiezoUnknowns, Revolved):
     """Assembled harmonics n in ``harmonics`` of one meridian mesh, as one block-diagonal system (full DOF set, no
     constraint applied): u DOFs first (harmonic-major, then 3 per node: U_r, U_t, U_z), then the potentials
     (harmonic-major, one per scalar DOF of a poled part). ``electrodes``: face group -> indices into the phi unknowns
@@ -312,14 +247,14 @@ class AxisymmetricModel(PiezoUnknowns):
                         elements=np.flatnonzero(self.region == i))
             D = np.zeros((9, 9))
             D[:6, :6] = reg.material.C
-            for n, block in _region_stiffness(sub, D, self.harmonics).items():
+            for n, block in region_stiffness(sub, D, self.harmonics).items():
                 blocks[n] = blocks[n] + block
-        return sp.block_diag([(_circumference(n) * blocks[n]).tocsr()[u_idx][:, u_idx] for n in self.harmonics],
+        return sp.block_diag([(circumference(n) * blocks[n]).tocsr()[u_idx][:, u_idx] for n in self.harmonics],
                              format="csr")
 
     def vertex_field(self, x: np.ndarray, part: str) -> tuple[np.ndarray, np.ndarray]:
         """(points (3, m) [m], displacement (3, m) [m]) of the full DOF vector ``x`` at the vertices of ``part``'s
-        elements, revolved at ``_LABEL_ANGLES`` angles (those on the axis once)."""
+        elements, revolved at ``REVOLVED_ANGLES`` angles (those on the axis once)."""
         i = [reg.part for reg in self.section.regions].index(part)
         points, probes = self._revolved_vertices(np.unique(self.mesh.t[:, self.region == i]), axis_once=True)
         return points, (probes @ np.asarray(x)).reshape(3, -1)
@@ -330,7 +265,7 @@ class AxisymmetricModel(PiezoUnknowns):
         d = np.asarray(points, dtype=float).reshape(-1, 3) - self.section.origin
         z = d @ self.section.axis
         r = np.linalg.norm(d - np.outer(z, self.section.axis), axis=1)
-        chord = 1 - math.cos(math.pi / _LABEL_ANGLES)
+        chord = 1 - math.cos(math.pi / REVOLVED_ANGLES)
         regions = {reg.part: reg for reg in self.section.regions}
         on = np.zeros(len(r), dtype=bool)
         for face in self.scene.assembly().faces[group]:
@@ -436,7 +371,7 @@ class AxisymmetricModel(PiezoUnknowns):
         if circuit not in ("short", "open"):
             raise SceneError(f"circuit: must be 'short' or 'open', got '{circuit}'")
         N = self.basis.N
-        on_axis = np.concatenate(_segment_dofs(self.basis, lambda x: np.abs(x[0]) <= 1e-12 * self.section.element_size))
+        on_axis = np.concatenate(segment_dofs(self.basis, lambda x: np.abs(x[0]) <= 1e-12 * self.section.element_size))
         phi_on_axis = np.flatnonzero(np.isin(self.phi_nodes, on_axis))
         on_electrode = np.unique(np.concatenate([self.electrode_higher, *self.electrodes.values()]))
         scale = self.potential_scale()
@@ -520,139 +455,6 @@ class AxisymmetricModel(PiezoUnknowns):
         row = [sp.diags(np.cos(n * theta)) @ P for n in self.harmonics]
         return sp.hstack([sp.csr_matrix((P.shape[0], self.n_u)), *row], format="csr")
 
-    @functools.cached_property
-    def _label_probes(self) -> tuple[np.ndarray, sp.csr_matrix]:
-        return self._revolved_vertices(np.arange(self.mesh.p.shape[1]), axis_once=False)
-
-    def _revolved_vertices(self, vertices: np.ndarray, *, axis_once: bool) -> tuple[np.ndarray, sp.csr_matrix]:
-        """(points (3, m) [m], (3 m, ndofs) displacement probes) of the meridian mesh's ``vertices`` revolved
-        (``_revolved_points``; a Lagrange vertex's value is its DOF)."""
-        P = sp.csr_matrix((np.ones(len(vertices)), (np.arange(len(vertices)), self.basis.nodal_dofs[0][vertices])),
-                          shape=(len(vertices), self.basis.N))
-        points, which, angle = self._revolved_points(self.mesh.p[:, vertices], axis_once=axis_once)
-        return points, self._revolved(P[which], angle)
-
-    def _revolved_points(self, rz: np.ndarray, *, axis_once: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(points (3, m) [m], meridian point of each (m,), its angle (m,) [rad]) of the meridian points ``rz``
-        (2, n) [m] revolved at ``_LABEL_ANGLES`` angles (those of one meridian point consecutive); those on the axis
-        (one point per z, not a ring) once, after the others, where ``axis_once``, else left out."""
-        r, z = rz
-        on_axis = r <= 1e-12 * self.section.element_size
-        theta = np.linspace(0, 2 * np.pi, _LABEL_ANGLES, endpoint=False)
-        off = np.flatnonzero(~on_axis)
-        which = np.concatenate([np.repeat(off, len(theta)), np.flatnonzero(on_axis) if axis_once else []]).astype(int)
-        angle = np.concatenate([np.tile(theta, len(off)), np.zeros(len(which) - len(off) * len(theta))])
-        e1, e3 = self.section.radial, self.section.axis
-        e2 = np.cross(e3, e1)
-        points = (self.section.origin[:, None] + np.outer(e1, r[which] * np.cos(angle))
-                  + np.outer(e2, r[which] * np.sin(angle)) + np.outer(e3, z[which]))
-        return points, which, angle
-
-    @functools.cached_property
-    def _display(self) -> tuple[np.ndarray, np.ndarray, sp.csr_matrix]:
-        """(points (2, m) [m] of the meridian plane, cells (n_el DISPLAY_SPLIT^2, 4) into them, (m, basis.N) scalar
-        probes at the points): each element cut in DISPLAY_SPLIT x DISPLAY_SPLIT, cell e DISPLAY_SPLIT^2 + s the
-        sub-square s = i + DISPLAY_SPLIT j of element e (reference coordinates [i, i + 1] x [j, j + 1] /
-        DISPLAY_SPLIT), corners in the element's own order; a point's probe the element's basis at its reference
-        coordinates (no point search: a corner on the boundary is off the mesh by round-off)."""
-        from skfem import Basis
-
-        k = DISPLAY_SPLIT
-        corners = np.array([[0.0, 1.0, 1.0, 0.0], [0.0, 0.0, 1.0, 1.0]])
-        reference = np.hstack([(corners + np.array([[i], [j]])) / k for j in range(k) for i in range(k)])
-        flat = self.basis.mapping.F(reference).reshape(2, -1)  # (2, nel k^2 4): element, then sub-square, corner
-        scale = float(np.abs(flat).max())
-        _, first, index = np.unique(np.round(flat / scale, 10), axis=1, return_index=True, return_inverse=True)
-        at = Basis(self.mesh, self.basis.elem, quadrature=(reference, np.ones(reference.shape[1])))
-        element, point = np.divmod(first, reference.shape[1])
-        values = np.array([np.asarray(at.basis[i][0])[element, point] for i in range(at.Nbfun)])  # (Nbfun, m)
-        P = sp.csr_matrix((values.T.ravel(), (np.repeat(np.arange(len(first)), at.Nbfun),
-                                               self.basis.element_dofs[:, element].T.ravel())),
-                          shape=(len(first), self.basis.N))
-        return flat[:, first], index.reshape(-1, 4), P
-
-    @functools.cached_property
-    def revolved_mesh(self) -> tuple[np.ndarray, np.ndarray, sp.csr_matrix, sp.csr_matrix, np.ndarray]:
-        """(points (m, 3) [m], hexahedra (k, 8) in VTK order, displacement probes (3 m, ndofs) component-major,
-        potential probes (m, ndofs), region index of each hexahedron): the meridian mesh's elements, each cut in
-        DISPLAY_SPLIT x DISPLAY_SPLIT (``_display``), swept round the axis in ``_LABEL_ANGLES`` sectors, the revolved
-        body drawn and exported (hexahedron a n_cells + c: sector a, meridian cell c); a cell with an edge on the
-        axis sweeps to hexahedra whose axis edge is one line (degenerate, zero-area faces inside the body)."""
-        rz, quads, P = self._display
-        on_axis = rz[0] <= 1e-12 * self.section.element_size
-        points, which, angle = self._revolved_points(rz, axis_once=True)
-        off = np.flatnonzero(~on_axis)
-        k = _LABEL_ANGLES
-        ids = np.zeros((rz.shape[1], k), dtype=int)  # point id of each meridian point at each angle
-        ids[off] = np.arange(len(off) * k).reshape(len(off), k)
-        ids[on_axis] = (len(off) * k + np.arange(on_axis.sum()))[:, None]
-        # a cell in the element's corner order, then at the next angle: the positive volume VTK needs
-        cells = np.concatenate([np.hstack([ids[quads, j], ids[quads, (j + 1) % k]]) for j in range(k)])
-        return (points.T, cells, self._revolved(P[which], angle), self._potential_revolved(P[which], angle),
-                np.tile(np.repeat(self.region, DISPLAY_SPLIT**2), k))
-
-    def cell_fields(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(strain (k, 6) [-] with engineering shears, stress (k, 6) [Pa], electric field (k, 3) [V/m]) in the xyz
-        frame, Voigt order xx, yy, zz, yz, xz, xy, of the full DOF vector ``x`` on each hexahedron of
-        ``revolved_mesh``: the mean over its meridian cell (weight r dr dz, Gauss points of the model's order in the
-        cell) of the strain table's [S; G] of each harmonic (module docstring), taken at the sector's middle angle
-        (cos / sin n theta), the stress T = c^E S - e^T E = rows 0-5 of the region's coupled tensor times [S; G],
-        E = -G (zero outside the poled parts); turned from the local (r, theta, z) frame to xyz."""
-        from skfem import Basis
-        from skfem.quadrature import get_quadrature
-
-        x = np.asarray(x, dtype=float)
-        split = DISPLAY_SPLIT
-        X, W = get_quadrature(self.mesh.elem.refdom, 2 * self.basis.elem.maxdeg)
-        subs = [Basis(self.mesh, self.basis.elem, quadrature=((X + np.array([[i], [j]])) / split, W / split**2))
-                for j in range(split) for i in range(split)]
-        n_cells = self.mesh.t.shape[1] * split**2
-        k = _LABEL_ANGLES
-        theta = (np.arange(k) + 0.5) * 2 * np.pi / k
-        local = np.zeros((k, n_cells, 9))
-        for h, n in enumerate(self.harmonics):
-            phi = np.zeros(self.basis.N)
-            phi[self.phi_nodes] = x[self.phi_dof(h, np.arange(len(self.phi_nodes)))]
-            fields = [x[self.u_dof(h, np.arange(self.basis.N), c)] for c in range(3)] + [phi]
-            B0, Br, Bz = strain_maps(n)
-            mean = np.zeros((9, n_cells))
-            for at, sub in enumerate(subs):
-                r = np.asarray(sub.global_coordinates())[0]  # at the quadrature points (nel, nq) [m]
-                weight = sub.dx * r  # r dr dz
-                q = [sub.interpolate(f) for f in fields]
-                values = np.array([np.asarray(f) for f in q])  # (4, nel, nq)
-                grads = np.array([f.grad for f in q])  # (4, 2, nel, nq)
-                SG = (np.einsum("ij,jeq->ieq", B0, values / r) + np.einsum("ij,jeq->ieq", Br, grads[:, 0])
-                      + np.einsum("ij,jeq->ieq", Bz, grads[:, 1]))
-                mean[:, at::split**2] = np.sum(SG * weight, axis=-1) / np.sum(weight, axis=-1)
-            angle = np.ones((k, 9))
-            angle[:, _COS] = np.cos(n * theta)[:, None]
-            angle[:, _SIN] = np.sin(n * theta)[:, None] if n else 1.0  # n = 0: the torsional set, no angle
-            local += angle[:, None, :] * mean.T[None]
-        region = np.repeat(self.region, split**2)
-        stress = np.zeros((k, n_cells, 6))
-        field = np.zeros((k, n_cells, 3))
-        for i, reg in enumerate(self.section.regions):
-            at = region == i
-            stress[:, at] = local[:, at] @ coupled_tensor(reg.material)[:6].T
-            if reg.poled:
-                field[:, at] = -local[:, at, 6:]
-        e1, e3 = self.section.radial, self.section.axis
-        e2 = np.cross(e3, e1)
-        R = np.stack([np.outer(np.cos(theta), e1) + np.outer(np.sin(theta), e2),
-                      -np.outer(np.sin(theta), e1) + np.outer(np.cos(theta), e2),
-                      np.tile(e3, (k, 1))], axis=-1)  # (k, 3, 3): columns e_r, e_theta, e_z in xyz
-        strain = _turned(_tensor(local[..., :6], 0.5), R)
-        return (_voigt(strain, 2.0).reshape(-1, 6), _voigt(_turned(_tensor(stress, 1.0), R), 1.0).reshape(-1, 6),
-                np.einsum("kij,kej->kei", R, field).reshape(-1, 3))
-
-    def label_field(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(points (3, m) [m], displacement (3, m) [m]) of the full DOF vector ``x`` on the mesh vertices revolved
-        at ``_LABEL_ANGLES`` angles: the whole body's field the disc labeller reads (``modalfe.results.labels``)."""
-        points, probes = self._label_probes
-        return points, (probes @ np.asarray(x)).reshape(3, -1)
-
-
 # a face's (displacement component (0 r, 2 z), outward normal's sign along it) in the meridian plane
 _FACE_NORMALS = {"top": (2, 1.0), "bottom": (2, -1.0), "outer": (0, 1.0), "inner": (0, -1.0)}
 
@@ -686,28 +488,6 @@ def _face_segment(reg: Region, side: str, tol: float):
         return lambda x: (np.abs(x[1] - at) <= tol) & (x[0] >= reg.r0 - tol) & (x[0] <= reg.r1 + tol)
     at = reg.r1 if side == "outer" else reg.r0
     return lambda x: (np.abs(x[0] - at) <= tol) & (x[1] >= reg.z0 - tol) & (x[1] <= reg.z1 + tol)
-
-
-_VOIGT_PAIRS = ((0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1))  # Voigt order xx, yy, zz, yz, xz, xy
-
-
-def _tensor(voigt: np.ndarray, shear: float) -> np.ndarray:
-    """(..., 3, 3) symmetric tensors of Voigt (..., 6) whose shear entries are multiplied by ``shear`` (1/2 for an
-    engineering strain, 1 for a stress)."""
-    t = np.zeros((*voigt.shape[:-1], 3, 3))
-    for v, (i, j) in enumerate(_VOIGT_PAIRS):
-        t[..., i, j] = t[..., j, i] = voigt[..., v] * (shear if i != j else 1.0)
-    return t
-
-
-def _voigt(tensor: np.ndarray, shear: float) -> np.ndarray:
-    """Voigt (..., 6) of (..., 3, 3) tensors, shear entries times ``shear`` (2 for an engineering strain)."""
-    return np.stack([tensor[..., i, j] * (shear if i != j else 1.0) for i, j in _VOIGT_PAIRS], axis=-1)
-
-
-def _turned(tensor: np.ndarray, R: np.ndarray) -> np.ndarray:
-    """R T R^T of the tensors (k, m, 3, 3) with the rotations R (k, 3, 3): local (r, theta, z) to xyz."""
-    return np.einsum("kia,kmab,kjb->kmij", R, tensor, R)
 
 
 def _snapped(v: np.ndarray, lo: float, hi: float, slack: float) -> np.ndarray:
@@ -752,7 +532,7 @@ def assemble_axisymmetric(scene, *, harmonics: tuple[int, ...] | None = None, or
         if reg.poled:
             poled_elements.append(elements)
         sub = Basis(mesh, element, intorder=2 * order + 2, elements=elements)
-        for n, block in _region_stiffness(sub, coupled_tensor(reg.material), harmonics).items():
+        for n, block in region_stiffness(sub, coupled_tensor(reg.material), harmonics).items():
             K_blocks[n].append(block)
         mass = BilinearForm(lambda u, v, w: w.x[0] * u * v).assemble(sub)
         M_terms.append(reg.material.rho * mass)
@@ -763,7 +543,7 @@ def assemble_axisymmetric(scene, *, harmonics: tuple[int, ...] | None = None, or
     K_u, K_up, K_p, M_u = [], [], [], []
     M_scalar = sum(M_terms)
     for n in harmonics:
-        c_n = _circumference(n)
+        c_n = circumference(n)
         K4 = (c_n * sum(K_blocks[n])).tocsr()
         K_u.append(K4[u_idx][:, u_idx])
         K_up.append(K4[u_idx][:, phi_idx])
@@ -784,51 +564,8 @@ def assemble_axisymmetric(scene, *, harmonics: tuple[int, ...] | None = None, or
                              np.unique(np.concatenate(higher)), region, timings)
 
 
-def _circumference(n: int) -> float:
-    """c_n = int cos^2 n theta dtheta over the circumference: 2 pi for n = 0 (its torsional set too), pi above."""
-    return 2 * np.pi if n == 0 else np.pi
-
-
-def _region_stiffness(sub, D: np.ndarray, harmonics) -> dict[int, sp.csr_matrix]:
-    """n -> int r [S; G]^T D [S; G] dr dz over the elements of the basis ``sub`` (4 unknowns per node: U_r, U_t, U_z,
-    Phi), without c_n: sum_ab kron(int r d_a(v) d_b(u), B_a^T D B_b), d = (value / r, d/dr, d/dz) (module
-    docstring)."""
-    from skfem import BilinearForm
-
-    derivative = (lambda f, r: f / r, lambda f, r: f.grad[0], lambda f, r: f.grad[1])
-    forms = {}
-    for a in range(3):
-        for b in range(a, 3):
-            forms[a, b] = BilinearForm(lambda u, v, w, a=a, b=b: w.x[0] * derivative[a](v, w.x[0])
-                                       * derivative[b](u, w.x[0])).assemble(sub)
-            forms[b, a] = forms[a, b].T
-    out = {}
-    for n in harmonics:
-        B = strain_maps(n)
-        blocks = [sp.kron(forms[a, b], B[a].T @ D @ B[b], format="csr") for a in range(3) for b in range(3)
-                  if np.any(B[a].T @ D @ B[b])]
-        out[n] = sum(blocks) if blocks else sp.csr_matrix((4 * sub.N, 4 * sub.N))
-    return out
-
-
-def _segment_dofs(basis, on_segment) -> tuple[np.ndarray, np.ndarray]:
-    """(DOFs that are values, higher-order DOFs) of ``basis`` on the mesh facets whose midpoints (2, m) [m] satisfy
-    ``on_segment``: a field is zero there when both are; uniform when the values are equal and the higher-order ones
-    zero. The 9-node ``ElementQuad2``'s edge DOFs are midpoint values; ``ElementQuadP``'s are hierarchical."""
-    facets = basis.mesh.facets_satisfying(on_segment)
-    if not len(facets):
-        return np.zeros(0, dtype=int), np.zeros(0, dtype=int)
-    dofs = basis.get_dofs(facets)
-    nodal, edge = (np.unique(np.concatenate([*d.values(), np.zeros(0, dtype=int)])) for d in (dofs.nodal, dofs.facet))
-    from skfem import ElementQuadP
-
-    if isinstance(basis.elem, ElementQuadP):
-        return nodal, edge
-    return np.union1d(nodal, edge), np.zeros(0, dtype=int)
-
-
 def _electrode_dofs(scene, section: MeridianSection, basis) -> dict[str, tuple[np.ndarray, np.ndarray]]:
-    """Electrode face group -> (value DOFs, higher-order DOFs) of ``basis`` on its faces (``_segment_dofs``; a
+    """Electrode face group -> (value DOFs, higher-order DOFs) of ``basis`` on its faces (``segment_dofs``; a
     part's top or bottom: a segment of constant z, its outer or inner wall: one of constant r)."""
     regions = {reg.part: reg for reg in section.regions}
     tol = 1e-9 * section.element_size
@@ -836,6 +573,6 @@ def _electrode_dofs(scene, section: MeridianSection, basis) -> dict[str, tuple[n
     for group in scene.electrodes:
         found = []
         for face in scene.assembly().faces[group]:
-            found.append(_segment_dofs(basis, _face_segment(regions[face.part], face.side, tol)))
+            found.append(segment_dofs(basis, _face_segment(regions[face.part], face.side, tol)))
         out[group] = tuple(np.unique(np.concatenate([f[i] for f in found])) for i in (0, 1))
     return out

@@ -273,14 +273,14 @@ def test_the_axisymmetric_answer_is_exported_on_its_revolved_body(tmp_path):
     and potential at the points the revolved fields the point probes read there (two routes: the elements' basis at
     the points' reference coordinates turned by the harmonic's cos / sin, and a point search in the meridian mesh),
     the frequencies as field data, the cell arrays present."""
-    from modalfe.models.axisymmetric import _LABEL_ANGLES, DISPLAY_SPLIT
+    from modalfe.models.revolved import DISPLAY_SPLIT, REVOLVED_ANGLES
     from tests.oracles.discs import PZT5A_DISC
 
     modes = solve_modes(PZT5A_DISC, fidelity="axisymmetric", harmonics=3, error_estimate=False)
     path = export_vtu(modes, tmp_path / "disc.vtu")
     grid = pv.read(path)
     volumes = grid.compute_cell_sizes(length=False, area=False).cell_data["Volume"]
-    k = _LABEL_ANGLES
+    k = REVOLVED_ANGLES
     polygon = k / 2 * np.sin(2 * np.pi / k) * 10e-3**2 * 1e-3  # the disc's 20 x 1 mm, inscribed polygon
     assert grid.n_cells == k * DISPLAY_SPLIT**2 * modes.model.mesh.t.shape[1]
     assert volumes.min() > 0 and volumes.sum() == pytest.approx(polygon, rel=1e-9)  # round-off only

@@ -83,14 +83,23 @@ def _check_same_partners(pairs: list[tuple]) -> None:
         assert likeness > SAME_SHAPE, mode.label
 
 
-@settings(max_examples=4, deadline=None, phases=(Phase.explicit, Phase.generate),
-          suppress_health_check=[HealthCheck.too_slow])
-@given(length=st.floats(4.0, 10.0), thickness=st.floats(0.5, 1.5), material=st.sampled_from(["PZT-5A", "PZT-4"]),
-       base=st.sampled_from([0.0, 0.5, 1.0]), split=st.booleans(), count=st.integers(2, 6))
-def test_the_partners_from_the_short_modes_are_the_fresh_open_solves(length, thickness, material, base, split,
-                                                                      count):
+BARS = {"length": st.floats(4.0, 10.0), "thickness": st.floats(0.5, 1.5),
+        "material": st.sampled_from(["PZT-5A", "PZT-4"]), "base": st.sampled_from([0.0, 0.5, 1.0]),
+        "split": st.booleans(), "count": st.integers(2, 6)}
+GENERATED = {"deadline": None, "phases": (Phase.explicit, Phase.generate),
+             "suppress_health_check": [HealthCheck.too_slow]}
+
+
+def _check_generated_bar(length, thickness, material, base, split, count) -> None:
     scene = scene_from_dict(_bar(length, thickness, material, base, split))
     _check_same_partners(_partners_both_ways(scene, scene.analysis.near, count))
+
+
+test_the_partners_from_the_short_modes_are_the_fresh_open_solves = \
+    settings(max_examples=4, **GENERATED)(given(**BARS)(_check_generated_bar))
+# 20 generated devices, ~1 s each
+test_the_partners_from_the_short_modes_are_the_fresh_open_solves_many = \
+    pytest.mark.slow(settings(max_examples=20, **GENERATED)(given(**BARS)(_check_generated_bar)))
 
 
 def test_the_ciliary_beams_partners_come_from_its_short_modes():
@@ -111,14 +120,3 @@ def test_blocks_that_do_not_settle_leave_the_answer_to_lanczos(monkeypatch, capl
         pairs = _partners_both_ways(scene, scene.analysis.near, 4)
     assert "Lanczos instead" in caplog.text
     _check_same_partners(pairs)
-
-
-@pytest.mark.slow  # 20 generated devices, ~1 s each
-@settings(max_examples=20, deadline=None, phases=(Phase.explicit, Phase.generate),
-          suppress_health_check=[HealthCheck.too_slow])
-@given(length=st.floats(4.0, 10.0), thickness=st.floats(0.5, 1.5), material=st.sampled_from(["PZT-5A", "PZT-4"]),
-       base=st.sampled_from([0.0, 0.5, 1.0]), split=st.booleans(), count=st.integers(2, 6))
-def test_the_partners_from_the_short_modes_are_the_fresh_open_solves_many(length, thickness, material, base, split,
-                                                                           count):
-    scene = scene_from_dict(_bar(length, thickness, material, base, split))
-    _check_same_partners(_partners_both_ways(scene, scene.analysis.near, count))

@@ -28,7 +28,9 @@ DISC = str(Path(__file__).resolve().parents[1] / "examples" / "pzt5a_disc.toml")
 CASES = {
     "cube_plate": ("(0,6)", None, ["--band", "38e3", "41e3"]),
     "glass_plate": ("(0,8)", None, ["--band", "60e3", "70e3"]),
-    "honeycomb_tile": ("(1,1)", None, None),
+    # heave, the working mode its centre actuator drives: the (1,1) mode has nodal lines through the centre, where the
+    # scene's force sits, and ``forced`` refuses a load that does not drive the mode (issue 35)
+    "honeycomb_tile": ("heave", None, None),
     "ciliary_beam": ("bending-z 6", None, ["--band", "20e3", "23e3"]),
     "disc": ("R1", 99e3, ["--band", "95e3", "105e3"]),
 }

@@ -319,7 +319,7 @@ def write_mode_table(modes, path: str | Path) -> Path:
         writer.writerow(CSV_HEADER)
         for m in modes:
             error = "" if math.isnan(m.error_estimate) else f"{m.error_estimate:.3g}"
-            writer.writerow([m.index, m.label, f"{m.frequency:.6f}", error, m.circuit,
+            writer.writerow([m.index, m.label, repr(m.frequency), error, m.circuit,  # the float exactly
                              f"{mode_array_name(m)} displacement [m]", f"{mode_array_name(m)} potential [V]",
                              *(f"{mode_array_name(m)} {name}" for name in CELL_ARRAYS)])
     return path

@@ -27,6 +27,7 @@ import scipy.sparse as sp
 from modalfe.errors import SceneError
 from modalfe.models import box_assembly, mapped_assembly
 from modalfe.models.constraints import Constraints, shared_unknowns
+from modalfe.models.part_material import material_of, radially_poled
 from modalfe.models.probing import probing
 from modalfe.models.symmetry import fold, solved_elements, unfold
 
@@ -69,12 +70,9 @@ class PiezoUnknowns:
         return np.einsum("ik,ik->k", u, self.attached_mass @ u) / np.where(total > 0, total, 1.0)
 
     def constraints(self, circuit: str) -> Constraints:
-        """``_constraints(circuit)``, made once per model and circuit: every step that maps free unknowns asks for it
-        (17 times in an admittance of the Cu-Be plate, 0.02 s each)."""
+        """``_constraints(circuit)``, made once per model and circuit (17 asks an admittance, 0.02 s each)."""
         kept = self.__dict__.setdefault("_kept_constraints", {})
-        if circuit not in kept:
-            kept[circuit] = self._constraints(circuit)
-        return kept[circuit]
+        return kept[circuit] if circuit in kept else kept.setdefault(circuit, self._constraints(circuit))
 
     def _constraints(self, circuit: str) -> Constraints:
         """The map from free unknowns to the full DOF vector for a ``short`` or ``open`` circuit.
@@ -398,38 +396,6 @@ def parts_stiffness(model, names: set[str] | frozenset[str]) -> sp.csr_matrix:
     the same assembly as the whole model's; for the strain energy U = u^T K u / 2 of those parts."""
     parts = [part for part in model.scene.assembly().parts if part.name in names]
     return _elastic(model.scene, model.mesh, model.u_basis, parts, model.frame)[0]
-
-
-def material_of(scene, part, frame) -> tuple[object, object]:
-    """(material, tensors) of one part: the material poled along the part's poling direction (boxes: +z or -z;
-    other parts: any axis, ``modalfe.scene.materials.poling_frames``) and turned by ``frame``; ``tensors(basis)``
-    gives (c^E, e, eps^S) on a batch basis, constant, or for radial poling one set per quadrature point: the poling
-    axis follows the radius at each point, so the only error is the quadrature's (of order h^(2p) like the
-    rest of the element integrals), where per-element centroid tensors would add an O(h) error in the direction."""
-    from modalfe.scene.materials import poled_tensors, poling_frames
-
-    mat = scene.material(part.material)
-    if radially_poled(part):  # varies through the part
-        def tensors(basis):
-            x = np.asarray(basis.global_coordinates())  # (3, nel, nq), in the rotated frame if any
-            if frame is not None:
-                x = np.einsum("ji,jeq->ieq", frame, x)
-            R = poling_frames(part.poling_directions(x))
-            return poled_tensors(mat, R if frame is None else frame @ R)
-
-        return mat, tensors
-    if part.poling:
-        mat = mat.poled(part.poling) if isinstance(part.poling, int) else mat.rotated(poling_frames(part.poling_vector))
-    if frame is not None:
-        mat = mat.rotated(frame)
-    constant = (mat.C, getattr(mat, "e", None), getattr(mat, "eps_S", None))
-    return mat, lambda basis: constant
-
-
-def radially_poled(part) -> bool:
-    """Whether ``part`` is poled along its radius: its material tensors vary from point to point
-    (``material_of``); every other part's are constant."""
-    return bool(part.poling) and part.poling_vector is None
 
 
 def _supported_dofs(scene, device_mesh, u_basis) -> tuple[np.ndarray, tuple[np.ndarray, ...]]:

@@ -68,7 +68,8 @@ def part_fields(model, x: np.ndarray, part: str) -> PartFields:
     module docstring's relations."""
     from skfem import Basis, ElementVector
 
-    from modalfe.models.solid import element_for, material_of
+    from modalfe.models.part_material import material_of
+    from modalfe.models.solid import element_for
 
     dm, scene = model.mesh, model.scene
     if part not in dm.parts:

@@ -463,22 +463,22 @@ def modal_admittance(modes, frequency, losses: Losses, *, residual: str = "centr
     # the load on the modes left out (module docstring): a kept mode beside sigma (the band's centre 0.03 % from the
     # Cu-Be plate's (0,6)) is not in it, so GMRES on the eigen solve's kept factorization converges (``shifted_solve``)
     F_left = F - B @ (free_values(model.constraints("short").T, shapes) @ theta)
-    try:
-        x_left = shifted_solve(A, B, sigma, kept)(F_left)
+    try:  # one solve function for both right-hand sides (without a kept one, it factorizes once)
+        x_left = (solve := shifted_solve(A, B, sigma, kept))(F_left)
     except SolverError as exc:
         if sigma == 0:
             raise SolverError(f"residual: the static solve failed ({exc}); a free body (no clamps or springs) needs "
                               f"residual='centre'") from None
         sigma = _shift_clear_of_modes(w, omega_r)  # the band's centre lies on a resonance: any shift in it serves
         try:
-            x_left = shifted_solve(A, B, sigma, kept)(F_left)
+            x_left = (solve := shifted_solve(A, B, sigma, kept))(F_left)
         except SolverError as again:
             raise SolverError(f"residual: the solve at {np.sqrt(sigma) / 2 / np.pi:.6g} Hz, beside the band's "
                               f"centre on a resonance, failed ({again})") from None
     c, h, text = modal_losses(used, model, losses)
     B_x = B @ x_left
     q_res0, q_res1 = C_b + float(F @ x_left), float(x_left @ B_x)
-    q_res2 = float(B_x @ shifted_solve(A, B, sigma, kept)(B_x))  # x_left . B (A - sigma B)^-1 B x_left
+    q_res2 = float(B_x @ solve(B_x))  # x_left . B (A - sigma B)^-1 B x_left
     C_S = clamped_capacitance(model)
     factor = model.copies
 

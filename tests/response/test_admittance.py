@@ -106,6 +106,21 @@ def test_the_residual_is_taken_at_the_kept_eigen_shift_in_the_band():
     assert np.max(np.abs(modal.Y - direct) / np.abs(direct)) < 1e-4
 
 
+def test_the_residuals_two_solves_share_one_factorization(bar, monkeypatch):
+    # with no factorization kept: the residual's value and curvature solves at the
+    # band's centre factorize A - sigma B once between them (twice before: a second factorization for the same shift)
+    import modalfe.solve.linalg as linalg
+    from modalfe.solve import levels
+
+    scene, modes = bar
+    levels._SHORT_SOLVES.clear()  # no factorization kept from another test's solve of the same (cached) model
+    calls = []
+    original = linalg.factorize
+    monkeypatch.setattr(linalg, "factorize", lambda *a, **k: calls.append(1) or original(*a, **k))
+    modal_admittance(modes, np.array([30e3, 60e3]), resolve_losses(scene))
+    assert len(calls) == 1
+
+
 def test_material_losses_weight_qm_by_strain_energy(bar):
     scene, modes = bar
     losses = resolve_losses(scene, damping="material")

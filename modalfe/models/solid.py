@@ -333,7 +333,11 @@ def assemble(scene, device_mesh, *, frame: np.ndarray | None = None) -> Model:
         Muu = Muu + attached
     phi_dofs, Kup, Kpp = _piezo_blocks(mesh, scalar, intorder, scalar_dofs, piezo_parts, n_u, chunk_size)
     n_phi = len(phi_dofs)
-    if n_phi:  # stacking CSR blocks row by row is twice as fast as sp.bmat
+    if n_phi:  # stacking CSR blocks row by row is twice as fast as sp.bmat; canonical blocks give a canonical K,
+        # whose projection then needs no sort (``modalfe.solve.linalg.upper_triangle``: 0.47 s on the Cu-Be plate)
+        Kuu.sum_duplicates()
+        Kup = Kup.tocsr()
+        Kup.sum_duplicates()
         K = sp.vstack([sp.hstack([Kuu, Kup], format="csr"), sp.hstack([Kup.T.tocsr(), -Kpp], format="csr")],
                       format="csr")
         M = sp.csr_matrix((Muu.data, Muu.indices, np.r_[Muu.indptr, np.full(n_phi, Muu.indptr[-1])]),

@@ -63,11 +63,11 @@ def _mkl_found() -> bool:
 
 class Shifted:
     """A - shift B of symmetric A, B, not formed, for ``factorize`` and ``counted_factorization``: a factorization takes
-    its upper triangle from the pair's ``_Pencil`` (A's and B's upper triangles, made on the pair's second shift), a
-    residual multiplies by A and B. Forming it and taking its
-    triangle on every shift cost a fifth of a factorization: 0.25 CPU seconds on the Cu-Be plate's quartic model
-    (30,865 DOFs, 16.5 million entries; ``scipy.sparse`` merges two patterns and A's rows come unsorted from the
-    projection), against 0.04 s from the pencil."""
+    its upper triangle from the pair's ``_Pencil`` (made on the pair's first shift and kept while the pair lives), a
+    residual multiplies by A and B. Every shift of a pair then has one pattern (PARDISO's analysis shared,
+    ``_Analysis``) and costs one vector operation: forming A - s B and taking its triangle on every shift cost 0.2-0.4
+    CPU seconds on the Cu-Be plate's quartic model (30,865 DOFs, 16.5 million entries; two patterns merged by
+    ``scipy.sparse``)."""
 
     def __init__(self, A: sp.spmatrix, B: sp.spmatrix, shift: float):
         self.A, self.B, self.shift = A, B, float(shift)
@@ -77,8 +77,8 @@ class Shifted:
         return self.A @ x - self.shift * (self.B @ x)
 
     def upper(self) -> sp.csr_matrix:
-        """The upper triangle (diagonal included) in canonical form: formed on a pair's first shift (most pairs are
-        shifted once: an estimate level's eigen solve), from the pair's pencil on its later ones."""
+        """The upper triangle (diagonal included) in canonical form, on A's pattern (its explicit zeros kept) where
+        B's pattern lies in it (a mass matrix in its stiffness matrix's), else the formed matrix's."""
         pencil = _pencil(self.A, self.B)
         if pencil is None:
             return upper_triangle(sp.csr_matrix(self.A - self.shift * self.B, dtype=float))
@@ -89,35 +89,49 @@ class Shifted:
 
 
 class _Pencil:
-    """The upper triangles of symmetric A and B in canonical form, so that A - s B of any s is one sparse
-    subtraction on sorted rows (``Shifted``; the pencil itself costs about one formed shift, 0.2 CPU seconds on the
-    Cu-Be plate's quartic model)."""
+    """A's upper triangle in canonical form and B's upper triangle's values placed in its pattern (``b``), so that
+    the triangle of A - s B of any s is one vector operation on A's values, on A's index arrays (``aligned`` makes
+    it; None where B has an entry outside A's pattern)."""
 
-    def __init__(self, A: sp.spmatrix, B: sp.spmatrix):
-        self.a, self.b = (upper_triangle(sp.csr_matrix(X, dtype=float)) for X in (A, B))
+    def __init__(self, a: sp.csr_matrix, b: np.ndarray):
+        self.a, self.b = a, b
+
+    @classmethod
+    def aligned(cls, A: sp.spmatrix, B: sp.spmatrix) -> _Pencil | None:
+        a, b = (upper_triangle(sp.csr_matrix(X, dtype=float)) for X in (A, B))
+        # each of b's entries' position in a: a's positions (1-based, exact in a float) multiplied entry by entry
+        # with b's pattern keep exactly the positions of b's entries, in b's (canonical) order
+        positions = sp.csr_matrix((np.arange(1.0, a.nnz + 1), a.indices, a.indptr), shape=a.shape)
+        at = positions.multiply(sp.csr_matrix((np.ones(b.nnz), b.indices, b.indptr), shape=b.shape)).tocsr()
+        if at.nnz != b.nnz:
+            return None
+        placed = np.zeros(a.nnz)
+        placed[at.data.astype(np.int64) - 1] = b.data
+        return cls(a, placed)
 
     def upper(self, shift: float) -> sp.csr_matrix:
-        upper = sp.csr_matrix(self.a - shift * self.b)
-        upper.sort_indices()  # canonical already (sorted inputs); PARDISO reads the rows in order
+        values = np.multiply(self.b, -shift)  # one new array: a factorization keeps its matrix's values
+        values += self.a.data
+        upper = sp.csr_matrix((values, self.a.indices, self.a.indptr), shape=self.a.shape)
+        upper.has_sorted_indices = True  # a's rows, canonical: PARDISO reads them in order
         return upper
 
 
-# the pairs shifted last, while both live (``_pencil``), with their pencil from their second shift on: a band's Sturm
-# counts, its eigen shift and its residual are shifts of one pair
+# the pairs shifted last, while both live (``_pencil``), with their pencil: a band's Sturm counts, its eigen shift and
+# its residual are shifts of one pair
 KEPT_PENCILS = 3
-_PENCILS: list[list] = []  # [weakref to A, weakref to B, _Pencil or None]
+_PENCILS: list[list] = []  # [weakref to A, weakref to B, _Pencil or None (B outside A's pattern)]
 caches.register("shifted pencils", _PENCILS.clear)
 
 
 def _pencil(A: sp.spmatrix, B: sp.spmatrix) -> _Pencil | None:
-    """The pencil of (A, B), made on the pair's second shift; None on its first (the pair is then remembered)."""
+    """The pencil of (A, B), made on the pair's first shift and kept with the last ``KEPT_PENCILS`` pairs; None where
+    B's pattern does not lie in A's."""
     _PENCILS[:] = [k for k in _PENCILS if k[0]() is not None and k[1]() is not None]
     kept = next((k for k in _PENCILS if k[0]() is A and k[1]() is B), None)
     if kept is None:
-        _PENCILS[:] = [*_PENCILS[-(KEPT_PENCILS - 1):], [weakref.ref(A), weakref.ref(B), None]]
-        return None
-    if kept[2] is None:
-        kept[2] = _Pencil(A, B)
+        kept = [weakref.ref(A), weakref.ref(B), _Pencil.aligned(A, B)]
+        _PENCILS[:] = [*_PENCILS[-(KEPT_PENCILS - 1):], kept]
     return kept[2]
 
 

@@ -31,18 +31,21 @@ def _symmetric(rng: np.random.Generator, n: int, density: float, positive: bool)
 @given(seed=st.integers(0, 2**32 - 1), n=st.integers(2, 40), nested=st.booleans(),
        shift=st.floats(-5.0, 5.0, allow_nan=False))
 def test_the_pencils_upper_triangle_is_the_formed_matrixs(seed, n, nested, shift):
-    """Entry for entry (exact: one multiply and one subtract per entry either way), on B's pattern within A's or
-    across it, in the sorted rows PARDISO reads, on the pair's first shift and from its pencil on the next."""
+    """Entry for entry (exact: one multiply and one subtract per entry either way), on B's pattern within A's (then
+    on A's pattern, from the pair's pencil, the same index arrays on every shift: PARDISO's analysis shared) or
+    across it (formed), in the sorted rows PARDISO reads."""
     rng = np.random.default_rng(seed)
     A = _symmetric(rng, n, 0.3, positive=False)
     B = _symmetric(rng, n, 0.1, positive=True)
     if nested:
         A = A + abs(B) + sp.diags(np.ones(n))  # B's pattern within A's, as a stiffness holds its mass's
-    for s in (shift, 0.5 * shift + 1.0):  # the pair's first shift is formed, its second taken from its pencil
-        ours = linalg.Shifted(A, B, s).upper()
+    uppers = [linalg.Shifted(A, B, s).upper() for s in (shift, 0.5 * shift + 1.0)]
+    for s, ours in zip((shift, 0.5 * shift + 1.0), uppers):
         formed = sp.triu(A - s * B).tocsr()
         assert ours.has_canonical_format
         assert abs(ours - formed).max() == 0.0
+    if nested:
+        assert all(np.shares_memory(getattr(uppers[0], k), getattr(uppers[1], k)) for k in ("indices", "indptr"))
 
 
 def test_a_shifted_factorization_solves_and_counts_as_the_formed_one():

@@ -42,3 +42,17 @@ def test_free_bar_strains_by_the_d_constants(poling):
     assert u[0, far_x] == pytest.approx(poling * d[2, 0] * E3 * L, rel=1e-8)
     assert u[2, top] == pytest.approx(poling * d[2, 2] * E3 * T, rel=1e-8)
     assert d[2, 0] < 0 < d[2, 2]  # PZT: contracts across, extends along the poling axis
+
+
+@pytest.mark.parametrize("poling", [1, -1])
+def test_the_voltage_load_is_minus_k_times_the_prescribed_potential(poling):
+    """``voltage_load`` reads K's driven rows only (K symmetric): the same vector as the full product -K x_V to
+    round-off (one product's sums in another order), and K is symmetric and canonical (sorted rows, no duplicates:
+    its projection then needs no sort) for the row reading to be right."""
+    model, _ = build_model(_bar(poling))
+    K = model.K
+    assert K.has_canonical_format
+    assert abs(K - K.T).max() <= 1e-12 * abs(K).max()
+    full = -(K @ model.prescribed_potential(100.0))
+    assert np.abs(model.voltage_load(100.0) - full).max() <= 1e-12 * np.abs(full).max()
+    assert np.abs(full).max() > 0

@@ -59,6 +59,7 @@ from modalfe.models.meridian_forms import (
     coupled_tensor,
     local_material,
     region_stiffness,
+    scalar_matrix,
     segment_dofs,
 )
 from modalfe.models.revolved import REVOLVED_ANGLES, Revolved
@@ -201,6 +202,9 @@ class AxisymmetricModel(PiezoUnknowns, Revolved):
     timings: dict[str, float] = field(default_factory=dict)
     clamped: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
     attached_mass: None = None
+    # each mode of a solve lies in one harmonic and stands for its whole degenerate pair: two modes close in frequency
+    # are distinct modes, not a pair to turn to its clearest basis (``modalfe.results.labels.unique_labels``)
+    pairs_apart = True
 
     @property
     def n_phi(self) -> int:
@@ -507,7 +511,7 @@ def assemble_axisymmetric(scene, *, harmonics: tuple[int, ...] | None = None, or
     ``scene``'s meridian section (``meridian_section``) on quadrilaterals of ``order`` (default ``mesh.order``; 2-4),
     element size x ``size_factor``: K = c_n sum_ab kron(int r d_a(v) d_b(u), B_a^T D B_b) with d = (value / r, d/dr,
     d/dz) (module docstring)."""
-    from skfem import Basis, BilinearForm, ElementQuad2, ElementQuadP
+    from skfem import Basis, ElementQuad2, ElementQuadP
 
     order = scene.mesh.order if order is None else order
     if order not in ORDERS:
@@ -534,8 +538,8 @@ def assemble_axisymmetric(scene, *, harmonics: tuple[int, ...] | None = None, or
         sub = Basis(mesh, element, intorder=2 * order + 2, elements=elements)
         for n, block in region_stiffness(sub, coupled_tensor(reg.material), harmonics).items():
             K_blocks[n].append(block)
-        mass = BilinearForm(lambda u, v, w: w.x[0] * u * v).assemble(sub)
-        M_terms.append(reg.material.rho * mass)
+        values = np.array([f[0].value for f in sub.basis])  # (nb, nel, nq)
+        M_terms.append(reg.material.rho * scalar_matrix(sub, values, values, sub.dx * sub.global_coordinates()[0]))
     phi_nodes = (np.unique(basis.element_dofs[:, np.concatenate(poled_elements)]) if poled_elements
                  else np.zeros(0, dtype=int))
     u_idx = np.arange(4 * N).reshape(N, 4)[:, :3].ravel()  # (U_r, U_t, U_z) of each node in 4-per-node

@@ -111,15 +111,15 @@ def circumference(n: int) -> float:
 def region_stiffness(sub, D: np.ndarray, harmonics) -> dict[int, sp.csr_matrix]:
     """n -> int r [S; G]^T D [S; G] dr dz over the elements of the basis ``sub`` (4 unknowns per node: U_r, U_t, U_z,
     Phi), without c_n: sum_ab kron(int r d_a(v) d_b(u), B_a^T D B_b), d = (value / r, d/dr, d/dz) (module
-    docstring)."""
-    from skfem import BilinearForm
-
-    derivative = (lambda f, r: f / r, lambda f, r: f.grad[0], lambda f, r: f.grad[1])
+    docstring). The scalar matrices int r d_a(v) d_b(u) are batched over the elements (``scalar_matrix``)."""
+    values = np.array([f[0].value for f in sub.basis])  # (nb, nel, nq)
+    grads = np.array([f[0].grad for f in sub.basis])  # (nb, 2, nel, nq)
+    r = np.asarray(sub.global_coordinates())[0]  # (nel, nq) [m]
+    d = (values / r, grads[:, 0], grads[:, 1])
     forms = {}
     for a in range(3):
         for b in range(a, 3):
-            forms[a, b] = BilinearForm(lambda u, v, w, a=a, b=b: w.x[0] * derivative[a](v, w.x[0])
-                                       * derivative[b](u, w.x[0])).assemble(sub)
+            forms[a, b] = scalar_matrix(sub, d[a], d[b], sub.dx * r)
             forms[b, a] = forms[a, b].T
     out = {}
     for n in harmonics:
@@ -128,6 +128,18 @@ def region_stiffness(sub, D: np.ndarray, harmonics) -> dict[int, sp.csr_matrix]:
                   if np.any(B[a].T @ D @ B[b])]
         out[n] = sum(blocks) if blocks else sp.csr_matrix((4 * sub.N, 4 * sub.N))
     return out
+
+
+def scalar_matrix(sub, test: np.ndarray, trial: np.ndarray, weight: np.ndarray) -> sp.csr_matrix:
+    """(N, N) matrix sum_q weight test_i trial_j over the elements of the scalar basis ``sub`` (``test``, ``trial``
+    (nb, nel, nq) at its quadrature points, ``weight`` (nel, nq) with the points' dx): the element matrices of a
+    scikit-fem ``BilinearForm`` batched in one product, scattered on ``sub.element_dofs``."""
+    Ke = np.einsum("ieq,jeq->eij", test * weight, trial, optimize=True)
+    dofs = sub.element_dofs  # (nb, nel)
+    nb = dofs.shape[0]
+    rows = np.repeat(dofs.T, nb, axis=1).ravel()
+    cols = np.tile(dofs.T, (1, nb)).ravel()
+    return sp.coo_matrix((Ke.ravel(), (rows, cols)), shape=(sub.N, sub.N)).tocsr()
 
 
 def segment_dofs(basis, on_segment) -> tuple[np.ndarray, np.ndarray]:

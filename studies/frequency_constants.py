@@ -103,8 +103,9 @@ def main() -> None:
         th, t_th = thickness(grade)
         np_axi, nt_axi = r1.frequency * DIAMETER, th.frequency * THICKNESS
         sheet = DATASHEET.get(grade)
-        np_sheet = f"{sheet[1]:.0f} ({sheet[0]})" if sheet else "-"
-        nt_sheet = f"{sheet[2]:.0f} ({sheet[0]}; Nta {sheet[3]:.0f})" if sheet else "-"
+        # the data sheet's value (its type; the axisymmetric model's difference from it)
+        np_sheet = f"{sheet[1]:.0f} ({sheet[0]}; {np_axi / sheet[1] - 1:+.1%})" if sheet else "-"
+        nt_sheet = f"{sheet[2]:.0f} ({sheet[0]}; {nt_axi / sheet[2] - 1:+.1%}; Nta {sheet[3]:.0f})" if sheet else "-"
         print(f"| {grade} | {np_axi:.1f} ({r1.error_estimate:.1e}) | {solid_text} | {np_theory:.1f} | {np_sheet} | "
               f"{np_axi / np_theory - 1:+.3%} | {dev_solid} | {nt_axi:.1f} ({th.error_estimate:.1e}) | "
               f"{nt_theory:.1f} | {nt_sheet} | {nt_axi / nt_theory - 1:+.3%} | {t_r1:.1f} / {t_solid} / {t_th:.1f} |")

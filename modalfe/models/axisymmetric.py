@@ -58,8 +58,8 @@ from modalfe.models.meridian_forms import (
     circumference,
     coupled_tensor,
     local_material,
+    region_mass,
     region_stiffness,
-    scalar_matrix,
     segment_dofs,
 )
 from modalfe.models.revolved import REVOLVED_ANGLES, Revolved
@@ -510,7 +510,7 @@ def assemble_axisymmetric(scene, *, harmonics: tuple[int, ...] | None = None, or
     """Assemble the harmonics ``harmonics`` (default 0..``mesh.harmonics``, else 0..``FIRST_HARMONICS``) of
     ``scene``'s meridian section (``meridian_section``) on quadrilaterals of ``order`` (default ``mesh.order``; 2-4),
     element size x ``size_factor``: K = c_n sum_ab kron(int r d_a(v) d_b(u), B_a^T D B_b) with d = (value / r, d/dr,
-    d/dz) (module docstring)."""
+    d/dz) (module docstring; ``region_stiffness``), M = c_n rho int r u v (``region_mass``) on each component."""
     from skfem import Basis, ElementQuad2, ElementQuadP
 
     order = scene.mesh.order if order is None else order
@@ -538,8 +538,7 @@ def assemble_axisymmetric(scene, *, harmonics: tuple[int, ...] | None = None, or
         sub = Basis(mesh, element, intorder=2 * order + 2, elements=elements)
         for n, block in region_stiffness(sub, coupled_tensor(reg.material), harmonics).items():
             K_blocks[n].append(block)
-        values = np.array([f[0].value for f in sub.basis])  # (nb, nel, nq)
-        M_terms.append(reg.material.rho * scalar_matrix(sub, values, values, sub.dx * sub.global_coordinates()[0]))
+        M_terms.append(reg.material.rho * region_mass(sub))
     phi_nodes = (np.unique(basis.element_dofs[:, np.concatenate(poled_elements)]) if poled_elements
                  else np.zeros(0, dtype=int))
     u_idx = np.arange(4 * N).reshape(N, 4)[:, :3].ravel()  # (U_r, U_t, U_z) of each node in 4-per-node

@@ -140,15 +140,16 @@ def region_stiffness(sub, D: np.ndarray, harmonics) -> dict[int, sp.csr_matrix]:
     return out
 
 
-def scalar_matrix(sub, test: np.ndarray, trial: np.ndarray, weight: np.ndarray) -> sp.csr_matrix:
-    """(N, N) matrix sum_q weight test_i trial_j over the elements of the scalar basis ``sub`` (``test``, ``trial``
-    (nb, nel, nq) at its quadrature points, ``weight`` (nel, nq) with the points' dx): the element matrices of a
-    scikit-fem ``BilinearForm`` batched in one product, scattered on ``sub.element_dofs``."""
-    Ke = np.einsum("ieq,jeq->eij", test * weight, trial, optimize=True)
-    dofs = sub.element_dofs  # (nb, nel)
-    nb = dofs.shape[0]
-    rows = np.repeat(dofs.T, nb, axis=1).ravel()
-    cols = np.tile(dofs.T, (1, nb)).ravel()
+def region_mass(sub) -> sp.csr_matrix:
+    """(N, N) int r u v dr dz over the elements of the scalar basis ``sub`` (the mass per unit density of each
+    displacement component, without c_n): the element matrices batched in one product, scattered on its DOFs."""
+    values = np.array([f[0].value for f in sub.basis])  # (nb, nel, nq)
+    weight = sub.dx * np.asarray(sub.global_coordinates())[0]  # r dr dz at the quadrature points
+    Ke = np.einsum("ieq,jeq->eij", values * weight, values, optimize=True)
+    dofs = sub.element_dofs.T  # (nel, nb)
+    nb = dofs.shape[1]
+    rows = np.repeat(dofs, nb, axis=1).ravel()
+    cols = np.tile(dofs, (1, nb)).ravel()
     return sp.coo_matrix((Ke.ravel(), (rows, cols)), shape=(sub.N, sub.N)).tocsr()
 
 

@@ -17,7 +17,8 @@ source). Both constants are short-circuit (series) resonances, as the data sheet
 
 The data sheet is CTS's (``DATASHEET_SOURCE``), whose PZT-5A and PZT-5H types (3195STD, 3203STD) are their own
 formulations, not Berlincourt's samples, and whose figures are typical values (no tolerance given): the comparison
-with them checks the order, the comparison with the theory of the library's own constants checks the model. No stored data sheet gave PZT-4's Np or Nt: that column is empty.
+with them checks the order, the comparison with the theory of the library's own constants checks the model. No
+stored data sheet gave PZT-4's Np or Nt: that column is empty.
 
 Run:  python studies/frequency_constants.py [--no-solid]
 Prints the table of docs/axisymmetric.md ("Frequency constants"); times are in-process wall seconds of each solve

@@ -382,25 +382,32 @@ class AxisymmetricModel(PiezoUnknowns, Revolved):
         rows, cols, vals, k = [], [], [], 0
 
         def column(dofs, values) -> None:
+            """One unknown setting ``dofs`` to ``values`` times it."""
             nonlocal k
-            rows.extend(dofs)
-            vals.extend(values)
-            cols.extend([k] * len(dofs))
+            rows.append(np.asarray(dofs, dtype=int))
+            vals.append(np.asarray(values, dtype=float))
+            cols.append(np.full(len(dofs), k))
             k += 1
+
+        def each(dofs, value: float) -> None:
+            """One unknown per DOF of ``dofs``, setting it to ``value`` times it."""
+            nonlocal k
+            rows.append(np.asarray(dofs, dtype=int))
+            vals.append(np.full(len(dofs), value))
+            cols.append(k + np.arange(len(dofs)))
+            k += len(dofs)
 
         for h, n in enumerate(self.harmonics):
             fixed = {0: (0, 1), 1: (0, 1, 2)}.get(n, (0, 1, 2))
             for c in range(3):
                 nodes = np.arange(N) if c not in fixed else np.setdiff1d(np.arange(N), on_axis)
-                for dof in self.u_dof(h, nodes, c):
-                    column([dof], [1.0])
+                each(self.u_dof(h, nodes, c), 1.0)
             if n == 1:  # U_r + U_t = 0 on the axis
                 for node in on_axis:
                     column([self.u_dof(h, node, 0), self.u_dof(h, node, 1)], [1.0, -1.0])
         for h, n in enumerate(self.harmonics):
             fixed = on_electrode if n == 0 else np.union1d(on_electrode, phi_on_axis)
-            for dof in self.phi_dof(h, np.setdiff1d(np.arange(len(self.phi_nodes)), fixed)):
-                column([dof], [scale])
+            each(self.phi_dof(h, np.setdiff1d(np.arange(len(self.phi_nodes)), fixed)), scale)
         floating = []
         if circuit == "open" and 0 in self.harmonics:
             h = self.harmonics.index(0)
@@ -409,7 +416,7 @@ class AxisymmetricModel(PiezoUnknowns, Revolved):
                     idx = self.phi_dof(h, self.electrodes[group])
                     column(list(idx), [scale] * len(idx))
                     floating.append(group)
-        T = sp.csr_matrix((vals, (rows, cols)), shape=(self.ndofs, k))
+        T = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(self.ndofs, k))
         return Constraints(T, scale, tuple(floating))
 
     def _cylindrical(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

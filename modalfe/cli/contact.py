@@ -13,7 +13,6 @@ import math
 import numpy as np
 
 from modalfe.cli import haptics
-from modalfe.contact.validation import require
 from modalfe.errors import ContactError
 from modalfe.progress import is_shown
 
@@ -146,6 +145,8 @@ def _friction(args) -> int:
 
 
 def _finger_amplitudes(args, frequencies: list[float]) -> list[np.ndarray]:
+    from modalfe.contact.validation import require
+
     frequencies = [require("frequency", f, positive=True) for f in frequencies]
     if not args.amplitude:
         # Table I: mu_US / mu reaches about 0.7 near 3.2 um pp at 66 kHz and 0.3 um pp at 225 kHz
@@ -212,6 +213,7 @@ def _finger(args) -> int:
 def _texture(args) -> int:
     from modalfe.contact.foot import FootParameters, simulate_contact
     from modalfe.contact.texture import NotchTexture, render_texture
+    from modalfe.contact.validation import require
 
     texture = NotchTexture(period=args.period, notch_width=args.notch_width, track_length=args.track_length,
                            profile=args.profile)

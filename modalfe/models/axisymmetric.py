@@ -58,6 +58,7 @@ from modalfe.models.meridian_forms import (
     circumference,
     coupled_tensor,
     local_material,
+    region_mass,
     region_stiffness,
     segment_dofs,
 )
@@ -201,6 +202,9 @@ class AxisymmetricModel(PiezoUnknowns, Revolved):
     timings: dict[str, float] = field(default_factory=dict)
     clamped: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
     attached_mass: None = None
+    # each mode of a solve lies in one harmonic and stands for its whole degenerate pair: two modes close in frequency
+    # are distinct modes, not a pair to turn to its clearest basis (``modalfe.results.labels.unique_labels``)
+    pairs_apart = True
 
     @property
     def n_phi(self) -> int:
@@ -378,25 +382,32 @@ class AxisymmetricModel(PiezoUnknowns, Revolved):
         rows, cols, vals, k = [], [], [], 0
 
         def column(dofs, values) -> None:
+            """One unknown setting ``dofs`` to ``values`` times it."""
             nonlocal k
-            rows.extend(dofs)
-            vals.extend(values)
-            cols.extend([k] * len(dofs))
+            rows.append(np.asarray(dofs, dtype=int))
+            vals.append(np.asarray(values, dtype=float))
+            cols.append(np.full(len(dofs), k))
             k += 1
+
+        def each(dofs, value: float) -> None:
+            """One unknown per DOF of ``dofs``, setting it to ``value`` times it."""
+            nonlocal k
+            rows.append(np.asarray(dofs, dtype=int))
+            vals.append(np.full(len(dofs), value))
+            cols.append(k + np.arange(len(dofs)))
+            k += len(dofs)
 
         for h, n in enumerate(self.harmonics):
             fixed = {0: (0, 1), 1: (0, 1, 2)}.get(n, (0, 1, 2))
             for c in range(3):
                 nodes = np.arange(N) if c not in fixed else np.setdiff1d(np.arange(N), on_axis)
-                for dof in self.u_dof(h, nodes, c):
-                    column([dof], [1.0])
+                each(self.u_dof(h, nodes, c), 1.0)
             if n == 1:  # U_r + U_t = 0 on the axis
                 for node in on_axis:
                     column([self.u_dof(h, node, 0), self.u_dof(h, node, 1)], [1.0, -1.0])
         for h, n in enumerate(self.harmonics):
             fixed = on_electrode if n == 0 else np.union1d(on_electrode, phi_on_axis)
-            for dof in self.phi_dof(h, np.setdiff1d(np.arange(len(self.phi_nodes)), fixed)):
-                column([dof], [scale])
+            each(self.phi_dof(h, np.setdiff1d(np.arange(len(self.phi_nodes)), fixed)), scale)
         floating = []
         if circuit == "open" and 0 in self.harmonics:
             h = self.harmonics.index(0)
@@ -405,7 +416,7 @@ class AxisymmetricModel(PiezoUnknowns, Revolved):
                     idx = self.phi_dof(h, self.electrodes[group])
                     column(list(idx), [scale] * len(idx))
                     floating.append(group)
-        T = sp.csr_matrix((vals, (rows, cols)), shape=(self.ndofs, k))
+        T = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(self.ndofs, k))
         return Constraints(T, scale, tuple(floating))
 
     def _cylindrical(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -506,8 +517,8 @@ def assemble_axisymmetric(scene, *, harmonics: tuple[int, ...] | None = None, or
     """Assemble the harmonics ``harmonics`` (default 0..``mesh.harmonics``, else 0..``FIRST_HARMONICS``) of
     ``scene``'s meridian section (``meridian_section``) on quadrilaterals of ``order`` (default ``mesh.order``; 2-4),
     element size x ``size_factor``: K = c_n sum_ab kron(int r d_a(v) d_b(u), B_a^T D B_b) with d = (value / r, d/dr,
-    d/dz) (module docstring)."""
-    from skfem import Basis, BilinearForm, ElementQuad2, ElementQuadP
+    d/dz) (module docstring; ``region_stiffness``), M = c_n rho int r u v (``region_mass``) on each component."""
+    from skfem import Basis, ElementQuad2, ElementQuadP
 
     order = scene.mesh.order if order is None else order
     if order not in ORDERS:
@@ -534,8 +545,7 @@ def assemble_axisymmetric(scene, *, harmonics: tuple[int, ...] | None = None, or
         sub = Basis(mesh, element, intorder=2 * order + 2, elements=elements)
         for n, block in region_stiffness(sub, coupled_tensor(reg.material), harmonics).items():
             K_blocks[n].append(block)
-        mass = BilinearForm(lambda u, v, w: w.x[0] * u * v).assemble(sub)
-        M_terms.append(reg.material.rho * mass)
+        M_terms.append(reg.material.rho * region_mass(sub))
     phi_nodes = (np.unique(basis.element_dofs[:, np.concatenate(poled_elements)]) if poled_elements
                  else np.zeros(0, dtype=int))
     u_idx = np.arange(4 * N).reshape(N, 4)[:, :3].ravel()  # (U_r, U_t, U_z) of each node in 4-per-node

@@ -108,26 +108,49 @@ def circumference(n: int) -> float:
     return 2 * np.pi if n == 0 else np.pi
 
 
+ELEMENT_CHUNK = 1000  # elements per batch of element matrices: order 4's (1000, 25 x 4, 25 x 4) take 80 MB
+
+
 def region_stiffness(sub, D: np.ndarray, harmonics) -> dict[int, sp.csr_matrix]:
     """n -> int r [S; G]^T D [S; G] dr dz over the elements of the basis ``sub`` (4 unknowns per node: U_r, U_t, U_z,
-    Phi), without c_n: sum_ab kron(int r d_a(v) d_b(u), B_a^T D B_b), d = (value / r, d/dr, d/dz) (module
-    docstring)."""
-    from skfem import BilinearForm
-
-    derivative = (lambda f, r: f / r, lambda f, r: f.grad[0], lambda f, r: f.grad[1])
-    forms = {}
-    for a in range(3):
-        for b in range(a, 3):
-            forms[a, b] = BilinearForm(lambda u, v, w, a=a, b=b: w.x[0] * derivative[a](v, w.x[0])
-                                       * derivative[b](u, w.x[0])).assemble(sub)
-            forms[b, a] = forms[a, b].T
+    Phi), without c_n: element matrices sum_ab int r d_a(v_i) d_b(u_j) dr dz (B_a^T D B_b), d = (value / r, d/dr,
+    d/dz) (module docstring), batched over the elements and scattered once per harmonic on the unknowns that
+    some B_a^T D B_b couples (no stored zeros)."""
+    values = np.array([f[0].value for f in sub.basis])  # (nb, nel, nq)
+    grads = np.array([f[0].grad for f in sub.basis])  # (nb, 2, nel, nq)
+    r = np.asarray(sub.global_coordinates())[0]  # (nel, nq) [m]
+    d = np.stack((values / r, grads[:, 0], grads[:, 1]))  # (3, nb, nel, nq)
+    weight = sub.dx * r
+    dofs = sub.element_dofs.T  # (nel, nb)
+    nel, nb = dofs.shape
     out = {}
     for n in harmonics:
         B = strain_maps(n)
-        blocks = [sp.kron(forms[a, b], B[a].T @ D @ B[b], format="csr") for a in range(3) for b in range(3)
-                  if np.any(B[a].T @ D @ B[b])]
-        out[n] = sum(blocks) if blocks else sp.csr_matrix((4 * sub.N, 4 * sub.N))
+        C = np.array([[B[a].T @ D @ B[b] for b in range(3)] for a in range(3)])  # (3, 3, 4, 4)
+        x, y = np.nonzero(np.any(C != 0, axis=(0, 1)))  # the unknown pairs coupled
+        rows, cols, data = [], [], []
+        for lo in range(0, nel, ELEMENT_CHUNK):
+            at = slice(lo, lo + ELEMENT_CHUNK)
+            E = np.einsum("aieq,bjeq->abeij", d[:, :, at] * weight[at], d[:, :, at], optimize=True)
+            data.append(np.einsum("abeij,abk->eijk", E, C[:, :, x, y], optimize=True).ravel())
+            rows.append((4 * dofs[at, :, None, None] + x).repeat(nb, axis=2).ravel())
+            cols.append(np.broadcast_to(4 * dofs[at, None, :, None] + y, (len(dofs[at]), nb, nb, len(x))).ravel())
+        out[n] = sp.coo_matrix((np.concatenate(data), (np.concatenate(rows), np.concatenate(cols))),
+                               shape=(4 * sub.N, 4 * sub.N)).tocsr()
     return out
+
+
+def region_mass(sub) -> sp.csr_matrix:
+    """(N, N) int r u v dr dz over the elements of the scalar basis ``sub`` (the mass per unit density of each
+    displacement component, without c_n): the element matrices batched in one product, scattered on its DOFs."""
+    values = np.array([f[0].value for f in sub.basis])  # (nb, nel, nq)
+    weight = sub.dx * np.asarray(sub.global_coordinates())[0]  # r dr dz at the quadrature points
+    Ke = np.einsum("ieq,jeq->eij", values * weight, values, optimize=True)
+    dofs = sub.element_dofs.T  # (nel, nb)
+    nb = dofs.shape[1]
+    rows = np.repeat(dofs, nb, axis=1).ravel()
+    cols = np.tile(dofs, (1, nb)).ravel()
+    return sp.coo_matrix((Ke.ravel(), (rows, cols)), shape=(sub.N, sub.N)).tocsr()
 
 
 def segment_dofs(basis, on_segment) -> tuple[np.ndarray, np.ndarray]:

@@ -95,8 +95,9 @@ def label(model, x: np.ndarray) -> tuple[str, float]:
 def unique_labels(model, shapes: np.ndarray, frequencies, carried=None) -> list[tuple[str, float]]:
     """(label, wavelength [m] or NaN) of every mode of one solve (``shapes`` (n_dofs, n_modes) full DOF
     vectors, ``frequencies`` [Hz] ascending), unique within the solve: degenerate pairs rotated to their
-    clearest basis, repeated patterns suffixed ``#2``, ``#3``... (module docstring); ``carried`` (n_modes,) the
-    attached masses' share of each mode's kinetic energy (``attached_share`` of the models), None for none."""
+    clearest basis (none on a model whose ``pairs_apart``: the axisymmetric one solves one member per pair),
+    repeated patterns suffixed ``#2``, ``#3``... (module docstring); ``carried`` (n_modes,) the attached
+    masses' share of each mode's kinetic energy (``attached_share`` of the models), None for none."""
     f = np.asarray(frequencies, dtype=float)
     n = len(f)
     carried = np.zeros(n, dtype=bool) if carried is None else np.asarray(carried) > CARRIED
@@ -109,7 +110,7 @@ def unique_labels(model, shapes: np.ndarray, frequencies, carried=None) -> list[
         j = i + 1
         while j < n and abs(f[j] - f[j - 1]) <= DEGENERATE * max(abs(f[j]), 1e-300):
             j += 1
-        if j - i == 2 and f[i] > 0 and not rigid[i]:
+        if j - i == 2 and f[i] > 0 and not rigid[i] and not getattr(model, "pairs_apart", False):
             described[i], described[i + 1] = _pair(model.scene, fields[i], fields[i + 1], axial)
         else:
             for k in range(i, j):

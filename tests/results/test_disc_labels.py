@@ -15,7 +15,7 @@ from scipy.spatial.transform import Rotation
 from scipy.special import jv
 
 from modalfe.geometry.parts import Box
-from modalfe.results.labels import axial_frame, base_label, disc_label, unique_labels
+from modalfe.results.labels import _describe, axial_frame, base_label, disc_label, unique_labels
 from tests.oracles import discs
 
 NOISE = 0.02  # Gaussian noise, 2 % of the field's peak per sample: a coarse mesh's interpolation error
@@ -183,6 +183,22 @@ def test_a_degenerate_pair_gets_one_label_and_the_repeat_suffix():
     shapes = np.column_stack([(c * a + s * b).ravel(), (-s * a + c * b).ravel(), circle.ravel()])
     names = [name for name, _ in unique_labels(model, shapes, [100.0, 100.0, 150.0])]
     assert sorted(names[:2]) == ["(2,0)", "(2,0)#2"] and names[2] == "(0,1)"  # the clearer one keeps it plain
+
+
+def test_close_modes_of_a_model_solving_pair_members_apart_are_labelled_each_as_it_is(monkeypatch):
+    # an axisymmetric model's modes each lie in one harmonic (``pairs_apart``): a (2,0) and a (0,1) within the 0.1 %
+    # of a degenerate pair keep their own labels, each described once (a 3-D model's pair would be turned through
+    # 36 angles, two descriptions each)
+    import modalfe.results.labels as labels
+
+    model = _DiscModel(_Scene(_Disc("disc", "disc", "steel", (-1, -1, -0.025), (1, 1, 0.025))))
+    model.pairs_apart = True
+    pair = _flexural(model.points, discs.clamped_disc_shape(2, discs.clamped_disc_roots(2, 1)[0]), 2, 0.0)
+    circle = _flexural(model.points, discs.clamped_disc_shape(0, discs.clamped_disc_roots(0, 2)[1]), 0)
+    described = []
+    monkeypatch.setattr(labels, "_describe", lambda *a, **k: described.append(1) or _describe(*a, **k))
+    names = [name for name, _ in unique_labels(model, np.column_stack([pair.ravel(), circle.ravel()]), [100.0, 100.05])]
+    assert names == ["(2,0)", "(0,1)"] and len(described) == 2
 
 
 @pytest.mark.slow

@@ -160,10 +160,14 @@ def mode_table(scene, *, near: float | None = None, count: int | None = None,
         except SolverError:
             return None
 
+    translated: dict[int, np.ndarray] = {}  # (M R^T)^T of each model met (the answer and its estimate levels)
+
     def numbers(m) -> dict[str, float]:
         """The numbers of a row that depend on the discretization: effective masses, fa, k_eff, force factor."""
         shape = m.shape
-        g = (m.model.M @ rigid_translations(m.model).T).T @ shape
+        if id(m.model) not in translated:
+            translated[id(m.model)] = (m.model.M @ rigid_translations(m.model).T).T
+        g = translated[id(m.model)] @ shape
         out = {f"meff_{d}": float(g[k] ** 2) for k, d in enumerate("xyz")
                if g[k] ** 2 >= SIGNIFICANT_MASS * total[k]}
         if driven:

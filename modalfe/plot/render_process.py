@@ -4,6 +4,11 @@ plotting and opens an off-screen render window while the solve runs, then draws 
 the first plotter 0.4 s, as long as the ciliary beam's whole solve: drawn after the solve in the same process,
 `show` took 2.0x the time of `modes` on that beam.
 
+It makes the plotter the picture is drawn in, and where the mode has not come yet once it has loaded what it needs,
+renders in it once with stand-ins (``render.warmed_up``: the render window builds its shader programs, 0.15 s of the
+picture's first render moved ahead, at 0.25 s of one core: done only while it would wait). It leaves
+matplotlib.pyplot, which pyvista imports but no picture here uses, to its first use (``DEFERRED``).
+
 The mode is sent pickled without its stiffness and mass matrices (the picture reads the mesh, the shape and the
 scene; the Cu-Be plate's quartic model pickles to 36 MB in 0.02 s without them). Any failure of the second process
 (it could not start, died, or its drawing failed) is reported as ``RenderProcessError``: the caller then draws in
@@ -12,12 +17,16 @@ its own process.
 
 from __future__ import annotations
 
+import importlib
+import importlib.util
 import os
 import pickle
+import select
 import struct
 import subprocess
 import sys
 import traceback
+import types
 from dataclasses import replace
 from pathlib import Path
 
@@ -27,22 +36,45 @@ from modalfe.errors import ModalfeError
 # scene: scipy.sparse and scikit-fem with them) and what drawing it imports (skfem's meshio reader of the mesh,
 # Pillow's PNG writer), 0.4 s of the glass plate's 1.0 s from the mode's arrival to its picture
 WARM_MODULES = ("modalfe.models.solid", "modalfe.results.modes", "modalfe.scene", "skfem.io.meshio", "PIL.Image")
+# imported by pyvista's colours and charts, used only for matplotlib's own colour cycle and charts, which no picture
+# here asks for: 0.3 s of one core (`import matplotlib.pyplot` against matplotlib's colours and colour maps alone)
+DEFERRED = ("matplotlib.pyplot",)
 
 
 class RenderProcessError(ModalfeError):
     """The second process did not render the picture (its reason in the message)."""
 
 
-class RenderProcess:
-    """The rendering process, started at construction (RenderProcessError where it cannot be); ``render`` once, then
-    it exits."""
+class Deferred(types.ModuleType):
+    """A module that an import statement binds without running it: the first name read from it loads it."""
 
-    def __init__(self) -> None:
+    def __getattr__(self, name: str):
+        del sys.modules[self.__name__]
+        loaded = importlib.import_module(self.__name__)
+        self.__dict__.update(loaded.__dict__)  # who bound this stand-in reads the module's own names from now on
+        return getattr(loaded, name)
+
+
+def defer(name: str) -> None:
+    """Let ``import name`` bind a ``Deferred`` module (importlib's LazyLoader loads on the import statement's own
+    look-up of ``__spec__`` on Python 3.11); nothing where it is already loaded or cannot be found."""
+    spec = None if name in sys.modules else importlib.util.find_spec(name)
+    if spec is not None:
+        module = Deferred(name)
+        module.__spec__, module.__loader__, module.__file__ = spec, spec.loader, spec.origin
+        sys.modules[name] = module
+
+
+class RenderProcess:
+    """The rendering process, started at construction (RenderProcessError where it cannot be) for ``view`` (one of
+    ``render.VIEWS``: its plotter is made ahead); ``render`` once, then it exits."""
+
+    def __init__(self, view: str = "iso+bottom") -> None:
         # this process' modalfe first on the path, whatever put it on this one's (an editable install of another copy)
         here = str(Path(__file__).resolve().parents[2])
         env = {**os.environ, "PYTHONPATH": os.pathsep.join(p for p in (here, os.environ.get("PYTHONPATH")) if p)}
         try:
-            self._process = subprocess.Popen([sys.executable, "-m", "modalfe.plot.render_process"],
+            self._process = subprocess.Popen([sys.executable, "-m", "modalfe.plot.render_process", view],
                                               stdin=subprocess.PIPE, stdout=subprocess.PIPE,
                                               stderr=subprocess.DEVNULL, env=env)
         except OSError as exc:
@@ -68,26 +100,25 @@ class RenderProcess:
             self._process.wait()
 
 
-def _serve() -> int:
-    """The second process: imports and a first plotter now, then one mode read from stdin drawn; b"ok" or the
-    traceback on stdout."""
-    import importlib
+def _serve(view: str) -> int:
+    """The second process: imports and the plotter of ``view`` warmed up now, then one mode read from stdin drawn
+    (in that plotter where it asks for ``view``); b"ok" or the traceback on stdout."""
+    for name in DEFERRED:
+        defer(name)
+    from modalfe.plot.render import VIEWS, mode_plotter, render_mode, warmed_up
 
-    import pyvista as pv
-
-    from modalfe.plot.render import quiet_vtk, render_mode
-
-    quiet_vtk()
-    pv.Plotter(off_screen=True).close()  # the render window's first set-up, while the solve runs
+    plotter = mode_plotter(view) if view in VIEWS else None  # while the solve runs
     for name in WARM_MODULES:
         importlib.import_module(name)
     stdin = sys.stdin.buffer
+    if plotter is not None and _waiting(stdin):
+        warmed_up(plotter)
     header = stdin.read(8)
     if len(header) < 8:  # the caller closed without a picture
         return 0
-    mode, out, view = pickle.loads(stdin.read(struct.unpack("<Q", header)[0]))
+    mode, out, asked = pickle.loads(stdin.read(struct.unpack("<Q", header)[0]))
     try:
-        render_mode(mode, out=out, view=view, off_screen=True).close()
+        render_mode(mode, out=out, view=asked, plotter=plotter if asked == view else None).close()
     except Exception:
         sys.stdout.buffer.write(traceback.format_exc().encode())
         return 1
@@ -95,8 +126,16 @@ def _serve() -> int:
     return 0
 
 
+def _waiting(stream) -> bool:
+    """Whether nothing has come on ``stream`` yet (True where ``select`` cannot tell: a pipe on Windows)."""
+    try:
+        return not select.select([stream], [], [], 0)[0]
+    except (OSError, ValueError):
+        return True
+
+
 if __name__ == "__main__":
-    status = _serve()
+    status = _serve(sys.argv[1] if len(sys.argv) > 1 else "")
     sys.stdout.flush()
     # the picture is on disk and the reply sent: the interpreter's teardown of VTK, pyvista and matplotlib (0.5-0.7 s
     # on the ciliary beam's picture, while `show` waits for this process to end) is skipped

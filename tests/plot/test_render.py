@@ -329,6 +329,37 @@ def test_a_second_process_draws_the_same_picture_as_this_one(plate, tmp_path):
     assert np.array_equal(np.asarray(Image.open(here)), np.asarray(Image.open(there)))
 
 
+def test_a_plotter_warmed_up_ahead_draws_the_same_picture(plate):
+    # the second process renders stand-ins in the picture's plotter while it waits for the mode: the picture drawn
+    # in it afterwards has the same pixels as one drawn in a new plotter
+    from modalfe.plot.render import mode_plotter, render_mode, warmed_up
+
+    pictures = []
+    for plotter in (None, warmed_up(mode_plotter("iso+bottom"))):
+        drawn = render_mode(plate[0], view="iso+bottom", plotter=plotter)
+        pictures.append(drawn.screenshot(return_img=True))
+        drawn.close()
+    assert np.array_equal(*pictures)
+
+
+def test_a_deferred_module_is_loaded_by_its_first_use_not_by_its_import(tmp_path, monkeypatch):
+    # matplotlib.pyplot, which pyvista imports but no picture uses, is left to its first use in the second process
+    import sys
+
+    from modalfe.plot.render_process import Deferred, defer
+
+    (tmp_path / "deferred_probe.py").write_text("VALUE = 3\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    try:
+        defer("deferred_probe")
+        import deferred_probe as probe
+
+        assert isinstance(sys.modules["deferred_probe"], Deferred)  # bound, not run
+        assert probe.VALUE == 3 and not isinstance(sys.modules["deferred_probe"], Deferred)
+    finally:
+        sys.modules.pop("deferred_probe", None)
+
+
 def test_a_failed_second_process_says_why(plate, tmp_path):
     # a picture it cannot write (no such folder) comes back as RenderProcessError with the reason, for ``show`` to
     # draw in its own process (where the same failure is the user's error)

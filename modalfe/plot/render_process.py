@@ -33,9 +33,9 @@ from pathlib import Path
 from modalfe.errors import ModalfeError
 
 # loaded while the solve runs too, not once the mode has come: the classes the mode unpickles into (its model and
-# scene: scipy.sparse and scikit-fem with them) and what drawing it imports (skfem's meshio reader of the mesh,
-# Pillow's PNG writer), 0.4 s of the glass plate's 1.0 s from the mode's arrival to its picture
-WARM_MODULES = ("modalfe.models.solid", "modalfe.results.modes", "modalfe.scene", "skfem.io.meshio", "PIL.Image")
+# scene: scipy.sparse and scikit-fem with them) and what drawing it imports (Pillow's PNG writer), 0.4 s of the glass
+# plate's 1.0 s from the mode's arrival to its picture
+WARM_MODULES = ("modalfe.models.solid", "modalfe.results.modes", "modalfe.scene", "PIL.Image")
 # imported by pyvista's colours and charts, used only for matplotlib's own colour cycle and charts, which no picture
 # here asks for: 0.3 s of one core (`import matplotlib.pyplot` against matplotlib's colours and colour maps alone)
 DEFERRED = ("matplotlib.pyplot",)

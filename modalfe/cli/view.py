@@ -157,7 +157,6 @@ def _drawer(view: str):
 def _render_png(drawer, mode, out: str, view: str) -> None:
     """``mode`` drawn into ``out`` by the second process (``drawer``), else (None, or it failed: said in the log)
     here."""
-    from modalfe.plot.render import render_mode
     from modalfe.plot.render_process import RenderProcessError
 
     try:
@@ -166,6 +165,8 @@ def _render_png(drawer, mode, out: str, view: str) -> None:
         drawer.render(mode, out, view)
     except RenderProcessError as exc:
         log.info("%s; drawing in this process", exc)
+        from modalfe.plot.render import render_mode
+
         try:
             render_mode(mode, out=out, view=view, off_screen=True).close()
         except OSError as exc:  # the file became unwritable during the solve (checked before it)

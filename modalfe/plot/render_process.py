@@ -32,10 +32,13 @@ from pathlib import Path
 
 from modalfe.errors import ModalfeError
 
-# loaded while the solve runs too, not once the mode has come: the classes the mode unpickles into (its model and
-# scene: scipy.sparse and scikit-fem with them) and what drawing it imports (Pillow's PNG writer), 0.4 s of the glass
-# plate's 1.0 s from the mode's arrival to its picture
-WARM_MODULES = ("modalfe.models.solid", "modalfe.results.modes", "modalfe.scene", "PIL.Image")
+# loaded while the solve runs too, not once the mode has come: the classes the mode unpickles into (its model, mesh
+# and scene: scikit-fem and scipy with them, 0.3 s of one core) and what drawing it imports (VTK's surface and cell
+# size filters; Pillow's image plugins, ``prepared``), 0.4 s of the glass plate's 1.0 s from the mode's arrival to its
+# picture
+WARM_MODULES = ("modalfe.models.solid", "modalfe.models.mesh", "modalfe.models.hex_elements",
+                "modalfe.results.modes", "modalfe.scene", "vtkmodules.vtkFiltersGeometry",
+                "vtkmodules.vtkFiltersVerdict")
 # imported by pyvista's colours and charts, used only for matplotlib's own colour cycle and charts, which no picture
 # here asks for: 0.3 s of one core (`import matplotlib.pyplot` against matplotlib's colours and colour maps alone)
 DEFERRED = ("matplotlib.pyplot",)
@@ -82,8 +85,7 @@ class RenderProcess:
 
     def render(self, mode, out: str, view: str) -> None:
         """Draw ``mode`` with ``view`` into the PNG ``out`` in the second process; RenderProcessError if it did not."""
-        light = replace(mode, model=replace(mode.model, K=None, M=None))
-        payload = pickle.dumps((light, out, view), protocol=pickle.HIGHEST_PROTOCOL)
+        payload = pickle.dumps((sent(mode), out, view), protocol=pickle.HIGHEST_PROTOCOL)
         try:
             reply, _ = self._process.communicate(struct.pack("<Q", len(payload)) + payload, timeout=600)
         except (OSError, subprocess.TimeoutExpired) as exc:
@@ -100,16 +102,33 @@ class RenderProcess:
             self._process.wait()
 
 
-def _serve(view: str) -> int:
-    """The second process: imports and the plotter of ``view`` warmed up now, then one mode read from stdin drawn
-    (in that plotter where it asks for ``view``); b"ok" or the traceback on stdout."""
+def sent(mode):
+    """``mode`` as it is sent: without its model's stiffness and mass matrices."""
+    return replace(mode, model=replace(mode.model, K=None, M=None))
+
+
+def prepared(view: str):
+    """What the second process does before the mode comes (``DEFERRED``, the plotter, ``WARM_MODULES``, Pillow's
+    plugins): the plotter of ``view`` (``render.mode_plotter``; None for a view not in ``render.VIEWS``)."""
     for name in DEFERRED:
         defer(name)
-    from modalfe.plot.render import VIEWS, mode_plotter, render_mode, warmed_up
+    from PIL import Image
 
-    plotter = mode_plotter(view) if view in VIEWS else None  # while the solve runs
+    from modalfe.plot.render import VIEWS, mode_plotter
+
+    plotter = mode_plotter(view) if view in VIEWS else None
     for name in WARM_MODULES:
         importlib.import_module(name)
+    Image.preinit()  # the plugins a PNG's writing loads
+    return plotter
+
+
+def _serve(view: str) -> int:
+    """The second process: imports and the plotter of ``view`` (warmed up while it waits) now, then one mode read
+    from stdin drawn (in that plotter where it asks for ``view``); b"ok" or the traceback on stdout."""
+    plotter = prepared(view)  # while the solve runs
+    from modalfe.plot.render import render_mode, warmed_up
+
     stdin = sys.stdin.buffer
     if plotter is not None and _waiting(stdin):
         warmed_up(plotter)

@@ -342,6 +342,35 @@ def test_a_plotter_warmed_up_ahead_draws_the_same_picture(plate):
     assert np.array_equal(*pictures)
 
 
+def test_the_second_process_loads_before_the_mode_comes_all_that_drawing_it_imports(plate, tmp_path):
+    # what it imports once the mode has come (its classes, VTK's filters, Pillow's plugins) is on `show`'s critical
+    # path: a fresh interpreter, prepared as the second process is, then a mode unpickled and drawn, imports nothing
+    import json
+    import os
+    import pickle
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    from modalfe.plot.render_process import sent
+
+    payload = tmp_path / "mode.pickle"
+    payload.write_bytes(pickle.dumps(sent(plate[0])))
+    script = ("import json, pickle, sys\n"
+              "from modalfe.plot.render_process import prepared\n"
+              "plotter = prepared('iso')\n"
+              "from modalfe.plot.render import render_mode\n"
+              "before = set(sys.modules)\n"
+              f"mode = pickle.loads(open({str(payload)!r}, 'rb').read())\n"
+              f"render_mode(mode, out={str(tmp_path / 'm.png')!r}, view='iso', plotter=plotter).close()\n"
+              "print(json.dumps(sorted(set(sys.modules) - before)))\n")
+    import modalfe
+
+    env = {**os.environ, "PYTHONPATH": str(Path(modalfe.__file__).resolve().parents[1])}  # this modalfe
+    run = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, check=True, env=env)
+    assert json.loads(run.stdout.splitlines()[-1]) == []
+
+
 def test_a_deferred_module_is_loaded_by_its_first_use_not_by_its_import(tmp_path, monkeypatch):
     # matplotlib.pyplot, which pyvista imports but no picture uses, is left to its first use in the second process
     import sys

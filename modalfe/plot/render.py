@@ -399,39 +399,13 @@ def mode_plotter(view: str = "iso", *, window_size=WINDOW_SIZE, off_screen: bool
     return plotter
 
 
-def warmed_up(plotter):
-    """``plotter`` (``mode_plotter``'s) after one render of a stand-in of every kind of actor ``render_mode`` draws
-    (a surface coloured through a colour map, a translucent fill, lines and tubes, spheres, labels, text), removed
-    again: its render window has built their shader programs and glyphs, 0.15 s of the ciliary beam's first render
-    (0.26 -> 0.10 s) on the 2-core machine's software OpenGL, for 0.2-0.25 s of one core here. A picture drawn in it
-    is the same, pixel for pixel."""
-    import pyvista as pv
-
-    quiet_vtk()
-    body = pv.Sphere(theta_resolution=8, phi_resolution=8)
-    body.point_data["w"] = body.points[:, 2]
-    line = pv.Line((0.0, 0.0, 0.0), (1.0, 1.0, 1.0))
-    plotter.subplot(0, 0)
-    actors = [plotter.add_mesh(body, scalars="w", cmap="RdBu_r", show_scalar_bar=False),
-              plotter.add_mesh(body, color="gold", opacity=FILL_OPACITY),
-              plotter.add_mesh(line, color="black", line_width=3), plotter.add_mesh(line, color="black", **TUBE),
-              plotter.add_mesh(pv.PolyData(line.points[:1]), color="black", point_size=12,
-                               render_points_as_spheres=True),
-              plotter.add_point_labels(line.points[:1], ["foot_1"], shape_opacity=0.5, **LABEL),
-              plotter.add_text("Hz", position="upper_left", font_size=10, color="black")]
-    plotter.render_window.Render()  # not plotter.render(): the plotter stays one that has not rendered yet
-    for actor in actors:
-        plotter.remove_actor(actor, render=False)
-    return plotter
-
-
 def render_mode(mode, *, out: str | None = None, window_size=WINDOW_SIZE, amplification: float = 0.05,
                 view: str = "iso", off_screen: bool = True, plotter=None):
     """Render ``mode`` deformed (largest displacement = ``amplification`` x the device's size).
 
     ``view``: "iso", "top", "bottom" or "iso+bottom" (two panels). The colour bar and the legend have their own
-    panel at the right. ``plotter``: the empty one to draw in, ``mode_plotter(view, ...)``'s (e.g. ``warmed_up``
-    before the mode was known; ``window_size`` and ``off_screen`` are then its own), else a new one. Returns the
+    panel at the right. ``plotter``: the empty one to draw in, ``mode_plotter(view, ...)``'s (made before the mode
+    was known; ``window_size`` and ``off_screen`` are then its own), else a new one. Returns the
     Plotter (``plotter._modalfe``: ``overlays``, the (rest PolyData, actor) pairs an animation moves; ``markers``,
     the Marker list; ``views``); with ``out`` it also writes a PNG."""
     import pyvista as pv

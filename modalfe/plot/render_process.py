@@ -4,10 +4,10 @@ plotting and opens an off-screen render window while the solve runs, then draws 
 the first plotter 0.4 s, as long as the ciliary beam's whole solve: drawn after the solve in the same process,
 `show` took 2.0x the time of `modes` on that beam.
 
-It makes the plotter the picture is drawn in, and where the mode has not come yet once it has loaded what it needs,
-renders in it once with stand-ins (``render.warmed_up``: the render window builds its shader programs, 0.15 s of the
-picture's first render moved ahead, at 0.25 s of one core: done only while it would wait). It leaves
-matplotlib.pyplot, which pyvista imports but no picture here uses, to its first use (``DEFERRED``).
+It makes the plotter the picture is drawn in and renders an empty frame in it (the render window's set-up, 0.1 s of
+the picture's first render, done ahead), loads what unpickling and drawing the mode import, and leaves to their
+first use the modules pyvista imports but no picture here uses (``DEFERRED``): ``prepared``. Drawing the ciliary
+beam's mode then takes 0.25 s from its arrival (0.45-0.55 s before).
 
 The mode is sent pickled without its stiffness and mass matrices (the picture reads the mesh, the shape and the
 scene; the Cu-Be plate's quartic model pickles to 36 MB in 0.02 s without them). Any failure of the second process
@@ -21,7 +21,6 @@ import importlib
 import importlib.util
 import os
 import pickle
-import select
 import struct
 import subprocess
 import sys
@@ -39,9 +38,10 @@ from modalfe.errors import ModalfeError
 WARM_MODULES = ("modalfe.models.solid", "modalfe.models.mesh", "modalfe.models.hex_elements",
                 "modalfe.results.modes", "modalfe.scene", "vtkmodules.vtkFiltersGeometry",
                 "vtkmodules.vtkFiltersVerdict")
-# imported by pyvista's colours and charts, used only for matplotlib's own colour cycle and charts, which no picture
-# here asks for: 0.3 s of one core (`import matplotlib.pyplot` against matplotlib's colours and colour maps alone)
-DEFERRED = ("matplotlib.pyplot",)
+# imported by pyvista but not used by a picture: matplotlib.pyplot by its colours and charts, for matplotlib's own
+# colour cycle and charts (0.3 s of one core: `import matplotlib.pyplot` against matplotlib's colours and colour maps
+# alone), pooch (with requests and tqdm) by its readers, for files it downloads (0.05 s)
+DEFERRED = ("matplotlib.pyplot", "pooch")
 
 
 class RenderProcessError(ModalfeError):
@@ -108,8 +108,9 @@ def sent(mode):
 
 
 def prepared(view: str):
-    """What the second process does before the mode comes (``DEFERRED``, the plotter, ``WARM_MODULES``, Pillow's
-    plugins): the plotter of ``view`` (``render.mode_plotter``; None for a view not in ``render.VIEWS``)."""
+    """What the second process does before the mode comes (``DEFERRED``, the plotter and its window's first frame,
+    ``WARM_MODULES``, Pillow's plugins): the plotter of ``view`` (``render.mode_plotter``; None for a view not in
+    ``render.VIEWS``)."""
     for name in DEFERRED:
         defer(name)
     from PIL import Image
@@ -117,6 +118,8 @@ def prepared(view: str):
     from modalfe.plot.render import VIEWS, mode_plotter
 
     plotter = mode_plotter(view) if view in VIEWS else None
+    if plotter is not None:  # an empty frame: the render window's set-up, 0.1 s of the picture's first render
+        plotter.render_window.Render()  # (not plotter.render(): the plotter stays one that has not rendered yet)
     for name in WARM_MODULES:
         importlib.import_module(name)
     Image.preinit()  # the plugins a PNG's writing loads
@@ -124,14 +127,12 @@ def prepared(view: str):
 
 
 def _serve(view: str) -> int:
-    """The second process: imports and the plotter of ``view`` (warmed up while it waits) now, then one mode read
-    from stdin drawn (in that plotter where it asks for ``view``); b"ok" or the traceback on stdout."""
+    """The second process: ``prepared(view)`` now, then one mode read from stdin drawn (in that plotter where it
+    asks for ``view``); b"ok" or the traceback on stdout."""
     plotter = prepared(view)  # while the solve runs
-    from modalfe.plot.render import render_mode, warmed_up
+    from modalfe.plot.render import render_mode
 
     stdin = sys.stdin.buffer
-    if plotter is not None and _waiting(stdin):
-        warmed_up(plotter)
     header = stdin.read(8)
     if len(header) < 8:  # the caller closed without a picture
         return 0
@@ -143,14 +144,6 @@ def _serve(view: str) -> int:
         return 1
     sys.stdout.buffer.write(b"ok")
     return 0
-
-
-def _waiting(stream) -> bool:
-    """Whether nothing has come on ``stream`` yet (True where ``select`` cannot tell: a pipe on Windows)."""
-    try:
-        return not select.select([stream], [], [], 0)[0]
-    except (OSError, ValueError):
-        return True
 
 
 if __name__ == "__main__":

@@ -329,19 +329,6 @@ def test_a_second_process_draws_the_same_picture_as_this_one(plate, tmp_path):
     assert np.array_equal(np.asarray(Image.open(here)), np.asarray(Image.open(there)))
 
 
-def test_a_plotter_warmed_up_ahead_draws_the_same_picture(plate):
-    # the second process renders stand-ins in the picture's plotter while it waits for the mode: the picture drawn
-    # in it afterwards has the same pixels as one drawn in a new plotter
-    from modalfe.plot.render import mode_plotter, render_mode, warmed_up
-
-    pictures = []
-    for plotter in (None, warmed_up(mode_plotter("iso+bottom"))):
-        drawn = render_mode(plate[0], view="iso+bottom", plotter=plotter)
-        pictures.append(drawn.screenshot(return_img=True))
-        drawn.close()
-    assert np.array_equal(*pictures)
-
-
 def test_the_second_process_loads_before_the_mode_comes_all_that_drawing_it_imports(plate, tmp_path):
     # what it imports once the mode has come (its classes, VTK's filters, Pillow's plugins) is on `show`'s critical
     # path: a fresh interpreter, prepared as the second process is, then a mode unpickled and drawn, imports nothing

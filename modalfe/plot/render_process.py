@@ -38,10 +38,11 @@ from modalfe.errors import ModalfeError
 WARM_MODULES = ("modalfe.models.solid", "modalfe.models.mesh", "modalfe.models.hex_elements",
                 "modalfe.results.modes", "modalfe.scene", "vtkmodules.vtkFiltersGeometry",
                 "vtkmodules.vtkFiltersVerdict")
-# imported by pyvista but not used by a picture: matplotlib.pyplot by its colours and charts, for matplotlib's own
-# colour cycle and charts (0.3 s of one core: `import matplotlib.pyplot` against matplotlib's colours and colour maps
-# alone), pooch (with requests and tqdm) by its readers, for files it downloads (0.05 s)
-DEFERRED = ("matplotlib.pyplot", "pooch")
+# imported but not used by a picture: matplotlib.pyplot by pyvista's colours and charts, for matplotlib's own colour
+# cycle and charts (0.3 s of one core: `import matplotlib.pyplot` against matplotlib's colours and colour maps alone);
+# pooch (with requests and tqdm) by pyvista's readers, for files it downloads (0.05 s); numpy.f2py (with
+# charset_normalizer) by scipy's array API layer, which copies numpy's every public name (0.04 s)
+DEFERRED = ("matplotlib.pyplot", "pooch", "numpy.f2py")
 
 
 class RenderProcessError(ModalfeError):
@@ -61,11 +62,14 @@ class Deferred(types.ModuleType):
 def defer(name: str) -> None:
     """Let ``import name`` bind a ``Deferred`` module (importlib's LazyLoader loads on the import statement's own
     look-up of ``__spec__`` on Python 3.11); nothing where it is already loaded or cannot be found."""
-    spec = None if name in sys.modules else importlib.util.find_spec(name)
+    spec = None if name in sys.modules else importlib.util.find_spec(name)  # (its package imported)
     if spec is not None:
         module = Deferred(name)
         module.__spec__, module.__loader__, module.__file__ = spec, spec.loader, spec.origin
         sys.modules[name] = module
+        package, _, attribute = name.rpartition(".")
+        if package:  # as an import sets it (numpy's own __getattr__ would import it again)
+            setattr(sys.modules[package], attribute, module)
 
 
 class RenderProcess:

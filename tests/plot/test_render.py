@@ -359,21 +359,26 @@ def test_the_second_process_loads_before_the_mode_comes_all_that_drawing_it_impo
 
 
 def test_a_deferred_module_is_loaded_by_its_first_use_not_by_its_import(tmp_path, monkeypatch):
-    # matplotlib.pyplot, which pyvista imports but no picture uses, is left to its first use in the second process
+    # matplotlib.pyplot, pooch and numpy.f2py, which pyvista and scipy import but no picture uses, are left to their
+    # first use in the second process; a package's module is its package's attribute, as an import makes it
     import sys
 
     from modalfe.plot.render_process import Deferred, defer
 
-    (tmp_path / "deferred_probe.py").write_text("VALUE = 3\n")
+    (tmp_path / "deferred_probe").mkdir()
+    (tmp_path / "deferred_probe" / "__init__.py").write_text("")
+    (tmp_path / "deferred_probe" / "sub.py").write_text("VALUE = 3\n")
     monkeypatch.syspath_prepend(str(tmp_path))
     try:
-        defer("deferred_probe")
-        import deferred_probe as probe
+        defer("deferred_probe.sub")
+        import deferred_probe.sub as probe
 
-        assert isinstance(sys.modules["deferred_probe"], Deferred)  # bound, not run
-        assert probe.VALUE == 3 and not isinstance(sys.modules["deferred_probe"], Deferred)
+        assert isinstance(sys.modules["deferred_probe.sub"], Deferred)  # bound, not run
+        assert sys.modules["deferred_probe"].sub is probe
+        assert probe.VALUE == 3 and not isinstance(sys.modules["deferred_probe.sub"], Deferred)
     finally:
-        sys.modules.pop("deferred_probe", None)
+        for name in ("deferred_probe.sub", "deferred_probe"):
+            sys.modules.pop(name, None)
 
 
 def test_a_failed_second_process_says_why(plate, tmp_path):

@@ -27,11 +27,15 @@ import logging
 import os
 import tempfile
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from modalfe.models.axisymmetric import AxisymmetricModel
 from modalfe.models.symmetry import VTK_HEXAHEDRON, mirror_planes, whole_device_mesh
+
+if TYPE_CHECKING:
+    import pyvista
 
 log = logging.getLogger(__name__)
 
@@ -388,7 +392,8 @@ def _views(view: str) -> list[str]:
     return view.split("+")
 
 
-def mode_plotter(view: str = "iso", *, window_size=WINDOW_SIZE, off_screen: bool = True):
+def mode_plotter(view: str = "iso", *, window_size: tuple[int, int] = WINDOW_SIZE,
+                 off_screen: bool = True) -> pyvista.Plotter:
     """The empty plotter ``render_mode`` draws ``view`` in: a panel a view, and the colour bar's at the right."""
     import pyvista as pv
 

@@ -28,8 +28,14 @@ import traceback
 import types
 from dataclasses import replace
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from modalfe.errors import ModalfeError
+
+if TYPE_CHECKING:
+    import pyvista
+
+    from modalfe.results.modes import Mode
 
 # loaded while the solve runs too, not once the mode has come: the classes the mode unpickles into (its model, mesh
 # and scene: scikit-fem and scipy with them, 0.3 s of one core) and what drawing it imports (VTK's surface and cell
@@ -52,7 +58,7 @@ class RenderProcessError(ModalfeError):
 class Deferred(types.ModuleType):
     """A module that an import statement binds without running it: the first name read from it loads it."""
 
-    def __getattr__(self, name: str):
+    def __getattr__(self, name: str) -> object:
         del sys.modules[self.__name__]
         loaded = importlib.import_module(self.__name__)
         self.__dict__.update(loaded.__dict__)  # who bound this stand-in reads the module's own names from now on
@@ -106,12 +112,12 @@ class RenderProcess:
             self._process.wait()
 
 
-def sent(mode):
+def sent(mode: Mode) -> Mode:
     """``mode`` as it is sent: without its model's stiffness and mass matrices."""
     return replace(mode, model=replace(mode.model, K=None, M=None))
 
 
-def prepared(view: str):
+def prepared(view: str) -> pyvista.Plotter | None:
     """What the second process does before the mode comes (``DEFERRED``, the plotter and its window's first frame,
     ``WARM_MODULES``, Pillow's plugins): the plotter of ``view`` (``render.mode_plotter``; None for a view not in
     ``render.VIEWS``)."""

@@ -12,6 +12,7 @@ from modalfe.cli.page import add_html_option, scene_page
 from modalfe.errors import SceneError
 
 log = logging.getLogger(__name__)
+VIEW = "iso+bottom"  # show's default view
 
 
 def register(subparsers) -> None:
@@ -22,7 +23,7 @@ def register(subparsers) -> None:
     p.add_argument("--near", type=frequency, help="frequency [Hz] to search near (default: the working mode's)")
     p.add_argument("--out", help="FILE.png or FILE.gif (default: a window if there is a display, "
                                  "else <scene>.png)")
-    p.add_argument("--view", choices=("iso", "top", "bottom", "iso+bottom"), default="iso+bottom",
+    p.add_argument("--view", choices=("iso", "top", "bottom", "iso+bottom"), default=VIEW,
                    help="iso+bottom (default): two panels, so that markers under the device (feet, electrodes "
                         "on the lower face) show as well as those on top")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene parameter")
@@ -68,7 +69,6 @@ def log_timings(modes, seconds: float) -> None:
 
 def _show(args) -> int:
     from modalfe.errors import SolverError
-    from modalfe.plot.render import animate_mode, render_mode
     from modalfe.results.labels import check_selector
     from modalfe.results.modes import select
     from modalfe.solve.api import seek, working_question
@@ -86,7 +86,7 @@ def _show(args) -> int:
     interactive, gif = _window_or_gif(args.out)
     # a PNG: drawn by a second process that loads VTK while this one solves (``render_process``), started with the
     # command where it could be (``early_drawer``)
-    drawer = None if interactive or gif else (getattr(args, "early_drawer", None) or _drawer())
+    drawer = None if interactive or gif else (getattr(args, "early_drawer", None) or _drawer(args.view))
     try:
         scene, modes = _modes(args, question)
         if index:
@@ -98,8 +98,12 @@ def _show(args) -> int:
         out = args.out or (None if interactive else f"{scene.name}.png")
         start = time.perf_counter()
         if gif:
+            from modalfe.plot.render import animate_mode
+
             animate_mode(mode, out, view=args.view)
         elif interactive:
+            from modalfe.plot.render import render_mode
+
             render_mode(mode, out=out, view=args.view, off_screen=False).show()
         else:
             _render_png(drawer, mode, out, args.view)
@@ -120,25 +124,31 @@ def _window_or_gif(out: str | None) -> tuple[bool, bool]:
 
 
 def early_drawer(argv: list[str]):
-    """The rendering process of ``show`` writing a PNG, started from the command line as typed, before the parser
-    loads the library (~0.6 s of one core on the 2-core machine, which the second process' own loading of VTK then
-    shares; ``_show`` takes it from ``args.early_drawer``); None for any other command, a window, a GIF or help. A
-    command line that then fails to parse only stops it."""
+    """The rendering process of ``show`` writing a PNG (its plotter made for the view typed), started from the command
+    line as typed, before the parser loads the library (~0.6 s of one core on the 2-core machine, which the second
+    process' own loading of VTK then shares; ``_show`` takes it from ``args.early_drawer``); None for any other
+    command, a window, a GIF or help. A command line that then fails to parse only stops it."""
     words = [w for w in argv if w not in ("-v", "--verbose")]
     if not words or words[0] != "show" or "-h" in words or "--help" in words:
         return None
-    out = next((w.split("=", 1)[1] for w in words if w.startswith("--out=")), None)
-    if "--out" in words and words.index("--out") + 1 < len(words):
-        out = words[words.index("--out") + 1]
-    return None if any(_window_or_gif(out)) else _drawer()
+    return None if any(_window_or_gif(_typed(words, "--out"))) else _drawer(_typed(words, "--view") or VIEW)
 
 
-def _drawer():
-    """The second process that will draw the PNG (``modalfe.plot.render_process``), None where it cannot start."""
+def _typed(words: list[str], flag: str) -> str | None:
+    """The value typed for ``flag`` (``--out x``, else ``--out=x``), None where it is not typed."""
+    value = next((w.split("=", 1)[1] for w in words if w.startswith(f"{flag}=")), None)
+    if flag in words and words.index(flag) + 1 < len(words):
+        value = words[words.index(flag) + 1]
+    return value
+
+
+def _drawer(view: str):
+    """The second process that will draw the PNG of ``view`` (``modalfe.plot.render_process``), None where it cannot
+    start."""
     from modalfe.plot.render_process import RenderProcess, RenderProcessError
 
     try:
-        return RenderProcess()
+        return RenderProcess(view)
     except RenderProcessError as exc:
         log.info("%s; drawing in this process", exc)
         return None
@@ -147,7 +157,6 @@ def _drawer():
 def _render_png(drawer, mode, out: str, view: str) -> None:
     """``mode`` drawn into ``out`` by the second process (``drawer``), else (None, or it failed: said in the log)
     here."""
-    from modalfe.plot.render import render_mode
     from modalfe.plot.render_process import RenderProcessError
 
     try:
@@ -156,6 +165,8 @@ def _render_png(drawer, mode, out: str, view: str) -> None:
         drawer.render(mode, out, view)
     except RenderProcessError as exc:
         log.info("%s; drawing in this process", exc)
+        from modalfe.plot.render import render_mode
+
         try:
             render_mode(mode, out=out, view=view, off_screen=True).close()
         except OSError as exc:  # the file became unwritable during the solve (checked before it)

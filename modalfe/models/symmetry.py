@@ -65,6 +65,10 @@ def unfold(scene, points: np.ndarray, *fields: np.ndarray) -> tuple[np.ndarray, 
 # a mirrored cell's vertex list: position j holds the image of the copied cell's vertex MIRRORED_ORDER[j] (VTK order),
 # which keeps its volume positive (an involution: the copied cell's position of the image's j is MIRRORED_ORDER[j] too)
 MIRRORED_ORDER = {12: np.array([1, 0, 3, 2, 5, 4, 7, 6]), 10: np.array([1, 0, 2, 3])}
+# a scikit-fem hexahedron's corners in VTK's vertex order: skfem.io.meshio.HEX_MAPPING[:8] (scikit-fem's meshio
+# conversion), written here as importing that module loads meshio's every format and rich, 0.1 s of one core in
+# `show`'s drawing process
+VTK_HEX_CORNERS = np.array([0, 3, 6, 2, 1, 5, 7, 4])
 
 
 def solved_elements(model, cells: np.ndarray, corners: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -72,8 +76,6 @@ def solved_elements(model, cells: np.ndarray, corners: np.ndarray) -> tuple[np.n
     (3, n)) of ``whole_device_mesh``'s cells ``cells`` (n,) and vertex positions ``corners`` (n, m) in their VTK
     lists: a mirrored copy is its solved element, vertices reordered (``MIRRORED_ORDER``), components signed by
     ``image_signs``."""
-    from skfem.io.meshio import HEX_MAPPING
-
     solved = model.mesh.mesh.t.shape[1]
     kind = _cells(model)[1]
     copy = np.asarray(cells) // solved  # bit l: mirrored about plane l (``unfold``'s doubling per plane)
@@ -83,7 +85,7 @@ def solved_elements(model, cells: np.ndarray, corners: np.ndarray) -> tuple[np.n
         image = (copy >> level) & 1 == 1
         vertex[image] = MIRRORED_ORDER[kind][vertex[image]]
         sign[:, image] *= flip[:, None]
-    return np.asarray(cells) % solved, (np.array(HEX_MAPPING[:8])[vertex] if kind == VTK_HEXAHEDRON else vertex), sign
+    return np.asarray(cells) % solved, (VTK_HEX_CORNERS[vertex] if kind == VTK_HEXAHEDRON else vertex), sign
 
 
 VTK_HEXAHEDRON = 12  # VTK's cell type numbers (vtkCellType.h)
@@ -91,11 +93,9 @@ VTK_HEXAHEDRON = 12  # VTK's cell type numbers (vtkCellType.h)
 
 def _cells(model) -> tuple[np.ndarray, int]:
     """(connectivity in VTK order, VTK cell type) of the model's mesh."""
-    from skfem.io.meshio import HEX_MAPPING
-
     dm = model.mesh
     if dm.element == "hex":
-        return dm.mesh.t[HEX_MAPPING[:8]].T, VTK_HEXAHEDRON
+        return dm.mesh.t[VTK_HEX_CORNERS].T, VTK_HEXAHEDRON
     return dm.mesh.t.T, 10  # VTK_TETRA
 
 

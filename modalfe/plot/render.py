@@ -27,11 +27,15 @@ import logging
 import os
 import tempfile
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from modalfe.models.axisymmetric import AxisymmetricModel
 from modalfe.models.symmetry import VTK_HEXAHEDRON, mirror_planes, whole_device_mesh
+
+if TYPE_CHECKING:
+    import pyvista
 
 log = logging.getLogger(__name__)
 
@@ -49,6 +53,9 @@ COLOUR_BAR_TITLES = {"w": f"normal displacement w\n{UNITS}",
 # in-plane n = 2 0.001, the glass plate's in-plane mode 0.17, where a picture coloured by w shows little but round-off
 IN_PLANE_SHARE = 0.3
 VIEWS = ("iso", "top", "bottom", "iso+bottom")
+WINDOW_SIZE = (1000, 650)  # pixels of a picture
+TUBE = {"line_width": 4, "render_lines_as_tubes": True}  # outlines and hatching
+LABEL = {"font_size": 11, "text_color": "black", "always_visible": True}  # feet, named points, the scale bar
 LIFT = 2e-3  # markers are lifted off the surface by this fraction of the device's size (no z-fighting)
 
 
@@ -378,19 +385,38 @@ def _set_view(plotter, view: str) -> None:
     plotter.reset_camera()  # fit the whole deformed device with its markers and bar: nothing cropped
 
 
-def render_mode(mode, *, out: str | None = None, window_size=(1000, 650), amplification: float = 0.05,
-                view: str = "iso", off_screen: bool = True):
+def _views(view: str) -> list[str]:
+    """The panels of ``view`` ("iso+bottom": two), ValueError naming ``view`` where it is none of VIEWS."""
+    if view not in VIEWS:
+        raise ValueError(f"view: must be one of {VIEWS}, got '{view}'")
+    return view.split("+")
+
+
+def mode_plotter(view: str = "iso", *, window_size: tuple[int, int] = WINDOW_SIZE,
+                 off_screen: bool = True) -> pyvista.Plotter:
+    """The empty plotter ``render_mode`` draws ``view`` in: a panel a view, and the colour bar's at the right."""
+    import pyvista as pv
+
+    n = len(_views(view))
+    plotter = pv.Plotter(off_screen=off_screen, window_size=list(window_size), shape=(1, n + 1),
+                         col_weights=[6] * n + [2.5], border=False)
+    plotter.set_background("white")
+    return plotter
+
+
+def render_mode(mode, *, out: str | None = None, window_size=WINDOW_SIZE, amplification: float = 0.05,
+                view: str = "iso", off_screen: bool = True, plotter=None):
     """Render ``mode`` deformed (largest displacement = ``amplification`` x the device's size).
 
     ``view``: "iso", "top", "bottom" or "iso+bottom" (two panels). The colour bar and the legend have their own
-    panel at the right. Returns the Plotter (``plotter._modalfe``: ``overlays``, the (rest PolyData, actor) pairs an
-    animation moves; ``markers``, the Marker list; ``views``); with ``out`` it also writes a PNG."""
+    panel at the right. ``plotter``: the empty one to draw in, ``mode_plotter(view, ...)``'s (made before the mode
+    was known; ``window_size`` and ``off_screen`` are then its own), else a new one. Returns the
+    Plotter (``plotter._modalfe``: ``overlays``, the (rest PolyData, actor) pairs an animation moves; ``markers``,
+    the Marker list; ``views``); with ``out`` it also writes a PNG."""
     import pyvista as pv
 
     quiet_vtk()
-    if view not in VIEWS:
-        raise ValueError(f"view: must be one of {VIEWS}, got '{view}'")
-    views = view.split("+")
+    views = _views(view)
     grid = mode_grid(mode)
     scale = _scale(grid, amplification)
     faces = grid.extract_surface(algorithm=None)
@@ -404,9 +430,8 @@ def render_mode(mode, *, out: str | None = None, window_size=(1000, 650), amplif
     nodal = nodal_lines(mode, surface) if colour == "w" else pv.PolyData()
     bar, bar_text = _scale_bar(surface.bounds, size)
     points, names = named_points(mode)
-    plotter = pv.Plotter(off_screen=off_screen, window_size=list(window_size), shape=(1, len(views) + 1),
-                         col_weights=[6] * len(views) + [2.5], border=False)
-    plotter.set_background("white")
+    if plotter is None:
+        plotter = mode_plotter(view, window_size=window_size, off_screen=off_screen)
     overlays, device_actor = [], None
     note = symmetry_note(mode.model.scene)
 
@@ -415,7 +440,6 @@ def render_mode(mode, *, out: str | None = None, window_size=(1000, 650), amplif
         overlays.append((rest, actor))
         return actor
 
-    tube = {"line_width": 4, "render_lines_as_tubes": True}
     for col, v in enumerate(views):
         plotter.subplot(0, col)
         actor = draw(surface, f"device:{v}", scalars=colour, show_scalar_bar=False,
@@ -426,29 +450,28 @@ def render_mode(mode, *, out: str | None = None, window_size=(1000, 650), amplif
             draw(nodal, f"nodal:{v}", color="black", line_width=3)
         for i, m in enumerate(markers):
             if m.outline or m.kind not in ("electrode", "clamp"):
-                draw(m.poly, f"marker:{m.group}:{i}:{v}", color=m.colour, **(tube if m.outline else {}))
+                draw(m.poly, f"marker:{m.group}:{i}:{v}", color=m.colour, **(TUBE if m.outline else {}))
                 continue
             # a face: translucent fill, and its outline (electrode) or hatching (clamp) as the marker
             # triangles, split as the body's are: a quad deformed out of plane would cross the body's own triangles
             draw(m.poly.triangulate(), f"fill:{m.group}:{i}:{v}", color=m.colour, opacity=FILL_OPACITY)
             edge = _hatch(m, size) if m.kind == "clamp" else _edges(m.poly)
             if edge is not None and edge.n_points:
-                draw(edge, f"marker:{m.group}:{i}:{v}", color=m.colour, **tube)
+                draw(edge, f"marker:{m.group}:{i}:{v}", color=m.colour, **TUBE)
             if m.kind == "clamp":  # its outline too, drawn thin
                 draw(_edges(m.poly), f"outline:{m.group}:{i}:{v}", color=m.colour, line_width=2)
         for m in markers:  # feet named where the view sees them
             if m.kind == "foot" and v in m.seen_from():
-                plotter.add_point_labels(_deformed(m.poly, scale).center_of_mass()[None, :], [m.group], font_size=11,
-                                         text_color="black", shape_opacity=0.5, always_visible=True,
-                                         name=f"label:{m.group}:{v}")
+                plotter.add_point_labels(_deformed(m.poly, scale).center_of_mass()[None, :], [m.group],
+                                         shape_opacity=0.5, name=f"label:{m.group}:{v}", **LABEL)
         if points is not None:  # drawn in every panel, named in the first (a label shows through the body)
             draw(points, f"points:{v}", color="black", point_size=12, render_points_as_spheres=True)
             if col == 0:
-                plotter.add_point_labels(_deformed(points, scale).points, names, font_size=11, text_color="black",
-                                         shape_opacity=0.5, show_points=False, always_visible=True, name="point_labels")
+                plotter.add_point_labels(_deformed(points, scale).points, names, shape_opacity=0.5, show_points=False,
+                                         name="point_labels", **LABEL)
         plotter.add_mesh(bar, color="black", line_width=4, name=f"scale:{v}")
-        plotter.add_point_labels(bar.points.mean(axis=0)[None, :], [bar_text], font_size=11, text_color="black",
-                                 shape_opacity=0.0, show_points=False, always_visible=True, name=f"scale_label:{v}")
+        plotter.add_point_labels(bar.points.mean(axis=0)[None, :], [bar_text], shape_opacity=0.0, show_points=False,
+                                 name=f"scale_label:{v}", **LABEL)
         plotter.add_axes(color="black", line_width=2, viewport=(0, 0, 0.18, 0.22))
         text = f"{mode_title(mode)}\n{note}" if note else mode_title(mode)
         plotter.add_text(f"{text}\nview: {v}" if col == 0 else f"view: {v}", position="upper_left", font_size=10,

@@ -41,7 +41,7 @@ import numpy as np
 
 from modalfe.errors import SolverError
 from modalfe.models.axisymmetric import AxisymmetricModel
-from modalfe.models.symmetry import VTK_HEXAHEDRON, image_signs, mirror_planes, mirrored
+from modalfe.models.symmetry import VTK_HEX_CORNERS, VTK_HEXAHEDRON, image_signs, mirror_planes, mirrored
 
 # VTK's edge order of the quadratic cells, as pairs of corner positions
 _HEX_EDGES = ((0, 1), (1, 2), (2, 3), (3, 0), (4, 5), (5, 6), (6, 7), (7, 4), (0, 4), (1, 5), (2, 6), (3, 7))
@@ -74,10 +74,8 @@ def edge_nodes(mesh) -> np.ndarray:
 
 def _corners(model) -> np.ndarray:
     """Corner connectivity (n_cells, 8 or 4) in VTK order of the solved part's mesh."""
-    from skfem.io.meshio import HEX_MAPPING
-
     t = model.mesh.mesh.t
-    return t[HEX_MAPPING[:8]].T if model.mesh.element == "hex" else t.T
+    return t[VTK_HEX_CORNERS].T if model.mesh.element == "hex" else t.T
 
 
 def _edge_lookup(edges: np.ndarray, n_vertices: int):

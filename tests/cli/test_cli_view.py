@@ -87,13 +87,15 @@ def test_the_rendering_process_starts_with_the_command_only_for_a_png(monkeypatc
     library; any other command, a GIF, a window or help starts none (``early_drawer``)."""
     from modalfe.cli import view
 
-    monkeypatch.setattr(view, "_drawer", lambda: "drawer")
+    monkeypatch.setattr(view, "_drawer", lambda shown: f"drawer of {shown}")
     monkeypatch.delenv("DISPLAY", raising=False)
     for argv in (["show", "cube_plate"], ["-v", "show", "x.toml", "--out", "m.png"], ["show", "--out=m.PNG", "x"]):
-        assert view.early_drawer(argv) == "drawer", argv
+        assert view.early_drawer(argv) == "drawer of iso+bottom", argv
+    for argv in (["show", "x", "--view", "top"], ["show", "--view=top", "x", "--out", "m.png"]):  # its plotter ahead
+        assert view.early_drawer(argv) == "drawer of top", argv
     for argv in (["modes", "show"], ["show", "x", "--out", "m.gif"], ["show", "--out=m.GIF", "x"], ["show", "-h"],
                  ["show", "x", "--help"], [], ["export", "x", "--out", "m.png"]):
         assert view.early_drawer(argv) is None, argv
     monkeypatch.setenv("DISPLAY", ":0")
     assert view.early_drawer(["show", "x"]) is None  # a window: drawn in this process
-    assert view.early_drawer(["show", "x", "--out", "m.png"]) == "drawer"
+    assert view.early_drawer(["show", "x", "--out", "m.png"]) == "drawer of iso+bottom"

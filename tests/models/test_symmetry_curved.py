@@ -186,3 +186,12 @@ def test_the_cube_plate_with_round_feet_gives_the_same_working_mode_with_and_wit
         # the working mode is even about both mid-planes (six nodal lines placed alike about the mid-length): every
         # model finds it, within the sum of the two models' bounds
         assert abs(half - whole) <= half_bound + bound
+
+
+def test_a_hexahedron_s_corners_in_vtk_order_are_scikit_fem_s_own_mapping():
+    # written out so that drawing a mode does not import skfem.io.meshio (meshio's every format): the same corners
+    from skfem.io.meshio import HEX_MAPPING
+
+    from modalfe.models.symmetry import VTK_HEX_CORNERS
+
+    assert VTK_HEX_CORNERS.tolist() == HEX_MAPPING[:8]

@@ -329,6 +329,58 @@ def test_a_second_process_draws_the_same_picture_as_this_one(plate, tmp_path):
     assert np.array_equal(np.asarray(Image.open(here)), np.asarray(Image.open(there)))
 
 
+def test_the_second_process_loads_before_the_mode_comes_all_that_drawing_it_imports(plate, tmp_path):
+    # what it imports once the mode has come (its classes, VTK's filters, Pillow's plugins) is on `show`'s critical
+    # path: a fresh interpreter, prepared as the second process is, then a mode unpickled and drawn, imports nothing
+    import json
+    import os
+    import pickle
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    from modalfe.plot.render_process import sent
+
+    payload = tmp_path / "mode.pickle"
+    payload.write_bytes(pickle.dumps(sent(plate[0])))
+    script = ("import json, pickle, sys\n"
+              "from modalfe.plot.render_process import prepared\n"
+              "plotter = prepared('iso')\n"
+              "from modalfe.plot.render import render_mode\n"
+              "before = set(sys.modules)\n"
+              f"mode = pickle.loads(open({str(payload)!r}, 'rb').read())\n"
+              f"render_mode(mode, out={str(tmp_path / 'm.png')!r}, view='iso', plotter=plotter).close()\n"
+              "print(json.dumps(sorted(set(sys.modules) - before)))\n")
+    import modalfe
+
+    env = {**os.environ, "PYTHONPATH": str(Path(modalfe.__file__).resolve().parents[1])}  # this modalfe
+    run = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, check=True, env=env)
+    assert json.loads(run.stdout.splitlines()[-1]) == []
+
+
+def test_a_deferred_module_is_loaded_by_its_first_use_not_by_its_import(tmp_path, monkeypatch):
+    # matplotlib.pyplot, pooch and numpy.f2py, which pyvista and scipy import but no picture uses, are left to their
+    # first use in the second process; a package's module is its package's attribute, as an import makes it
+    import sys
+
+    from modalfe.plot.render_process import Deferred, defer
+
+    (tmp_path / "deferred_probe").mkdir()
+    (tmp_path / "deferred_probe" / "__init__.py").write_text("")
+    (tmp_path / "deferred_probe" / "sub.py").write_text("VALUE = 3\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    try:
+        defer("deferred_probe.sub")
+        import deferred_probe.sub as probe
+
+        assert isinstance(sys.modules["deferred_probe.sub"], Deferred)  # bound, not run
+        assert sys.modules["deferred_probe"].sub is probe
+        assert probe.VALUE == 3 and not isinstance(sys.modules["deferred_probe.sub"], Deferred)
+    finally:
+        for name in ("deferred_probe.sub", "deferred_probe"):
+            sys.modules.pop(name, None)
+
+
 def test_a_failed_second_process_says_why(plate, tmp_path):
     # a picture it cannot write (no such folder) comes back as RenderProcessError with the reason, for ``show`` to
     # draw in its own process (where the same failure is the user's error)

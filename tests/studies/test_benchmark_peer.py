@@ -158,6 +158,7 @@ def _check_quick(result: dict, out: str, converged: float, orders: dict[str, set
     assert ref["reference"]["frequency"] == pytest.approx(converged, rel=2e-3)
 
 
+@pytest.mark.slow  # 17 s, the default run's heaviest test; the disc and ring runs keep the script's path by default
 def test_quick_plate_run_prints_the_tables_and_a_consistent_reference(tmp_path):
     result, out = _quick(tmp_path, "plate")
     # 10 % catches a wrong mode only on the coarsest order-2 meshes, the closer ones sit 2.9 % (plate (2,5)) and

@@ -160,6 +160,15 @@ def assemble_elastic(scalar, intorder: int, parts: list[tuple[Boxes, object]],
     return elastic_matrices(indptr, indices, data, Ms, n)
 
 
+def scatter(rows: np.ndarray, cols: np.ndarray, Ke: np.ndarray, n_rows: int, n_cols: int) -> sp.csr_matrix:
+    """The (n_rows, n_cols) sum of element matrices ``Ke`` (nel, nA, nB) on the rows ``rows`` (nA, nel) and columns
+    ``cols`` (nB, nel) of each element (repeated pairs summed)."""
+    nA, nB = rows.shape[0], cols.shape[0]
+    r = np.repeat(rows.T, nB, axis=1).ravel()
+    c = np.tile(cols.T, (1, nA)).ravel()
+    return sp.coo_matrix((Ke.ravel(), (r, c)), shape=(n_rows, n_cols)).tocsr()
+
+
 def elastic_matrices(indptr: np.ndarray, indices: np.ndarray, data: np.ndarray, Ms: np.ndarray,
                      n: int) -> tuple[sp.csr_matrix, sp.csr_matrix]:
     """K_uu and M_uu (3n, 3n) from their data on the scalar CSR pattern (indptr, indices) of n DOFs: K's 3 x 3

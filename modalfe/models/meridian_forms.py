@@ -11,6 +11,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from modalfe.errors import SceneError
+from modalfe.models.box_assembly import scatter
 
 # relative tolerance of the material checks: a tensor unchanged by a turn about the axis, no cos-sin coupling
 _ISOTROPY_TOL = 1e-9
@@ -146,11 +147,7 @@ def region_mass(sub) -> sp.csr_matrix:
     values = np.array([f[0].value for f in sub.basis])  # (nb, nel, nq)
     weight = sub.dx * np.asarray(sub.global_coordinates())[0]  # r dr dz at the quadrature points
     Ke = np.einsum("ieq,jeq->eij", values * weight, values, optimize=True)
-    dofs = sub.element_dofs.T  # (nel, nb)
-    nb = dofs.shape[1]
-    rows = np.repeat(dofs, nb, axis=1).ravel()
-    cols = np.tile(dofs, (1, nb)).ravel()
-    return sp.coo_matrix((Ke.ravel(), (rows, cols)), shape=(sub.N, sub.N)).tocsr()
+    return scatter(sub.element_dofs, sub.element_dofs, Ke, sub.N, sub.N)
 
 
 def segment_dofs(basis, on_segment) -> tuple[np.ndarray, np.ndarray]:

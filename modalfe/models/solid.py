@@ -26,6 +26,7 @@ import scipy.sparse as sp
 
 from modalfe.errors import SceneError
 from modalfe.models import box_assembly, mapped_assembly
+from modalfe.models.box_assembly import scatter
 from modalfe.models.constraints import Constraints, shared_unknowns
 from modalfe.models.part_material import material_of, radially_poled
 from modalfe.models.probing import probing
@@ -387,8 +388,8 @@ def _elastic(scene, device_mesh, u_basis, parts, frame) -> tuple[sp.csr_matrix, 
             b = Basis(mesh, ElementVector(scalar), intorder=intorder, elements=chunk)
             Bv, V = _strain_and_value(b)
             C = tensors(b)[0]
-            K_blocks.append(_scatter(b.element_dofs, b.element_dofs, _contract(Bv, C, Bv, b.dx), n_u, n_u))
-            M_blocks.append(_scatter(b.element_dofs, b.element_dofs, mat.rho * _contract(V, None, V, b.dx), n_u, n_u))
+            K_blocks.append(scatter(b.element_dofs, b.element_dofs, _contract(Bv, C, Bv, b.dx), n_u, n_u))
+            M_blocks.append(scatter(b.element_dofs, b.element_dofs, mat.rho * _contract(V, None, V, b.dx), n_u, n_u))
     Kuu, Muu = box_assembly.assemble_elastic(scalar, intorder, boxes, n_u // 3)
     if any(len(elements) for elements, _ in mapped):
         Kmap, Mmap = mapped_assembly.assemble_elastic(
@@ -462,13 +463,6 @@ def _contract(A, C, B, dx):
     return left @ right.transpose(0, 2, 1)
 
 
-def _scatter(rows, cols, Ke, n_rows, n_cols) -> sp.csr_matrix:
-    nA, nB = rows.shape[0], cols.shape[0]
-    r = np.repeat(rows.T, nB, axis=1).ravel()
-    c = np.tile(cols.T, (1, nA)).ravel()
-    return sp.coo_matrix((Ke.ravel(), (r, c)), shape=(n_rows, n_cols)).tocsr()
-
-
 def _piezo_blocks(mesh, scalar, intorder, scalar_dofs, piezo_parts, n_u, chunk_size):
     """K_uphi and K_phiphi over the piezo parts ((material, tensors, boxes, elements by quadrature, elements by
     ``mapped_assembly``) each, see ``material_of`` and ``_elastic``; a radially poled part has no box elements), on
@@ -499,9 +493,9 @@ def _piezo_blocks(mesh, scalar, intorder, scalar_dofs, piezo_parts, n_u, chunk_s
             Gp = np.array([f[0].grad for f in pb.basis])  # (nloc, 3, nel, nq)
             phi_rows = index[pb.element_dofs]
             _, e, eps = tensors(ub)
-            Kup = Kup + _scatter(ub.element_dofs, phi_rows, _contract(Bv, np.swapaxes(e, -1, -2), Gp, ub.dx),
+            Kup = Kup + scatter(ub.element_dofs, phi_rows, _contract(Bv, np.swapaxes(e, -1, -2), Gp, ub.dx),
                                  n_u, n_phi)
-            Kpp = Kpp + _scatter(phi_rows, phi_rows, _contract(Gp, eps, Gp, pb.dx), n_phi, n_phi)
+            Kpp = Kpp + scatter(phi_rows, phi_rows, _contract(Gp, eps, Gp, pb.dx), n_phi, n_phi)
     return used, Kup.tocsr(), Kpp.tocsr()
 
 

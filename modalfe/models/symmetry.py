@@ -64,7 +64,8 @@ def unfold(scene, points: np.ndarray, *fields: np.ndarray) -> tuple[np.ndarray, 
 
 # a mirrored cell's vertex list: position j holds the image of the copied cell's vertex MIRRORED_ORDER[j] (VTK order),
 # which keeps its volume positive (an involution: the copied cell's position of the image's j is MIRRORED_ORDER[j] too)
-MIRRORED_ORDER = {12: np.array([1, 0, 3, 2, 5, 4, 7, 6]), 10: np.array([1, 0, 2, 3])}
+VTK_HEXAHEDRON, VTK_TETRA = 12, 10  # VTK's cell type numbers (vtkCellType.h)
+MIRRORED_ORDER = {VTK_HEXAHEDRON: np.array([1, 0, 3, 2, 5, 4, 7, 6]), VTK_TETRA: np.array([1, 0, 2, 3])}
 # a scikit-fem hexahedron's corners in VTK's vertex order: skfem.io.meshio.HEX_MAPPING[:8] (scikit-fem's meshio
 # conversion), written here as importing that module loads meshio's every format and rich, 0.1 s of one core in
 # `show`'s drawing process
@@ -88,15 +89,13 @@ def solved_elements(model, cells: np.ndarray, corners: np.ndarray) -> tuple[np.n
     return np.asarray(cells) % solved, (VTK_HEX_CORNERS[vertex] if kind == VTK_HEXAHEDRON else vertex), sign
 
 
-VTK_HEXAHEDRON = 12  # VTK's cell type numbers (vtkCellType.h)
-
 
 def _cells(model) -> tuple[np.ndarray, int]:
     """(connectivity in VTK order, VTK cell type) of the model's mesh."""
     dm = model.mesh
     if dm.element == "hex":
         return dm.mesh.t[VTK_HEX_CORNERS].T, VTK_HEXAHEDRON
-    return dm.mesh.t.T, 10  # VTK_TETRA
+    return dm.mesh.t.T, VTK_TETRA
 
 
 def whole_device_mesh(model, fields: dict[str, np.ndarray]):

@@ -373,14 +373,11 @@ def reduce(mode: Mode, *, outputs, damping: Damping, reference: str | None = Non
 def _device_mass(model) -> float:
     """The whole device's mass [kg], r^T M r for the unit rigid translation r along z (solid model; the
     axisymmetric model's along its axis), else NaN."""
-    from modalfe.response.loads import rigid_translation
+    from modalfe.response.loads import rigid_translations
 
-    if hasattr(model, "rigid_translations"):
-        r = model.rigid_translations()[2, : model.n_u]
-    elif not hasattr(model, "u_basis"):
+    if not (hasattr(model, "rigid_translations") or hasattr(model, "u_basis")):
         return float("nan")
-    else:
-        r = rigid_translation(model, "z")
+    r = rigid_translations(model)[2, : model.n_u]
     return float(model.copies * (r @ (model.M[: model.n_u, : model.n_u] @ r)))
 
 

@@ -97,6 +97,20 @@ def rigid_translation(model, axis: str) -> np.ndarray:
     return r
 
 
+def rigid_translations(model) -> np.ndarray:
+    """(3, ndofs) unit rigid translations along x, y, z on the displacement unknowns (solid model: the vector
+    element's unknowns cycle x, y, z at each node); the axisymmetric model's own (radial, its twin, the axis:
+    ``AxisymmetricModel.rigid_translations``). SceneError naming the fidelity on a beam or plate model."""
+    if hasattr(model, "rigid_translations"):
+        return model.rigid_translations()
+    if not hasattr(model, "u_basis"):
+        raise SceneError("fidelity: rigid translations need the 3-D solid or the axisymmetric model")
+    r = np.zeros((3, model.ndofs))
+    for d, axis in enumerate("xyz"):
+        r[d, : model.n_u] = rigid_translation(model, axis)
+    return r
+
+
 def face_traction_load(model, load: Load) -> np.ndarray:
     """u DOF load (n_u,) of a force (total over the whole device's face group, spread by area) or a normal
     pressure on a face group, as given (``load_vector`` takes it per unit); the half (quarter) model takes the part

@@ -18,8 +18,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from modalfe.errors import SceneError, SolverError
-from modalfe.response.loads import rigid_translation
+from modalfe.errors import SolverError
+from modalfe.response.loads import rigid_translations
 from modalfe.results.coupling import k_eff
 
 CSV_COLUMNS = (
@@ -85,20 +85,6 @@ def _percent(error) -> str:
 
 def _clean(v):
     return None if isinstance(v, float) and not math.isfinite(v) else v
-
-
-def rigid_translations(model) -> np.ndarray:
-    """(3, ndofs) unit rigid translations along x, y, z on the displacement unknowns (solid model: the vector
-    element's unknowns cycle x, y, z at each node); the axisymmetric model's own (radial, its twin, the axis:
-    ``AxisymmetricModel.rigid_translations``)."""
-    if hasattr(model, "rigid_translations"):
-        return model.rigid_translations()
-    if not hasattr(model, "u_basis"):
-        raise SceneError("fidelity: the mode table needs the 3-D solid model")
-    r = np.zeros((3, model.ndofs))
-    for d, axis in enumerate("xyz"):
-        r[d, : model.n_u] = rigid_translation(model, axis)
-    return r
 
 
 def effective_masses(modes) -> tuple[np.ndarray, np.ndarray]:

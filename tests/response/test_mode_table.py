@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 from modalfe.cli.main import main
-from modalfe.response.mode_table import CSV_COLUMNS, effective_masses, mode_table, rigid_translations
+from modalfe.response.loads import rigid_translations
+from modalfe.response.mode_table import CSV_COLUMNS, effective_masses, mode_table
 from modalfe.scene import scene_from_dict
 from modalfe.solve.api import solve_modes
 from tests.oracles.cases import k31_bar_scene, reference_mesh

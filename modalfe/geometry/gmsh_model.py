@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import contextlib
 import itertools
+import math
 
 import numpy as np
 
@@ -156,9 +157,10 @@ def _occ_solid(occ, part) -> int:
     raise MeshError(f"part '{part.name}': unknown part type {type(part).__name__}")
 
 
-def section_surface(occ, part, axis: int, level: float) -> int:
+def section_surface(occ, part, axis: int, level: float, seam: float = 0.0) -> int:
     """The OCC plane surface of a part's cross-section normal to ``axis`` (a shape's own axis; any axis for a box),
-    placed at coordinate ``level`` along it: a rectangle, a disc, an annulus or an outline with its holes."""
+    placed at coordinate ``level`` along it: a rectangle, a disc, an annulus or an outline with its holes. A round
+    part's circles start (their seam point) at the angle ``seam`` [rad] from the in-plane axis after ``axis``."""
     from modalfe.geometry.shapes import Cylinder, Extrusion, Ring
 
     u, v = (axis + 1) % 3, (axis + 2) % 3
@@ -173,8 +175,12 @@ def section_surface(occ, part, axis: int, level: float) -> int:
         corners = [occ.addPoint(*at(a, b)) for a, b in points]
         return occ.addCurveLoop([occ.addLine(p, q) for p, q in zip(corners, corners[1:] + corners[:1])])
 
+    start = at(math.cos(seam), math.sin(seam)) if seam else []  # OCC's own seam when none is asked
+    if start:
+        start[axis] = 0.0
+
     def circle(a: float, b: float, r: float) -> int:
-        return occ.addCurveLoop([occ.addCircle(*at(a, b), r, zAxis=normal)])
+        return occ.addCurveLoop([occ.addCircle(*at(a, b), r, zAxis=normal, xAxis=start)])
 
     (u0, v0), (u1, v1) = (part.lo[u], part.lo[v]), (part.hi[u], part.hi[v])
     rectangle = [(u0, v0), (u1, v0), (u1, v1), (u0, v1)]  # the bounding box's

@@ -237,7 +237,7 @@ class AxisymmetricModel(PiezoUnknowns, Revolved):
 
     def parts_stiffness(self, names) -> sp.csr_matrix:
         """(n_u, n_u) elastic stiffness K_uu of the parts named in ``names`` alone (c^E only, as the 3-D
-        ``modalfe.models.solid.parts_stiffness``), by the same assembly as the whole model's, every harmonic: for
+        ``modalfe.models.solid.parts_matrices``), by the same assembly as the whole model's, every harmonic: for
         the strain energy U = u^T K u / 2 of those parts."""
         from skfem import Basis
 

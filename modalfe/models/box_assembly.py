@@ -54,9 +54,15 @@ def find_boxes(mesh, scalar, element_dofs: np.ndarray, elements: np.ndarray) -> 
     from skfem.refdom import RefHex
 
     grid = _grid(scalar)
-    curved = mesh.doflocs.shape[1] > mesh.nvertices  # MeshHex2 (swept): a box's corners need not make it a box
-    if grid is None or len(elements) == 0 or curved:
-        return Boxes(np.zeros((element_dofs.shape[0], 0), dtype=int), np.zeros((3, 0))), elements
+    none = Boxes(np.zeros((element_dofs.shape[0], 0), dtype=int), np.zeros((3, 0)))
+    if grid is None or len(elements) == 0:
+        return none, elements
+    curved = elements[:0]
+    if mesh.doflocs.shape[1] > mesh.nvertices:  # MeshHex2 (swept): a box's corners need not make it a box
+        straight = _trilinear(mesh, elements)
+        elements, curved = elements[straight], elements[~straight]
+        if len(elements) == 0:
+            return none, curved
     q, ref, oriented = grid
     P = mesh.p[:, mesh.t[:, elements]]  # (3, 8, nel)
     lo = P.min(axis=1)
@@ -84,7 +90,23 @@ def find_boxes(mesh, scalar, element_dofs: np.ndarray, elements: np.ndarray) -> 
     ok &= np.all(np.sort(canon, axis=0) == np.arange(len(ref))[:, None], axis=0)
     dofs = np.empty((len(ref), int(ok.sum())), dtype=element_dofs.dtype)
     dofs[canon[:, ok], np.arange(dofs.shape[1])] = element_dofs[:, elements[ok]]
-    return Boxes(dofs, h[:, ok]), elements[~ok]
+    return Boxes(dofs, h[:, ok]), np.concatenate([elements[~ok], curved])
+
+
+def _trilinear(mesh, elements: np.ndarray) -> np.ndarray:
+    """Whether each of ``elements`` of a hexahedral mesh with geometry nodes beyond its vertices (MeshHex2) has
+    every node at the trilinear map of its eight vertices (within ``BOX_TOLERANCE`` of its extent): a straight
+    element, a box if its vertices make one (a swept section's rectangles)."""
+    from skfem.refdom import RefHex
+
+    X = mesh.elem.doflocs  # (ngeo, 3) reference positions of the geometry nodes
+    Xv = RefHex.p.T  # (8, 3) reference vertices, in the order of ``mesh.t``
+    N = np.prod(np.where(Xv[None, :, :] == 1, X[:, None, :], 1 - X[:, None, :]), axis=2)  # (ngeo, 8)
+    corners = mesh.p[:, mesh.t[:, elements]]  # (3, 8, nel)
+    nodes = mesh.doflocs[:, mesh.dofs.element_dofs[:, elements]]  # (3, ngeo, nel)
+    extent = np.ptp(corners, axis=1).max(axis=0)  # (nel,)
+    off = np.abs(nodes - np.einsum("gv,ive->ige", N, corners)).max(axis=(0, 1))
+    return off <= BOX_TOLERANCE * extent
 
 
 def _reference(scalar, intorder: int) -> tuple[np.ndarray, np.ndarray]:
@@ -137,27 +159,32 @@ def _interleave(A: sp.csr_matrix) -> sp.csr_matrix:
     return sp.csr_matrix((A.data[src], 3 * A.indices[src] + comp, indptr), shape=(3 * n, 3 * n))
 
 
-def assemble_elastic(scalar, intorder: int, parts: list[tuple[Boxes, object]],
-                     n: int) -> tuple[sp.csr_matrix, sp.csr_matrix]:
-    """K_uu and M_uu (3n, 3n) over the box elements of ``parts`` ((Boxes, material) pairs), n scalar DOFs.
+def assemble_elastic(scalar, intorder: int, parts: list[tuple[Boxes, object]], n: int,
+                     mapped=None) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+    """K_uu and M_uu (3n, 3n) over the box elements of ``parts`` ((Boxes, material) pairs) and the ``mapped``
+    elements (``modalfe.models.mapped_assembly.Elements``, added into the same pattern), n scalar DOFs.
 
     K[3a+c, 3b+d] = sum_kl C_ckdl V / (h_k h_l) S[k, l, a, b] (C_ckdl the elastic tensor), M = rho V M_ref x I_3.
     """
     parts = [(boxes, mat) for boxes, mat in parts if boxes.dofs.shape[1]]
-    if not parts:
+    dofs = [boxes.dofs for boxes, _ in parts] + ([mapped.dofs] if mapped is not None else [])
+    if not any(d.shape[1] for d in dofs):
         return sp.csr_matrix((3 * n, 3 * n)), sp.csr_matrix((3 * n, 3 * n))
-    M_ref, S = _reference(scalar, intorder)
-    coef = np.concatenate([np.einsum("ekl,ckdl->ecdkl", _scales(boxes.h), mat.C[VOIGT[:, :, None, None], VOIGT])
-                           for boxes, mat in parts]).reshape(-1, 3, 3, 9)
-    mass = np.concatenate([mat.rho * np.prod(boxes.h, axis=0) for boxes, mat in parts])
-    indptr, indices, pos = pattern(np.concatenate([boxes.dofs for boxes, _ in parts], axis=1), n)
-    S = S.reshape(9, -1)
-    data = np.empty((len(indices), 3, 3))
-    for c in range(3):
-        for d in range(3):
-            data[:, c, d] = _sum(pos, coef[:, c, d], S, len(indices))
-    Ms = np.bincount(pos, weights=np.outer(mass, M_ref).ravel(), minlength=len(indices))
-    return elastic_matrices(indptr, indices, data, Ms, n)
+    indptr, indices, pos = pattern(np.concatenate(dofs, axis=1), n)
+    data = np.zeros((len(indices), 10))  # K's 3 x 3 blocks, then the scalar mass
+    if parts:
+        M_ref, S = _reference(scalar, intorder)
+        coef = np.concatenate([np.einsum("ekl,ckdl->ecdkl", _scales(boxes.h), mat.C[VOIGT[:, :, None, None], VOIGT])
+                               for boxes, mat in parts]).reshape(-1, 9, 9)
+        mass = np.concatenate([mat.rho * np.prod(boxes.h, axis=0) for boxes, mat in parts])
+        at = pos[:len(mass) * M_ref.size]
+        S = S.reshape(9, -1)
+        for cd in range(9):
+            data[:, cd] = _sum(at, coef[:, cd], S, len(indices))
+        data[:, 9] = np.bincount(at, weights=np.outer(mass, M_ref).ravel(), minlength=len(indices))
+    if mapped is not None:
+        mapped.add_elastic(data, pos[len(pos) - mapped.dofs.shape[1] * mapped.dofs.shape[0] ** 2:])
+    return elastic_matrices(indptr, indices, data[:, :9].reshape(-1, 3, 3), data[:, 9], n)
 
 
 def scatter(rows: np.ndarray, cols: np.ndarray, Ke: np.ndarray, n_rows: int, n_cols: int) -> sp.csr_matrix:
@@ -178,25 +205,33 @@ def elastic_matrices(indptr: np.ndarray, indices: np.ndarray, data: np.ndarray, 
 
 
 def assemble_piezo(scalar, intorder: int, parts: list[tuple[Boxes, object]], index: np.ndarray, n_phi: int,
-                   n_u: int) -> tuple[sp.csr_matrix, sp.csr_matrix]:
-    """K_uphi (n_u, n_phi) and K_phiphi (n_phi, n_phi) over the box elements of the piezo ``parts``;
-    ``index`` maps scalar DOFs to potential unknowns (-1 off the piezo parts).
+                   n_u: int, mapped=None) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+    """K_uphi (n_u, n_phi) and K_phiphi (n_phi, n_phi) over the box elements of the piezo ``parts`` and the
+    ``mapped`` elements (as ``assemble_elastic``); ``index`` maps scalar DOFs to potential unknowns (-1 off the
+    piezo parts).
 
     K_uphi[3a+c, b] = sum_kl e_l,ck V / (h_k h_l) S[k, l, a, b] (e_l,ck the piezoelectric tensor),
     K_phiphi[a, b] = sum_kl eps_kl V / (h_k h_l) S[k, l, a, b].
     """
     parts = [(boxes, mat) for boxes, mat in parts if boxes.dofs.shape[1]]
-    if not parts:
+    dofs = [index[boxes.dofs] for boxes, _ in parts] + ([index[mapped.dofs]] if mapped is not None else [])
+    if not any(d.shape[1] for d in dofs):
         return sp.csr_matrix((n_u, n_phi)), sp.csr_matrix((n_phi, n_phi))
-    _, S = _reference(scalar, intorder)
-    S = S.reshape(9, -1)
-    scales = [_scales(boxes.h) for boxes, _ in parts]
-    coupling = np.concatenate([np.einsum("ekl,lck->eckl", g, mat.e[:, VOIGT]) for g, (_, mat) in zip(scales, parts)])
-    permittivity = np.concatenate([g * mat.eps_S for g, (_, mat) in zip(scales, parts)])
-    indptr, indices, pos = pattern(np.concatenate([index[boxes.dofs] for boxes, _ in parts], axis=1), n_phi)
-    data = np.stack([_sum(pos, coupling[:, c].reshape(-1, 9), S, len(indices)) for c in range(3)], axis=1)
-    Kpp = _sum(pos, permittivity.reshape(-1, 9), S, len(indices))
-    return piezo_matrices(indptr, indices, data, Kpp, index, n_phi, n_u)
+    indptr, indices, pos = pattern(np.concatenate(dofs, axis=1), n_phi)
+    data = np.zeros((len(indices), 4))  # K_uphi's three components, then K_phiphi
+    if parts:
+        _, S = _reference(scalar, intorder)
+        S = S.reshape(9, -1)
+        scales = [_scales(boxes.h) for boxes, _ in parts]
+        tensors = np.concatenate([np.concatenate([np.einsum("ekl,lck->eckl", g, mat.e[:, VOIGT]).reshape(-1, 3, 9),
+                                                  (g * mat.eps_S).reshape(-1, 1, 9)], axis=1)
+                                  for g, (_, mat) in zip(scales, parts)])
+        at = pos[:len(tensors) * S.shape[1]]
+        for c in range(4):
+            data[:, c] = _sum(at, tensors[:, c], S, len(indices))
+    if mapped is not None:
+        mapped.add_piezo(data, pos[len(pos) - mapped.dofs.shape[1] * mapped.dofs.shape[0] ** 2:])
+    return piezo_matrices(indptr, indices, data[:, :3], data[:, 3], index, n_phi, n_u)
 
 
 def piezo_matrices(indptr: np.ndarray, indices: np.ndarray, data: np.ndarray, Kpp: np.ndarray, index: np.ndarray,

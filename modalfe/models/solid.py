@@ -390,19 +390,24 @@ def _elastic(scene, device_mesh, u_basis, parts, frame) -> tuple[sp.csr_matrix, 
             C = tensors(b)[0]
             K_blocks.append(scatter(b.element_dofs, b.element_dofs, _contract(Bv, C, Bv, b.dx), n_u, n_u))
             M_blocks.append(scatter(b.element_dofs, b.element_dofs, mat.rho * _contract(V, None, V, b.dx), n_u, n_u))
-    Kuu, Muu = box_assembly.assemble_elastic(scalar, intorder, boxes, n_u // 3)
-    if any(len(elements) for elements, _ in mapped):
-        Kmap, Mmap = mapped_assembly.assemble_elastic(
-            mesh, scalar, intorder, mapped_assembly.canonical_dofs(mesh, scalar, scalar_dofs), mapped, n_u // 3)
-        Kuu, Muu = Kuu + Kmap, Muu + Mmap
+    Kuu, Muu = box_assembly.assemble_elastic(scalar, intorder, boxes, n_u // 3,
+                                             mapped=_mapped(mesh, scalar, intorder, scalar_dofs, mapped))
     return sum(K_blocks, Kuu).tocsr(), sum(M_blocks, Muu).tocsr(), piezo_parts
 
 
-def parts_stiffness(model, names: set[str] | frozenset[str]) -> sp.csr_matrix:
-    """(n_u, n_u) elastic stiffness K_uu of ``model``'s parts named in ``names`` alone (its frame and mesh), by
-    the same assembly as the whole model's; for the strain energy U = u^T K u / 2 of those parts."""
+def _mapped(mesh, scalar, intorder: int, scalar_dofs: np.ndarray, parts: list) -> mapped_assembly.Elements | None:
+    """The ``parts``' elements ((elements, material) pairs) left to ``mapped_assembly``, None if there are none."""
+    if not any(len(elements) for elements, _ in parts):
+        return None
+    dofs = mapped_assembly.canonical_dofs(mesh, scalar, scalar_dofs)
+    return mapped_assembly.Elements(mesh, scalar, intorder, dofs, parts)
+
+
+def parts_matrices(model, names: set[str] | frozenset[str]) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+    """(n_u, n_u) elastic stiffness K_uu and mass M_uu of ``model``'s parts named in ``names`` alone (its frame and
+    mesh), by the same assembly as the whole model's; for the strain and kinetic energies of those parts."""
     parts = [part for part in model.scene.assembly().parts if part.name in names]
-    return _elastic(model.scene, model.mesh, model.u_basis, parts, model.frame)[0]
+    return _elastic(model.scene, model.mesh, model.u_basis, parts, model.frame)[:2]
 
 
 def _supported_dofs(scene, device_mesh, u_basis) -> tuple[np.ndarray, tuple[np.ndarray, ...]]:
@@ -477,14 +482,9 @@ def _piezo_blocks(mesh, scalar, intorder, scalar_dofs, piezo_parts, n_u, chunk_s
     index = np.full(n_u // 3, -1)
     index[used] = np.arange(len(used))
     n_phi = len(used)
+    mapped = _mapped(mesh, scalar, intorder, scalar_dofs, [(by_map, mat) for mat, _, _, _, by_map in piezo_parts])
     Kup, Kpp = box_assembly.assemble_piezo(scalar, intorder, [(found, mat) for mat, _, found, _, _ in piezo_parts],
-                                           index, n_phi, n_u)
-    mapped = [(by_map, mat) for mat, _, _, _, by_map in piezo_parts]
-    if any(len(elements) for elements, _ in mapped):
-        Kmap, Kpp_map = mapped_assembly.assemble_piezo(
-            mesh, scalar, intorder, mapped_assembly.canonical_dofs(mesh, scalar, scalar_dofs), mapped, index, n_phi,
-            n_u)
-        Kup, Kpp = Kup + Kmap, Kpp + Kpp_map
+                                           index, n_phi, n_u, mapped=mapped)
     for _, tensors, _, rest, _ in piezo_parts:
         for chunk in _chunks(rest, chunk_size):
             ub = Basis(mesh, ElementVector(scalar), intorder=intorder, elements=chunk)

@@ -26,6 +26,7 @@ import numpy as np
 
 from modalfe.errors import MeshError
 from modalfe.geometry.parts import Box
+from modalfe.models.section_blocks import Block, arc_elements, blocks, chain_counts, loop_order
 
 # (xi, eta) of the nine nodes of gmsh's quadratic quadrilateral (element type 10): corners counter-clockwise,
 # the mid-sides of edges 0-1, 1-2, 2-3, 3-0, the centre (gmsh reference manual, "Node ordering")
@@ -103,11 +104,17 @@ def section_mesh(assembly, axis: int, sizes: dict[str, float]) -> tuple[np.ndarr
     u, v = (axis + 1) % 3, (axis + 2) % 3
     with gmsh_session("modalfe-section"):
         occ = gmsh.model.occ
-        tags = [(2, section_surface(occ, p, axis, 0.0)) for p in assembly.parts]
-        cells = _lattice_cells(occ, assembly, u, v)
-        children = occ.fragment(tags, cells)[1][:len(tags)] if len(tags) + len(cells) > 1 else [tags]
+        grids = blocks(assembly, u, v)
+        seams = {block.part: block.angle for block in grids}  # a circle's seam at a spoke: no fifth side
+        tags = [(2, section_surface(occ, p, axis, 0.0, seams.get(p.name, 0.0))) for p in assembly.parts]
+        cells = _lattice_cells(occ, assembly, u, v, grids)
+        spokes = [(1, occ.addLine(*(occ.addPoint(*_placed(axis, point)) for point in segment)))
+                  for block in grids for segment in block.segments()]
+        tools = cells + spokes
+        children = occ.fragment(tags, tools)[1][:len(tags)] if len(tags) + len(tools) > 1 else [tags]
         occ.synchronize()
-        if cells:
+        structured = bool(grids) and _structure_blocks(min(sizes.values()))
+        if cells and not structured:
             _structure_rectangles(min(sizes.values()))
         point_size: dict[int, float] = {}
         for part, child in zip(assembly.parts, children):
@@ -120,7 +127,7 @@ def section_mesh(assembly, axis: int, sizes: dict[str, float]) -> tuple[np.ndarr
         gmsh.option.setNumber("Mesh.RecombineAll", 1)
         # the grid's fixed counts leave Blossom a triangle in the cells cut by a circle: full-quad Blossom meshes at
         # half the counts (hence even ones) and subdivides, no triangle left
-        gmsh.option.setNumber("Mesh.RecombinationAlgorithm", 3 if cells else 1)
+        gmsh.option.setNumber("Mesh.RecombinationAlgorithm", 3 if cells and not structured else 1)
         gmsh.option.setNumber("Mesh.ElementOrder", 2)
         gmsh.option.setNumber("Mesh.SecondOrderIncomplete", 0)
         # Blossom leaves a triangle at some sizes (3.2-3.4 mm on a 10 mm disc with a 4 mm hub): the sizes are then
@@ -157,9 +164,16 @@ def section_mesh(assembly, axis: int, sizes: dict[str, float]) -> tuple[np.ndarr
     return uv, quads
 
 
-def _lattice_cells(occ, assembly, u: int, v: int) -> list[tuple[int, int]]:
+def _placed(axis: int, point: tuple[float, float]) -> list[float]:
+    """(x, y, z) of the section point (u, v) in the plane through the origin normal to ``axis``."""
+    xyz = [0.0, 0.0, 0.0]
+    xyz[(axis + 1) % 3], xyz[(axis + 2) % 3] = point
+    return xyz
+
+
+def _lattice_cells(occ, assembly, u: int, v: int, grids: list[Block]) -> list[tuple[int, int]]:
     """OCC rectangles of the box parts' grid (their faces' coordinates along ``u`` and ``v``, but those within
-    ``LATTICE_CLEARANCE`` of a curved part) over the boxes' extent:
+    ``LATTICE_CLEARANCE`` of a curved part) and of the O-grid blocks' cells (``grids``) over the boxes' extent:
     cut into the section, they split it into rectangles wherever no curved part lies, as the structured grid of box
     devices does (a 0.4 mm gap between ceramics becomes a strip of slivers, not of 0.4 mm squares)."""
     boxes = [p for p in assembly.parts if isinstance(p, Box)]
@@ -172,7 +186,8 @@ def _lattice_cells(occ, assembly, u: int, v: int) -> list[tuple[int, int]]:
                    < p.hi[k] + LATTICE_CLEARANCE * (p.hi[k] - p.lo[k]) for p in curved)
 
     bounds = [(min(p.lo[k] for p in boxes), max(p.hi[k] for p in boxes)) for k in (u, v)]
-    breaks = [np.unique([c for p in boxes for c in (p.lo[k], p.hi[k]) if clear(c, k) or c in bounds[i]])
+    breaks = [np.unique([c for p in boxes for c in (p.lo[k], p.hi[k]) if clear(c, k) or c in bounds[i]]
+                        + [c for block in grids for c in block.lines[i]])
               for i, k in enumerate((u, v))]
     if len(breaks[0]) + len(breaks[1]) == 4:
         return []  # no grid line inside the boxes: nothing to structure
@@ -191,18 +206,54 @@ def _structure_rectangles(size: float) -> None:
     import gmsh
 
     for _, c in gmsh.model.getEntities(1):
-        lo, hi = gmsh.model.getParametrizationBounds(1, c)
-        t = np.linspace(lo[0], hi[0], 65)
-        x = np.reshape(gmsh.model.getValue(1, c, t), (-1, 3))
-        length = float(np.linalg.norm(np.diff(x, axis=0), axis=1).sum())
+        length, curvature = _curve_extent(c)
         n = length / size
-        if gmsh.model.getType(1, c) != "Line":
-            n = max(n, CIRCLE_ELEMENTS * length * float(np.max(gmsh.model.getCurvature(1, c, t))) / (2 * np.pi))
+        if curvature > 0.0:
+            n = max(n, CIRCLE_ELEMENTS * length * curvature / (2 * np.pi))
         gmsh.model.mesh.setTransfiniteCurve(c, 2 * max(1, math.ceil(n / 2 - 1e-9)) + 1)
     for _, surface in gmsh.model.getEntities(2):
         curves = [abs(c) for _, c in gmsh.model.getBoundary([(2, surface)], oriented=False)]
         if len(curves) == 4 and all(gmsh.model.getType(1, c) == "Line" for c in curves):
             gmsh.model.mesh.setTransfiniteSurface(surface)
+
+
+def _structure_blocks(size: float) -> bool:
+    """Transfinite quadrilaterals on every section surface when each has four sides (the lattice's rectangles and
+    the O-grid blocks' faces): each curve split into ceil(length / ``size``) elements, arcs at least
+    ``ARC_ELEMENTS`` a full circle, one count for each chain of opposite sides (``chain_counts``). False, and
+    nothing set, if a surface has other than four sides."""
+    import gmsh
+
+    wanted = {}
+    for _, c in gmsh.model.getEntities(1):
+        length, curvature = _curve_extent(c)
+        n = length / size if curvature == 0.0 else max(length / size, arc_elements(length, curvature))
+        wanted[c] = max(1, math.ceil(n - 1e-9))
+    ends = {c: tuple(gmsh.model.getAdjacencies(1, c)[1]) for c in wanted}
+    faces = {s: [abs(c) for _, c in gmsh.model.getBoundary([(2, s)], oriented=False)]
+             for _, s in gmsh.model.getEntities(2)}
+    counts = chain_counts({s: loop_order(curves, ends) for s, curves in faces.items()}, wanted)
+    if counts is None:
+        return False
+    for c, n in counts.items():
+        gmsh.model.mesh.setTransfiniteCurve(c, n + 1)
+    for s in faces:
+        gmsh.model.mesh.setTransfiniteSurface(s)
+        gmsh.model.mesh.setRecombine(2, s)  # quadrilaterals made as such, not recombined from triangles
+    return True
+
+
+def _curve_extent(c: int) -> tuple[float, float]:
+    """(length [m], largest curvature [1/m], 0 for a line) of the section curve ``c``, from 65 points on it."""
+    import gmsh
+
+    lo, hi = gmsh.model.getParametrizationBounds(1, c)
+    t = np.linspace(lo[0], hi[0], 65)
+    x = np.reshape(gmsh.model.getValue(1, c, t), (-1, 3))
+    length = float(np.linalg.norm(np.diff(x, axis=0), axis=1).sum())
+    if gmsh.model.getType(1, c) == "Line":
+        return length, 0.0
+    return length, float(np.max(gmsh.model.getCurvature(1, c, t)))
 
 
 def _face_groups(mesh, assembly, parts: dict[str, np.ndarray]) -> dict[str, np.ndarray]:

@@ -188,14 +188,14 @@ def _per_part(model) -> bool:
 
 def _assembled_material_stiffness(model, names: frozenset) -> dict[str, sp.csr_matrix]:
     from modalfe.models.axisymmetric import AxisymmetricModel
-    from modalfe.models.solid import parts_stiffness
+    from modalfe.models.solid import parts_matrices
 
     scene = model.scene
     made_of: dict[str, set[str]] = {}
     for part in scene.assembly().parts:
         made_of.setdefault(scene.material(part.material).name, set()).add(part.name)
     assembled = model.parts_stiffness if isinstance(model, AxisymmetricModel) else \
-        (lambda parts: parts_stiffness(model, parts))
+        (lambda parts: parts_matrices(model, parts)[0])
     return {name: assembled(made_of[name]) for name in names if name in made_of}
 
 

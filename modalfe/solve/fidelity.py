@@ -41,6 +41,8 @@ import math
 import time
 from dataclasses import replace
 
+import numpy as np
+
 from modalfe.errors import SceneError, SolverError
 from modalfe.results.modes import Modes, select
 from modalfe.solve.axisymmetric import solve_axisymmetric
@@ -153,7 +155,26 @@ def solid_estimates(fine: Modes, levels: list[Modes], rung: Rung, step_level: Mo
     estimates, rates = plan.frequency_errors(fine)
     if rates:  # the orders' rates, observed in the same pass
         plan = replace(plan, method=plan.method.replace(")", f"; observed {min(rates):.1f}-{max(rates):.1f})", 1))
+    if plan.rule == "orders":
+        estimates, plan = _with_walls(fine, estimates, plan)
     return replace(fine.with_error_estimates(estimates), estimate_method=plan.method, estimate=plan)
+
+
+def _with_walls(fine: Modes, estimates: dict[int, float], plan):
+    """``estimates`` from the orders on one swept grid plus the bound on its round walls' geometry, which every
+    order shares (``modalfe.models.wall_geometry``), and the plan's method saying so; as given on other meshes."""
+    from modalfe.models.wall_geometry import wall_deviations, wall_errors
+
+    deviations = wall_deviations(fine.model)
+    if not any(deviations.values()):
+        return estimates, plan
+    modes = list(fine)
+    walls = wall_errors(fine.model, np.column_stack([m.shape for m in modes]), np.array([m.omega**2 for m in modes]))
+    worst = max(deviations, key=deviations.get)
+    method = (f"{plan.method}; plus the round walls' geometry (quadratic arcs, up to {100 * deviations[worst]:.2g} % "
+              f"of the radius off on '{worst}': Hadamard bound)")
+    row = {m.index: k for k, m in enumerate(modes)}
+    return {i: e + walls[row[i]] for i, e in estimates.items()}, replace(plan, method=method)
 
 
 def solid_plan(fine: Modes, levels: list[Modes], rung: Rung, step_level: Modes | None = None) -> EstimatePlan:

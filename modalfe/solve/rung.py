@@ -73,8 +73,13 @@ class Rung:
         return self._box_hexahedra and self.scene.mesh.order - 2 >= LOWEST_P_LEVEL
 
     @functools.cached_property
-    def _box_hexahedra(self) -> bool:  # hexahedra on box parts only (no curved, swept part)
-        return self.scene.mesh.element == "hex" and not self.scene.assembly().shaped
+    def _box_hexahedra(self) -> bool:
+        """Hexahedra on box parts, with round parts (swept hexahedra) only beside boxes: curved details on a box grid
+        (round feet, a round sensor), where the p-estimate adds the bound on the walls' geometry
+        (``modalfe.models.wall_geometry``). A body of revolution alone keeps the grids' h-estimate, verified on it
+        (studies/swept_verification.py)."""
+        assembly = self.scene.assembly()
+        return self.scene.mesh.element == "hex" and (not assembly.shaped or len(assembly.shaped) < len(assembly.parts))
 
     @functools.cached_property
     def checks_order_step(self) -> bool:

@@ -1,6 +1,8 @@
 """The Cu-Be plate with round feet (seeds 000/001 plate, ``foot_shape = "round"``) on swept hexahedra: its section is
 cut by the box parts' grid (``modalfe.models.swept``), so the 0.4 mm gaps between the ceramics are strips of slivers
-(as on the box grid), not of 0.4 mm squares that spread over the plate; and the coarser estimate levels coarsen it."""
+(as on the box grid), not of 0.4 mm squares that spread over the plate, and each foot's circle is an O-grid block
+(``modalfe.models.section_blocks``); the coarser grids coarsen it; the answer's stated error (orders 2-3-4 on one
+grid plus the walls' geometry bound) covers a finer solve."""
 
 from __future__ import annotations
 
@@ -26,12 +28,12 @@ def _quads(factor: float) -> int:
 
 
 def test_round_feet_section_stays_structured_and_coarsens():
-    # measured 402 quadrilaterals at the scene's sizes (the half plate, y symmetry); the unstructured section before
-    # the grid cut had 668 (the gaps' 0.4 mm squares spreading over the plate): 450 separates the two
+    # measured 264 quadrilaterals at the scene's sizes (the half plate, y symmetry), 402 with the feet's cells meshed
+    # unstructured, 668 before the grid cut (the gaps' 0.4 mm squares spreading over the plate): 300 separates them
     fine, coarsest = _quads(1.0), _quads(CHECK_FACTORS[1])
-    assert fine <= 450
-    # the x2.25 estimate level must coarsen the section in both in-plane directions by MIN_RATIO at least, else the
-    # h-estimate has no level (measured 402 / 254 = 1.58 >= 1.2^2 = 1.44; before: 668 / 452 at x2.25 and 686 at x1.5)
+    assert fine <= 300
+    # the x2.25 grid must coarsen the section in both in-plane directions by MIN_RATIO at least, else an h-estimate
+    # has no level (measured 264 / 132 = 2.0 >= 1.2^2 = 1.44; 402 / 254 with unstructured cells, 668 / 452 before)
     assert fine / coarsest >= MIN_RATIO**2
 
 
@@ -47,16 +49,16 @@ def test_round_feet_swept_hexahedra_are_not_folded():
     assert (det.min(axis=1) / det.max(axis=1)).min() > 0.05
 
 
-# finer references: the round feet's answer is quadratic swept hexahedra on the scene's grid x0.444 with 7 layers, its
-# reference cubic on x0.667 with 5 layers (node spacing alike, one order higher); the square feet's answer is quartic on
-# the grid x3 with 1 layer, its reference quartic on x1.5 with 2 layers (elements halved in the plane and through the
-# plate). Measured: round 39 694.65 Hz stated 0.201 % against 39 643.71 (0.128 % off), square 39 610.80 Hz stated
-# 0.283 % against 39 583.65 (0.069 % off)
+# finer references: both answers are quartic on the grid x3 with 1 layer (orders 2-3-4 on it; the round feet's plus
+# the walls' geometry bound); the round feet's reference is cubic on x0.667 with 5 layers (187 092 DOFs), the square
+# feet's quartic on x1.5 with 2 layers (elements halved in the plane and through the plate). Measured: round
+# 39 681.69 Hz stated 0.276 % against 39 648.16 (0.085 % off; quartic on x1.5 with 2 layers gives 39 655.02), square
+# 39 610.80 Hz stated 0.283 % against 39 583.65 (0.069 % off)
 REFERENCES = {"round": {"order": 3, "elements_per_wavelength": 9.0, "min_layers": 5},
               "square": {"order": 4, "elements_per_wavelength": 4.0, "min_layers": 2}}
 
 
-@pytest.mark.slow  # both 323 s on 2 shared cores; the round reference alone 350 055 DOFs, 133 s
+@pytest.mark.slow  # the round reference 187 092 DOFs, 28 s; the square one 70 365 DOFs, 13 s
 @pytest.mark.parametrize("shape", ["round", "square"])
 def test_working_mode_stated_error_covers_a_finer_solve(shape):
     """The (0,6) at tol 0.5 % (``modalfe modes cube_plate --near 40e3 --count 4 --fidelity solid``) against a finer

@@ -1,0 +1,183 @@
+"""O-grid blocks: a circle on a box grid's swept section (a round foot or sensor under or on a plate) meshed by
+structured quadrilaterals, as the grid around it is.
+
+A circle standing alone in a square cell of the section's lattice (half-side ``BLOCK_CELL`` x its radius) is cut
+into nine four-sided faces: an inner rectangle, four faces between it and the circle, four between the circle and
+the cell, split by spokes from the rectangle's corners through the circle to the cell's corners (the O-grid of
+structured CFD and FE meshing, e.g. Thompson, Soni & Weatherill, Handbook of Grid Generation, 1999, ch. 4). A box
+edge crossing the circle (a ceramic's edge over a foot) splits faces into four-sided ones as long as it crosses the
+inner rectangle and the circle between the spokes: the spokes' angle and the rectangle are moved to make it so.
+Every face then has four sides and is meshed transfinite, with one element count for each chain of opposite sides
+(``chain_counts``): no unstructured patch, so no full-quad subdivision either, which doubled the counts of the whole
+section (docs/studies.md, "Round feet").
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from modalfe.geometry.parts import Box
+from modalfe.geometry.shapes import Cylinder
+
+BLOCK_CELL = 1.5  # a circle's cell: half-side this x its radius (faces between circle and cell 0.5 r deep)
+BLOCK_INNER = 0.5  # the inner rectangle's half-sides: this x the radius (spokes at 45 degrees) unless moved
+BLOCK_CLEAR = 0.15  # x radius: the least distance from a crossing edge to a spoke's end or the rectangle's corner
+# elements on a full circle's O-grid arcs: quadratic arcs of 45 degrees, radial error 7.2e-4 x radius (16: 4.6e-5)
+ARC_ELEMENTS = 4
+
+
+@dataclass(frozen=True)
+class Block:
+    """The O-grid of the circle of ``part``: ``centre`` (2,) [m] in the section plane, ``radius`` [m], the cell's
+    ``half``-side [m], the spokes' ``angle`` [rad] above the u axis, the inner rectangle's half-sides ``inner`` (u, v)
+    [m] and the box edges ``crossing`` the cell (u coordinates of lines u = c, v coordinates) [m]."""
+
+    part: str
+    centre: tuple[float, float]
+    radius: float
+    half: float
+    angle: float
+    inner: tuple[float, float]
+    crossing: tuple[tuple[float, ...], tuple[float, ...]] = ((), ())
+
+    @property
+    def lines(self) -> tuple[tuple[float, ...], tuple[float, ...]]:
+        """The lattice lines the block needs (u coordinates, v coordinates) [m]: its cell's sides and the box edges
+        crossing it, which run on through the whole lattice (an edge ending at the cell would leave its neighbours
+        five-sided)."""
+        (a, b), h = self.centre, self.half
+        return (a - h, a + h, *self.crossing[0]), (b - h, b + h, *self.crossing[1])
+
+    def segments(self) -> list[tuple[tuple[float, float], tuple[float, float]]]:
+        """The block's own straight curves ((u, v) start, end) [m]: the inner rectangle's four sides, four spokes
+        from its corners to the circle, four from the circle to the cell's corners."""
+        (a, b), r, h = self.centre, self.radius, self.half
+        signs = ((1, 1), (-1, 1), (-1, -1), (1, -1))  # counter-clockwise from the first quadrant
+        inner = [(a + su * self.inner[0], b + sv * self.inner[1]) for su, sv in signs]
+        rim = [(a + su * r * math.cos(self.angle), b + sv * r * math.sin(self.angle)) for su, sv in signs]
+        cell = [(a + su * h, b + sv * h) for su, sv in signs]
+        sides = [(inner[i], inner[(i + 1) % 4]) for i in range(4)]
+        return sides + list(zip(inner, rim)) + list(zip(rim, cell))
+
+
+def blocks(assembly, u: int, v: int) -> list[Block]:
+    """The O-grid blocks of the assembly's section normal to the third axis: one for each whole circle (a cylinder
+    standing on that axis, not cut) whose cell lies inside the boxes' extent, clear of every other round part and
+    cell, and crossed only by box edges that span the cell and cross the circle where the spokes can pass them."""
+    boxes = [p for p in assembly.parts if isinstance(p, Box)]
+    if not boxes:
+        return []
+    lo = [min(p.lo[k] for p in boxes) for k in (u, v)]
+    hi = [max(p.hi[k] for p in boxes) for k in (u, v)]
+    curved = [p for p in assembly.parts if not isinstance(p, Box)]
+    found: list[Block] = []
+    for part in curved:
+        if not isinstance(part, Cylinder) or part.cuts or part.k in (u, v):
+            continue
+        centre, r = (part.centre[u], part.centre[v]), part.radius
+        half = BLOCK_CELL * r
+        cell_lo = (centre[0] - half, centre[1] - half)
+        cell_hi = (centre[0] + half, centre[1] + half)
+        if any(cell_lo[i] < lo[i] or cell_hi[i] > hi[i] for i in (0, 1)):
+            continue
+        others = [(q.lo[u], q.lo[v], q.hi[u], q.hi[v]) for q in curved if q is not part]
+        others += [(*(c - b.half for c in b.centre), *(c + b.half for c in b.centre)) for b in found]
+        if any(x0 < cell_hi[0] and x1 > cell_lo[0] and y0 < cell_hi[1] and y1 > cell_lo[1]
+               for x0, y0, x1, y1 in others):
+            continue
+        crossing = _crossings(boxes, (u, v), centre, half)
+        block = None if crossing is None else _fitted(part.name, centre, r, half, crossing)
+        if block is not None:
+            found.append(block)
+    return found
+
+
+def _crossings(boxes, axes: tuple[int, int], centre, half: float) -> tuple[tuple[float, ...], ...] | None:
+    """(u coordinates of the box edges u = c crossing the cell, v coordinates of those v = c) [m]; None if an edge
+    inside the cell stops in it."""
+    tol = 1e-9 * half
+    found: tuple[set, set] = (set(), set())
+    for box in boxes:
+        for i in (0, 1):  # i: the edge's normal direction in the section
+            j = 1 - i
+            k, m = axes[i], axes[j]
+            for c in (box.lo[k], box.hi[k]):
+                if not centre[i] - half + tol < c < centre[i] + half - tol:
+                    continue
+                if box.hi[m] <= centre[j] - half + tol or box.lo[m] >= centre[j] + half - tol:
+                    continue  # the edge passes beside the cell
+                if box.lo[m] > centre[j] - half + tol or box.hi[m] < centre[j] + half - tol:
+                    return None  # it ends inside the cell
+                found[i].add(c)
+    return tuple(sorted(f) for f in found)
+
+
+def _fitted(part: str, centre, r: float, half: float, crossing) -> Block | None:
+    """The block whose spokes and inner rectangle clear the ``crossing`` edges by ``BLOCK_CLEAR`` x r; None if none
+    does (an edge off the circle, or too near its rim)."""
+    across_u, across_v = (max((abs(c - centre[i]) for c in crossing[i]), default=0.0) for i in (0, 1))
+    clear = BLOCK_CLEAR * r
+    angle = math.pi / 4
+    if r * math.sin(angle) < across_v + clear:
+        angle = math.asin(min(1.0, (across_v + clear) / r))
+    if r * math.cos(angle) < across_u + clear:
+        angle = math.acos(min(1.0, (across_u + clear) / r))
+    extent = (r * math.cos(angle), r * math.sin(angle))  # where the spokes meet the circle
+    if extent[0] < across_u + clear or extent[1] < across_v + clear:
+        return None
+    inner = []
+    for reach, across in zip(extent, (across_u, across_v)):
+        side = min(max(BLOCK_INNER * math.sqrt(2) * reach, across + clear), reach - clear)
+        if side < across + clear - 1e-12 * r:
+            return None
+        inner.append(side)
+    return Block(part, tuple(centre), r, half, angle, tuple(inner), tuple(tuple(c) for c in crossing))
+
+
+def chain_counts(faces: dict[int, list[int]], wanted: dict[int, int]) -> dict[int, int] | None:
+    """Element count of each curve for transfinite four-sided ``faces`` (face -> its four curves in order round
+    it): opposite sides of a face carry one count, so each chain of opposite sides takes the largest count any
+    curve of it ``wanted``. None if a face has not four curves."""
+    parent = {c: c for c in wanted}
+
+    def root(c: int) -> int:
+        while parent[c] != c:
+            parent[c] = parent[parent[c]]
+            c = parent[c]
+        return c
+
+    for curves in faces.values():
+        if len(curves) != 4:
+            return None
+        for a, b in ((curves[0], curves[2]), (curves[1], curves[3])):
+            parent[root(a)] = root(b)
+    largest: dict[int, int] = {}
+    for c, n in wanted.items():
+        largest[root(c)] = max(largest.get(root(c), 1), n)
+    return {c: largest[root(c)] for c in wanted}
+
+
+def loop_order(curves: list[int], ends: dict[int, tuple[int, ...]]) -> list[int]:
+    """``curves`` of one closed loop in order round it, each curve's end points given by ``ends``; as given when
+    they do not form a single chain (a face with a hole, a closed circle)."""
+    if any(len(ends[c]) != 2 for c in curves):
+        return curves
+    ordered, rest = [curves[0]], set(curves[1:])
+    point = ends[curves[0]][1]
+    while rest:
+        following = next((c for c in rest if point in ends[c]), None)
+        if following is None:
+            return curves
+        ordered.append(following)
+        rest.discard(following)
+        a, b = ends[following]
+        point = b if a == point else a
+    return ordered
+
+
+def arc_elements(length: float, curvature: float) -> float:
+    """The elements an arc of ``length`` [m] and ``curvature`` [1/m] needs at ``ARC_ELEMENTS`` a full circle."""
+    return ARC_ELEMENTS * length * curvature / (2 * np.pi)

@@ -510,6 +510,8 @@ LOSSES: dict[str, MaterialLoss] = {
     "PZT-4": MaterialLoss(Qm=500.0, tan_delta=0.004, source=_LOSS_SOURCE),
     "PZT-5A": MaterialLoss(Qm=75.0, tan_delta=0.02, source=_LOSS_SOURCE),
     "PZT-5H": MaterialLoss(Qm=65.0, tan_delta=0.02, source=_LOSS_SOURCE),
+    "Sonox-P4": MaterialLoss(Qm=500.0, tan_delta=0.003, source="CeramTec, 'Piezoceramic Hard Materials - Material "
+                             "Data', Sonox P4: Qm 500, tan delta 3e-3 (the sheet of the material, _CERAMTEC_P4)"),
 }
 
 

@@ -174,6 +174,80 @@ def transversely_isotropic_piezo(
     return PiezoMaterial(name, C, rho, source, e=E, eps_S=eps)
 
 
+def piezo_stiffness_form(s_E: np.ndarray, d: np.ndarray, eps_T: np.ndarray
+                         ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(c^E [Pa] (6, 6), e [C/m^2] (3, 6), eps^S [F/m] (3, 3)) from the datasheet d-form tensors.
+
+    c^E = (s^E)^-1, e = d c^E, eps^S = eps^T - d c^E d^T = eps^T - e d^T; IEEE Std 176-1987 (the
+    inverse of ``piezo_compliance_form``; exact matrix identities). Voigt order xx, yy, zz, yz, xz, xy.
+    """
+    c_E = np.linalg.inv(np.asarray(s_E, dtype=float))
+    c_E = (c_E + c_E.T) / 2
+    e = np.asarray(d, dtype=float) @ c_E
+    eps_S = np.asarray(eps_T, dtype=float) - e @ np.asarray(d, dtype=float).T
+    return c_E, e, eps_S
+
+
+def piezo_compliance_form(c_E: np.ndarray, e: np.ndarray, eps_S: np.ndarray
+                          ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(s^E [1/Pa] (6, 6), d [C/N] (3, 6), eps^T [F/m] (3, 3)) from the e-form tensors.
+
+    s^E = (c^E)^-1, d = e s^E, eps^T = eps^S + d e^T; IEEE Std 176-1987 (relations between
+    the four forms of the piezoelectric constitutive equations; exact matrix identities).
+    Voigt order xx, yy, zz, yz, xz, xy.
+    """
+    s_E = np.linalg.inv(np.asarray(c_E, dtype=float))
+    d = np.asarray(e, dtype=float) @ s_E
+    eps_T = np.asarray(eps_S, dtype=float) + d @ np.asarray(e, dtype=float).T
+    return s_E, d, eps_T
+
+
+def completed_from_datasheet(
+    name: str, *, s11E: float, s33E: float, d31: float, d33: float, d15: float, eps_r: dict, kp: float, rho: float,
+    source: str,
+) -> PiezoMaterial:
+    """A 6mm piezoceramic from a data sheet that lists s11E, s33E [1/Pa], d31, d33, d15 [C/N], the relative
+    permittivities ``eps_r`` {"11T", "33T", "11S", "33S"}, the planar coupling ``kp`` and rho [kg/m^3], but not s12E,
+    s13E, s44E. Those three follow from the same sheet's kp, eps11S and eps33S by identities of IEEE Std 176-1987
+    (nothing fitted to a frequency):
+
+        kp^2 = 2 d31^2 / (eps33T (s11E + s12E));   eps11S = eps11T - d15^2 / s44E;
+        eps33S = eps33T - d3 . s_n^-1 . d3,  d3 = (d31, d31, d33),  s_n the normal block of s^E,
+
+    the last a quadratic in s13E, 2 D s13^2 - 4 d31 d33 s13 + 2 d31^2 s33 + d33^2 P - D P s33 = 0 (D = eps33T -
+    eps33S, P = s11E + s12E), of whose two roots the one with e31 < 0 is taken (the other gives e31 > 0: no PZT).
+    """
+    eps = {k: EPS0 * v for k, v in eps_r.items()}
+    P = 2 * d31**2 / (kp**2 * eps["33T"])
+    s12E = P - s11E
+    s44E = d15**2 / (eps["11T"] - eps["11S"])
+    D = eps["33T"] - eps["33S"]
+    d = np.zeros((3, 6))
+    d[2, :2], d[2, 2], d[0, 4], d[1, 3] = d31, d33, d15, d15
+    roots = np.roots([2 * D, -4 * d31 * d33, 2 * d31**2 * s33E + d33**2 * P - D * P * s33E])
+    for s13E in roots[np.isreal(roots)].real:
+        s_E = np.diag([s11E, s11E, s33E, s44E, s44E, 2 * (s11E - s12E)])
+        s_E[0, 1] = s_E[1, 0] = s12E
+        s_E[0, 2] = s_E[2, 0] = s_E[1, 2] = s_E[2, 1] = s13E
+        C, e, eps_S = piezo_stiffness_form(s_E, d, np.diag([eps["11T"], eps["11T"], eps["33T"]]))
+        if e[2, 0] < 0:
+            return PiezoMaterial(name, (C + C.T) / 2, rho, source, e=e, eps_S=(eps_S + eps_S.T) / 2)
+    raise SceneError(f"material '{name}': no real s13E with e31 < 0 reproduces the data sheet's eps33S "
+                     "(its figures are inconsistent)")
+
+
+_CERAMTEC_P4 = (
+    "CeramTec, 'Piezoceramic Hard Materials - Material Data', Sonox P4 (Navy type I), stored copy "
+    "https://de.scribd.com/document/628850476/Piezoceramic-Hard-Materials (the same values in CeramTec's 'Werkstoffe "
+    "fuer Leistungswandler / Materials for power converters', https://expydoc.com/doc/1391026/): eps33T/eps0 1300, "
+    "eps33S/eps0 660, eps11T/eps0 1535, eps11S/eps0 885, kp 0.57, d33 310, d31 -130, d15 455 pC/N, s11E 14.9, s33E "
+    "18.1 x 1e-12 m^2/N, rho 7650 kg/m^3; s12E, s13E, s44E completed from the same sheet by IEEE Std 176 identities "
+    "(completed_from_datasheet). The sheet's own c33D (15.9e10 N/m^2) disagrees with the completed set's (12.4e10); "
+    "its kt (0.50), k31 (0.31), k15 (0.65) and c55D (4.8e10) agree. Its frequency constants Np 2210, Nt 2000 Hz m "
+    "are compared in studies/frequency_constants.py, not used here"
+)
+
+
 _BERLINCOURT = (
     "Berlincourt, Curran & Jaffe, 'Piezoelectric and piezomagnetic materials', Physical "
     "Acoustics vol. 1A (1964), as tabulated in Sherman & Butler, Transducers and Arrays for "
@@ -249,6 +323,11 @@ def _library() -> dict[str, ElasticMaterial]:
             "PZT-5H", c={"11": 12.6e10, "12": 7.95e10, "13": 8.41e10, "33": 11.7e10, "44": 2.30e10},
             e={"31": -6.5, "33": 23.3, "15": 17.0}, eps_r={"11": 1700.0, "33": 1470.0},
             rho=7500.0, source=_BERLINCOURT,
+        ),
+        "Sonox-P4": completed_from_datasheet(
+            "Sonox-P4", s11E=14.9e-12, s33E=18.1e-12, d31=-130e-12, d33=310e-12, d15=455e-12,
+            eps_r={"11T": 1535.0, "33T": 1300.0, "11S": 885.0, "33S": 660.0}, kp=0.57, rho=7650.0,
+            source=_CERAMTEC_P4,
         ),
     }
 
@@ -409,34 +488,6 @@ def _permittivity(field: str, value) -> np.ndarray:
     return eps
 
 
-def piezo_stiffness_form(s_E: np.ndarray, d: np.ndarray, eps_T: np.ndarray
-                         ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(c^E [Pa] (6, 6), e [C/m^2] (3, 6), eps^S [F/m] (3, 3)) from the datasheet d-form tensors.
-
-    c^E = (s^E)^-1, e = d c^E, eps^S = eps^T - d c^E d^T = eps^T - e d^T; IEEE Std 176-1987 (the
-    inverse of ``piezo_compliance_form``; exact matrix identities). Voigt order xx, yy, zz, yz, xz, xy.
-    """
-    c_E = np.linalg.inv(np.asarray(s_E, dtype=float))
-    c_E = (c_E + c_E.T) / 2
-    e = np.asarray(d, dtype=float) @ c_E
-    eps_S = np.asarray(eps_T, dtype=float) - e @ np.asarray(d, dtype=float).T
-    return c_E, e, eps_S
-
-
-def piezo_compliance_form(c_E: np.ndarray, e: np.ndarray, eps_S: np.ndarray
-                          ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(s^E [1/Pa] (6, 6), d [C/N] (3, 6), eps^T [F/m] (3, 3)) from the e-form tensors.
-
-    s^E = (c^E)^-1, d = e s^E, eps^T = eps^S + d e^T; IEEE Std 176-1987 (relations between
-    the four forms of the piezoelectric constitutive equations; exact matrix identities).
-    Voigt order xx, yy, zz, yz, xz, xy.
-    """
-    s_E = np.linalg.inv(np.asarray(c_E, dtype=float))
-    d = np.asarray(e, dtype=float) @ s_E
-    eps_T = np.asarray(eps_S, dtype=float) + d @ np.asarray(e, dtype=float).T
-    return s_E, d, eps_T
-
-
 @dataclass(frozen=True)
 class MaterialLoss:
     """Small-signal losses of a material: mechanical quality factor ``Qm`` (loss factor 1 / Qm) and
@@ -459,6 +510,8 @@ LOSSES: dict[str, MaterialLoss] = {
     "PZT-4": MaterialLoss(Qm=500.0, tan_delta=0.004, source=_LOSS_SOURCE),
     "PZT-5A": MaterialLoss(Qm=75.0, tan_delta=0.02, source=_LOSS_SOURCE),
     "PZT-5H": MaterialLoss(Qm=65.0, tan_delta=0.02, source=_LOSS_SOURCE),
+    "Sonox-P4": MaterialLoss(Qm=500.0, tan_delta=0.003, source="CeramTec, 'Piezoceramic Hard Materials - Material "
+                             "Data', Sonox P4: Qm 500, tan delta 3e-3 (the sheet of the material, _CERAMTEC_P4)"),
 }
 
 

@@ -126,23 +126,29 @@ def test_thickness_mode_of_a_laterally_constrained_plate_is_the_1d_theory():
     assert laterally_held(model, "short", fr) == pytest.approx(fr, rel=1e-5)
 
 
-def test_thin_pzt5h_disc_frequency_constants_match_the_thin_disc_and_thickness_theories():
-    """The 20 x 1 mm PZT-5H disc (the library's Berlincourt constants), short circuit, default tol. R1 against the
-    thin-disc theory of IEEE Std 176-1987 (``thin_disc``) within 0.2 %: the theory neglects (t/D)^2, -0.11 to -0.13 %
-    on PZT-5A, PZT-4 and PZT-5H (studies/frequency_constants.py). The thickness mode held laterally is the 1-D
-    resonator (``thickness_resonator``) to 1e-5, as PZT-5A's above; free, within 1 % of it: the 1-D theory is the
-    laterally infinite plate's, and the finite disc's lateral coupling with the radial overtones near the thickness
-    mode raises it by +0.49 % to +0.78 % on the three grades (the same study)."""
-    fr_r1, _ = thin_disc("PZT-5H", 0.01)
-    r1 = solve_modes(_disc(10, 1, "PZT-5H", fr_r1, poling=1), fidelity="axisymmetric", mode="R1").labelled("R1")
+@pytest.mark.parametrize("grade", ["PZT-5H", "Sonox-P4"])
+def test_thin_disc_frequency_constants_match_the_thin_disc_and_thickness_theories(grade):
+    """The 20 x 1 mm disc of PZT-5H (Berlincourt's constants) and of Sonox-P4 (CeramTec's sheet, completed), short
+    circuit, default tol. R1 against the thin-disc theory of IEEE Std 176-1987 (``thin_disc``) within 0.2 %: the
+    theory neglects (t/D)^2, -0.10 to -0.13 % on the four grades (studies/frequency_constants.py). The thickness mode
+    held laterally is the 1-D resonator (``thickness_resonator``) to 1e-5, as PZT-5A's above; free, within 1 % of it:
+    the 1-D theory is the laterally infinite plate's, and the finite disc's lateral coupling with the radial
+    overtones near the thickness mode moves it by -0.61 % to +0.78 % on the four grades (the same study)."""
+    fr_r1, _ = thin_disc(grade, 0.01)
+    r1 = solve_modes(_disc(10, 1, grade, fr_r1, poling=1), fidelity="axisymmetric", mode="R1").labelled("R1")
     assert r1.frequency == pytest.approx(fr_r1, rel=2e-3)
-    fr, _ = thickness_resonator("PZT-5H", 1e-3)
-    scene = _disc(10, 1, "PZT-5H", fr, poling=1)
+    fr, _ = thickness_resonator(grade, 1e-3)
+    scene = _disc(10, 1, grade, fr, poling=1)
     held = assemble_axisymmetric(replace(scene, mesh=replace(scene.mesh, max_size=2.5e-4)), harmonics=(0,), order=4)
     assert laterally_held(held, "short", fr) == pytest.approx(fr, rel=1e-5)
     free = replace(scene, mesh=replace(scene.mesh, harmonics=0, max_frequency=1.15 * fr))
     thickness = solve_modes(free, fidelity="axisymmetric", near=fr, count=5).labelled("thickness")
     assert thickness.frequency == pytest.approx(fr, rel=1e-2)
+    if grade == "Sonox-P4":
+        # the same sheet's Np (CeramTec: 2210 Hz m) within 5 %, the frequency tolerance APC states for its typical
+        # values (the stored CeramTec copy states none); measured -2.4 %. Its Nt (2000 Hz m) is not asserted: the
+        # model's fr t is 11 % below it (docs/axisymmetric.md, "Frequency constants").
+        assert r1.frequency * 0.02 == pytest.approx(2210.0, rel=0.05)
 
 
 @pytest.mark.parametrize(("n", "rigid"), [(0, 2), (1, 2), (2, 0), (3, 0)])

@@ -29,6 +29,30 @@ def test_pzt4_datasheet_values_from_the_d_form():
     assert eps_T[2, 2] / EPS0 == pytest.approx(1300, rel=0.02)
 
 
+def test_completed_sonox_p4_keeps_its_sheet_and_reproduces_the_sheets_other_figures():
+    """Sonox-P4 (CeramTec's sheet completed by IEEE Std 176 identities, ``completed_from_datasheet``): the given
+    figures come back exactly from the d-form, and the sheet's figures not used in the completion (kt, k31, k15,
+    c55D) come back within their rounding (two digits: 0.005 in a coupling of 0.3-0.65, 0.05e10 in 4.8e10, <= 1.7 %).
+    The sheet's c33D (15.9e10) is not among them: the completed set gives 12.4e10 (docs/axisymmetric.md)."""
+    m = MATERIALS["Sonox-P4"]
+    s_E, d, eps_T = piezo_compliance_form(m.C, m.e, m.eps_S)
+    # given figures: exact up to the rounding of two 6x6 inversions
+    np.testing.assert_allclose([s_E[0, 0], s_E[2, 2], d[2, 0], d[2, 2], d[0, 4]],
+                               [14.9e-12, 18.1e-12, -130e-12, 310e-12, 455e-12], rtol=1e-9)
+    np.testing.assert_allclose(np.diag(eps_T) / EPS0, [1535, 1535, 1300], rtol=1e-9)
+    np.testing.assert_allclose(np.diag(m.eps_S) / EPS0, [885, 885, 660], rtol=1e-9)
+    kp = np.sqrt(2 * d[2, 0] ** 2 / (eps_T[2, 2] * (s_E[0, 0] + s_E[0, 1])))
+    assert kp == pytest.approx(0.57, rel=1e-9)
+    # the sheet's other figures
+    c33D = m.C[2, 2] + m.e[2, 2] ** 2 / m.eps_S[2, 2]
+    c55D = m.C[4, 4] + m.e[0, 4] ** 2 / m.eps_S[0, 0]
+    assert m.e[2, 2] / np.sqrt(c33D * m.eps_S[2, 2]) == pytest.approx(0.50, abs=0.005)  # kt
+    assert abs(d[2, 0]) / np.sqrt(s_E[0, 0] * eps_T[2, 2]) == pytest.approx(0.31, abs=0.005)  # k31
+    assert d[0, 4] / np.sqrt(s_E[4, 4] * eps_T[0, 0]) == pytest.approx(0.65, abs=0.005)  # k15
+    assert c55D == pytest.approx(4.8e10, abs=0.05e10)
+    assert m.e[2, 0] < 0  # the root of the s13E quadratic with e31 < 0
+
+
 def test_relative_permittivity_is_refused_with_the_field():
     m = MATERIALS["PZT-4"]
     with pytest.raises(SceneError, match=r"^materials\.p\.eps_S: .*eps0"):

@@ -64,7 +64,7 @@ def wall_errors(model, shapes: np.ndarray, omega2: np.ndarray) -> np.ndarray:
     if not deviations:
         return np.zeros(shapes.shape[1])
     u = shapes[:model.n_u]
-    kinetic = np.einsum("im,im->m", u, model.M[:model.n_u, :model.n_u] @ u)
+    kinetic = np.einsum("im,im->m", shapes, model.M @ shapes)  # M has no potential rows: u^T M_uu u
     K, M = parts_matrices(model, set(deviations))  # the round parts at once, at the largest deviation of any
     s_K = np.einsum("im,im->m", u, K @ u) / (omega2 * kinetic)
     s_M = np.einsum("im,im->m", u, M @ u) / kinetic

@@ -23,6 +23,7 @@ from modalfe.geometry.parts import Box
 from modalfe.geometry.shapes import Cylinder
 
 BLOCK_CELL = 1.5  # a circle's cell: half-side this x its radius (faces between circle and cell 0.5 r deep)
+BLOCK_CELL_LEAST = 1.2  # ... or less where a box edge or the boxes' extent is nearer (a sensor by the plate's edge)
 BLOCK_INNER = 0.5  # the inner rectangle's half-sides: this x the radius (spokes at 45 degrees) unless moved
 BLOCK_CLEAR = 0.15  # x radius: the least distance from a crossing edge to a spoke's end or the rectangle's corner
 # elements on a full circle's O-grid arcs: quadratic arcs of 45 degrees, radial error 7.2e-4 x radius (16: 4.6e-5)
@@ -66,53 +67,53 @@ class Block:
 def blocks(assembly, u: int, v: int) -> list[Block]:
     """The O-grid blocks of the assembly's section normal to the third axis: one for each whole circle (a cylinder
     standing on that axis, not cut) whose cell lies inside the boxes' extent, clear of every other round part and
-    cell, and crossed only by box edges that span the cell and cross the circle where the spokes can pass them."""
+    cell. Every box edge is a lattice line through the whole extent (``modalfe.models.swept``): one crossing the
+    circle is passed by the spokes (else no block: too near the rim), one between the circle and the cell's side
+    moves the side in to it, down to ``BLOCK_CELL_LEAST`` x the radius (else no block); the side also stops at the
+    boxes' extent."""
     boxes = [p for p in assembly.parts if isinstance(p, Box)]
     if not boxes:
         return []
     lo = [min(p.lo[k] for p in boxes) for k in (u, v)]
     hi = [max(p.hi[k] for p in boxes) for k in (u, v)]
+    lines = [sorted({c for p in boxes for c in (p.lo[k], p.hi[k])}) for k in (u, v)]
     curved = [p for p in assembly.parts if not isinstance(p, Box)]
     found: list[Block] = []
     for part in curved:
         if not isinstance(part, Cylinder) or part.cuts or part.k in (u, v):
             continue
         centre, r = (part.centre[u], part.centre[v]), part.radius
-        half = BLOCK_CELL * r
+        half = min(BLOCK_CELL * r, *(centre[i] - lo[i] for i in (0, 1)), *(hi[i] - centre[i] for i in (0, 1)))
+        crossing: tuple[list, list] = ([], [])
+        for i in (0, 1):
+            for c in lines[i]:
+                off = abs(c - centre[i])
+                if off < r:
+                    crossing[i].append(c)
+                elif off < half:
+                    half = off
+        if half < BLOCK_CELL_LEAST * r * (1 - 1e-9):
+            continue
         cell_lo = (centre[0] - half, centre[1] - half)
         cell_hi = (centre[0] + half, centre[1] + half)
-        if any(cell_lo[i] < lo[i] or cell_hi[i] > hi[i] for i in (0, 1)):
-            continue
         others = [(q.lo[u], q.lo[v], q.hi[u], q.hi[v]) for q in curved if q is not part]
         others += [(*(c - b.half for c in b.centre), *(c + b.half for c in b.centre)) for b in found]
         if any(x0 < cell_hi[0] and x1 > cell_lo[0] and y0 < cell_hi[1] and y1 > cell_lo[1]
                for x0, y0, x1, y1 in others):
             continue
-        crossing = _crossings(boxes, (u, v), centre, half)
-        block = None if crossing is None else _fitted(part.name, centre, r, half, crossing)
+        block = _fitted(part.name, centre, r, half, crossing)
         if block is not None:
             found.append(block)
     return found
 
 
-def _crossings(boxes, axes: tuple[int, int], centre, half: float) -> tuple[tuple[float, ...], ...] | None:
-    """(u coordinates of the box edges u = c crossing the cell, v coordinates of those v = c) [m]; None if an edge
-    inside the cell stops in it."""
-    tol = 1e-9 * half
-    found: tuple[set, set] = (set(), set())
-    for box in boxes:
-        for i in (0, 1):  # i: the edge's normal direction in the section
-            j = 1 - i
-            k, m = axes[i], axes[j]
-            for c in (box.lo[k], box.hi[k]):
-                if not centre[i] - half + tol < c < centre[i] + half - tol:
-                    continue
-                if box.hi[m] <= centre[j] - half + tol or box.lo[m] >= centre[j] + half - tol:
-                    continue  # the edge passes beside the cell
-                if box.lo[m] > centre[j] - half + tol or box.hi[m] < centre[j] + half - tol:
-                    return None  # it ends inside the cell
-                found[i].add(c)
-    return tuple(sorted(f) for f in found)
+def all_blocked(assembly) -> bool:
+    """Whether the assembly has boxes and each of its round parts is a block of its swept section: the whole section
+    is then structured (every face four-sided, ``modalfe.models.swept``)."""
+    axis = assembly.sweep_axis
+    if axis is None or len(assembly.shaped) == len(assembly.parts):
+        return False
+    return len(blocks(assembly, (axis + 1) % 3, (axis + 2) % 3)) == len(assembly.shaped)
 
 
 def _fitted(part: str, centre, r: float, half: float, crossing) -> Block | None:

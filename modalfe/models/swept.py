@@ -179,7 +179,8 @@ def _lattice_cells(occ, assembly, u: int, v: int, grids: list[Block]) -> list[tu
     boxes = [p for p in assembly.parts if isinstance(p, Box)]
     if not boxes or (u, v) != (0, 1):
         return []  # OCC draws rectangles in z planes only: sections normal to x or y keep the unstructured mesh
-    curved = [p for p in assembly.parts if not isinstance(p, Box)]
+    blocked = {block.part for block in grids}  # a block takes the lines near its circle (``section_blocks.blocks``)
+    curved = [p for p in assembly.parts if not isinstance(p, Box) and p.name not in blocked]
 
     def clear(c: float, k: int) -> bool:  # a grid line that crosses or grazes no curved part (no sliver beside it)
         return all(not p.lo[k] - LATTICE_CLEARANCE * (p.hi[k] - p.lo[k]) < c

@@ -388,7 +388,8 @@ def refined_to_tol(rung: Rung, analysis, solid: Modes | None, *, tol: float, che
     times more (the estimate levels' own ratio, ``COARSE_FACTOR``); one step at a time (a step costs ~1.5^3 = 3.4x
     the one before, so the steps before the last add at most ~40 %; jumping by the steps an h^2 fall predicts
     overshot), at most ``MAX_REFINE_STEPS``, and none whose model would not fit in memory
-    (``modalfe.models.estimate.check_size``). Not where the solid states no estimate (nothing to steer by). On
+    (``modalfe.models.estimate.check_size``). Not where the solid states no estimate (nothing to steer by), but
+    for the first step where it raises the order. On
     h-steps a step's estimate levels (elements x1.5 and x2.25 of its own, layers alike) are the grids of the steps
     before it (``solid`` and its ``levels`` for the first): they are reused (``solve_estimated``)."""
     from modalfe.models.estimate import check_size
@@ -400,7 +401,10 @@ def refined_to_tol(rung: Rung, analysis, solid: Modes | None, *, tol: float, che
     worst, why = ((math.inf, "own grid (not solved, first_step)") if solid is None
                   else worst_checked(solid, check))
     steps, stopped, finer = (0 if solid is not None else start - 1), "", rung
-    while worst > tol and (math.isfinite(worst) or solid is None) and steps < MAX_REFINE_STEPS:
+    # an unknown error steers nowhere, but where the first step raises the order it brings its own estimate (the
+    # orders on its grid: a round sensor's plate, whose quadratic grids coarsen no part alike, states one there)
+    while worst > tol and (math.isfinite(worst) or solid is None or (steps == 0 and rung.raises_order)) \
+            and steps < MAX_REFINE_STEPS:
         finer = rung.step(steps + 1)
         try:
             size = check_size(finer.scene, size_factor=finer.size_factor)

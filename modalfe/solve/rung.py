@@ -74,12 +74,14 @@ class Rung:
 
     @functools.cached_property
     def _box_hexahedra(self) -> bool:
-        """Hexahedra on box parts, with round parts (swept hexahedra) only beside boxes: curved details on a box grid
-        (round feet, a round sensor), where the p-estimate adds the bound on the walls' geometry
-        (``modalfe.models.wall_geometry``). A body of revolution alone keeps the grids' h-estimate, verified on it
-        (studies/swept_verification.py)."""
+        """Hexahedra on box parts, with round parts (swept hexahedra) only as O-grid blocks on the boxes' grid
+        (``modalfe.models.section_blocks.all_blocked``: round feet, a round sensor), where the p-estimate adds the
+        bound on the walls' geometry (``modalfe.models.wall_geometry``). A body of revolution alone, or a section
+        left unstructured, keeps the grids' h-estimate, verified there (studies/swept_verification.py)."""
+        from modalfe.models.section_blocks import all_blocked
+
         assembly = self.scene.assembly()
-        return self.scene.mesh.element == "hex" and (not assembly.shaped or len(assembly.shaped) < len(assembly.parts))
+        return self.scene.mesh.element == "hex" and (not assembly.shaped or all_blocked(assembly))
 
     @functools.cached_property
     def checks_order_step(self) -> bool:

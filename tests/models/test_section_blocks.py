@@ -99,15 +99,23 @@ def test_the_seed_plates_round_feet_are_blocks_passing_the_ceramics_edge():
     assert section_mesh(assembly, 2, sizes)[1].shape[1] <= 130  # 114 measured; the unstructured cells gave 252
 
 
-def test_an_edge_ending_inside_a_cell_or_a_crowded_circle_gets_no_block():
+def test_edges_near_a_circle_move_its_cell_in_or_refuse_the_block():
+    """Every box edge runs through the whole lattice: within the circle it is a crossing (the inner rectangle clears
+    it), between the circle and the cell's side it moves the side in (not below ``BLOCK_CELL_LEAST`` r), and a circle
+    crowded by another round part or with an edge too near its rim gets no block."""
     plate = Box("plate", "plate", "steel", (0.0, 0.0, 0.0), (0.03, 0.02, 0.002))
     foot = Cylinder("foot", "foot", "steel", (0.015, 0.01, -0.003), "z", 0.002, 0.003)
-    short = Box("pad", "pad", "steel", (0.0145, 0.01, 0.002), (0.03, 0.02, 0.0025))  # its edges end in the cell
-    assert blocks(Assembly((plate, foot, short), {}), 0, 1) == []
-    near = Cylinder("other", "foot", "steel", (0.0185, 0.01, -0.003), "z", 0.001, 0.003)  # inside the cell
-    assert blocks(Assembly((plate, foot, near), {}), 0, 1) == []
-    edge = Box("skin", "skin", "steel", (0.0, 0.0115, 0.002), (0.03, 0.02, 0.0025))  # 0.75 r off: too near the rim
-    assert blocks(Assembly((plate, foot, edge), {}), 0, 1) == []
+    pad = Box("pad", "pad", "steel", (0.0145, 0.01, 0.002), (0.03, 0.02, 0.0025))  # edges through the centre region
+    (block,) = blocks(Assembly((plate, foot, pad), {}), 0, 1)
+    assert block.crossing == ((0.0145,), (0.01,)) and block.inner[0] > 0.0005 and block.inner[1] > 0.0
+    near = Box("near", "pad", "steel", (0.0, 0.0127, 0.002), (0.03, 0.02, 0.0025))  # 1.35 r above the centre
+    (block,) = blocks(Assembly((plate, foot, near), {}), 0, 1)
+    assert block.half == pytest.approx(0.0027) and block.crossing == ((), ())
+    for edge in (0.0122, 0.0115):  # 1.1 r: between the circle and the least cell; 0.75 r: too near the rim
+        skin = Box("skin", "skin", "steel", (0.0, edge, 0.002), (0.03, 0.02, 0.0025))
+        assert blocks(Assembly((plate, foot, skin), {}), 0, 1) == []
+    other = Cylinder("other", "foot", "steel", (0.0185, 0.01, -0.003), "z", 0.001, 0.003)  # inside the cell
+    assert blocks(Assembly((plate, foot, other), {}), 0, 1) == []
 
 
 def test_chain_counts_share_one_count_along_opposite_sides():

@@ -454,7 +454,7 @@ def modal_admittance(modes, frequency, losses: Losses, *, residual: str = "centr
     omega_r = np.array([m.omega for m in used])
     theta = np.array([float(m.shape @ load) for m in used])
     centre = (0.5 * (w.min() + w.max())) ** 2
-    A, B, kept = short_circuit_pencil(model)
+    A, B, kept = short_circuit_pencil(model, factorized=residual == "centre")
     kept = kept if residual == "centre" else None  # GMRES serves beside the eigen shift, not at 0: factorized there
     # in the band, the kept eigen shift: direct solves there (GMRES at the centre: 8 solves a level on the Cu-Be plate)
     sigma = 0.0 if residual == "static" else kept[1] if kept is not None and w.min() ** 2 <= kept[1] <= w.max() ** 2 \

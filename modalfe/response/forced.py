@@ -249,7 +249,7 @@ def beside_resonance(mode: Mode, load=None):
         return _BESIDE["result"]
     model = mode.model
     T, F, C_b, x_v = drive_vectors(model, load)
-    A, B, factor = short_circuit_pencil(model)
+    A, B, factor = short_circuit_pencil(model, factorized=True)
     omega_d = 0.97 * mode.omega
     result = (T, F, C_b, x_v, shifted_solve(A, B, omega_d**2, factor)(F), omega_d)
     _BESIDE.clear()
@@ -302,7 +302,7 @@ def open_circuit(mode: Mode, *, among=None, near: float | None = None) -> OpenCi
     from modalfe.solve.levels import short_circuit_pencil
 
     if near is None:
-        kept = short_circuit_pencil(mode.model)[2]
+        kept = short_circuit_pencil(mode.model, factorized=True)[2]
         near = None if kept is None else math.sqrt(max(kept[1], 0.0)) / (2 * math.pi)
     if near:
         try:

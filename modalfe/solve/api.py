@@ -134,6 +134,16 @@ def solve_modes(
                                   error_estimate=bool(error_estimate), size_factor=float(size_factor))
         kept = resolved.lookup(key, scene)
         if kept is not None:
+            if kept.circuit == "short" and a.band is None and a.near:
+                from modalfe.solve.levels import remember_shift
+
+                # the answer's model and its levels' (solved near the same shift, ``coarser``): their open circuits
+                # and forced solves factorize there, once, as after a fresh solve
+                plan = kept.estimate
+                for modes in (kept, *kept.cross_check, *(plan.levels if plan is not None else ()),
+                              *((plan.floor,) if plan is not None and plan.floor is not None else ())):
+                    if modes.model is not None:
+                        remember_shift(modes.model, a.near)
             return kept
     with single_threaded_blas():
         if fidelity == "axisymmetric":

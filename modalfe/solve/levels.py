@@ -39,6 +39,18 @@ class _ShortSolve:
 
 _SHORT_SOLVES: list[_ShortSolve] = []  # newest first
 caches.register("short-circuit factorizations", _SHORT_SOLVES.clear)
+# (model held weakly, eigen shift [rad^2/s^2]) of answers read back from the resolved answers (``remember_shift``)
+_SHIFTS: list[tuple[weakref.ref, float]] = []
+caches.register("shifts of answers read back", _SHIFTS.clear)
+
+
+def remember_shift(model, near: float) -> None:
+    """``model``, read back from the resolved answers, was solved in short circuit near ``near`` [Hz]: where a
+    factorization of it is asked for (``short_circuit_pencil``), it is made at that shift, once, as the solve would
+    have kept it (a ``table`` after ``modes``: 60 s against 6.4 s solved afresh on the Cu-Be plate, each mode's open
+    circuit and beside-resonance solve factorizing anew)."""
+    _SHIFTS[:] = [(ref, shift) for ref, shift in _SHIFTS if ref() is not None and ref() is not model]
+    _SHIFTS.append((weakref.ref(model), (2 * np.pi * near) ** 2))
 
 
 def solve_level(scene, analysis, *, fidelity: str = "solid", size_factor: float = 1.0, solver: str = "auto",
@@ -135,12 +147,26 @@ def _solved(model, analysis, constraints, short: list, kept, border, known, fide
         return eigenpairs(A, B, analysis, solver, factor, seed, start), (A, B)
 
 
-def short_circuit_pencil(model) -> tuple[sp.csr_matrix, sp.csr_matrix, tuple | None]:
+def short_circuit_pencil(model, *, factorized: bool = False) -> tuple[sp.csr_matrix, sp.csr_matrix, tuple | None]:
     """(A, B, factor): the short-circuit pencil T^T K T, T^T M T of ``model`` and the factorization (solve, shift)
     of A - shift B its eigen solve kept (``_ShortSolve``); projected afresh, factor None, where none is kept (a
-    model read back from the resolved answers, or one without a driven electrode)."""
+    model read back from the resolved answers, or one without a driven electrode). ``factorized``: a model read back
+    gets its factorization at the shift it was solved at (``remember_shift``), kept as its solve's would be."""
     kept = next((k for k in _SHORT_SOLVES if k.model() is model), None)
     if kept is not None:
         return kept.A, kept.B, kept.factor
     constraints = model.constraints("short")
-    return constraints.project(model.K), constraints.project(model.M), None
+    A, B = constraints.project(model.K), constraints.project(model.M)
+    shift = next((shift for ref, shift in _SHIFTS if ref() is model), None) if factorized else None
+    if shift is None:
+        return A, B, None
+    from modalfe.errors import SolverError
+    from modalfe.solve.linalg import Shifted, factorize
+
+    try:
+        factor = (factorize(Shifted(A, B, shift))[0], shift)
+    except SolverError:  # the shift on an eigenvalue: the callers factorize where they solve
+        return A, B, None
+    _SHORT_SOLVES.insert(0, _ShortSolve(weakref.ref(model), A, B, factor))
+    del _SHORT_SOLVES[_KEPT_FACTORS:]
+    return A, B, factor

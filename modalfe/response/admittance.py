@@ -454,7 +454,7 @@ def modal_admittance(modes, frequency, losses: Losses, *, residual: str = "centr
     omega_r = np.array([m.omega for m in used])
     theta = np.array([float(m.shape @ load) for m in used])
     centre = (0.5 * (w.min() + w.max())) ** 2
-    A, B, kept = short_circuit_pencil(model, factorized=residual == "centre")
+    A, B, kept = short_circuit_pencil(model)
     kept = kept if residual == "centre" else None  # GMRES serves beside the eigen shift, not at 0: factorized there
     # in the band, the kept eigen shift: direct solves there (GMRES at the centre: 8 solves a level on the Cu-Be plate)
     sigma = 0.0 if residual == "static" else kept[1] if kept is not None and w.min() ** 2 <= kept[1] <= w.max() ** 2 \
@@ -463,22 +463,31 @@ def modal_admittance(modes, frequency, losses: Losses, *, residual: str = "centr
     # the load on the modes left out (module docstring): a kept mode beside sigma (the band's centre 0.03 % from the
     # Cu-Be plate's (0,6)) is not in it, so GMRES on the eigen solve's kept factorization converges (``shifted_solve``)
     F_left = F - B @ (free_values(model.constraints("short").T, shapes) @ theta)
-    try:  # one solve function for both right-hand sides (without a kept one, it factorizes once)
-        x_left = (solve := shifted_solve(A, B, sigma, kept))(F_left)
+
+    def residual_solves(shift: float) -> tuple[np.ndarray, np.ndarray, float]:
+        """(x_left, B x_left, x_left . B (A - shift B)^-1 B x_left): one solve function for both right-hand sides
+        (without a kept factorization, or where GMRES on it stalls, it factorizes at ``shift`` once)."""
+        solve = shifted_solve(A, B, shift, kept)
+        x = solve(F_left)
+        Bx = B @ x
+        return x, Bx, float(Bx @ solve(Bx))
+
+    try:
+        x_left, B_x, q_res2 = residual_solves(sigma)
     except SolverError as exc:
         if sigma == 0:
             raise SolverError(f"residual: the static solve failed ({exc}); a free body (no clamps or springs) needs "
                               f"residual='centre'") from None
-        sigma = _shift_clear_of_modes(w, omega_r)  # the band's centre lies on a resonance: any shift in it serves
+        # the band's centre lies on a resonance (a band centred on fr, where GMRES on a kept factorization at another
+        # shift stalls for the second right-hand side too): any shift in it serves
+        sigma = _shift_clear_of_modes(w, omega_r)
         try:
-            x_left = (solve := shifted_solve(A, B, sigma, kept))(F_left)
+            x_left, B_x, q_res2 = residual_solves(sigma)
         except SolverError as again:
             raise SolverError(f"residual: the solve at {np.sqrt(sigma) / 2 / np.pi:.6g} Hz, beside the band's "
                               f"centre on a resonance, failed ({again})") from None
     c, h, text = modal_losses(used, model, losses)
-    B_x = B @ x_left
     q_res0, q_res1 = C_b + float(F @ x_left), float(x_left @ B_x)
-    q_res2 = float(B_x @ solve(B_x))  # x_left . B (A - sigma B)^-1 B x_left
     C_S = clamped_capacitance(model)
     factor = model.copies
 

@@ -9,7 +9,7 @@ import json
 from pathlib import Path
 
 import pytest
-from hypothesis import HealthCheck, Phase, given, settings
+from hypothesis import HealthCheck, Phase, example, given, settings
 from hypothesis import strategies as st
 
 from modalfe.design.sweep import coupling_extra, sweep
@@ -116,6 +116,10 @@ DEVICES = {
 
 @settings(max_examples=4, deadline=None, phases=NO_SHRINK, suppress_health_check=CHEAP_ENOUGH)
 @given(**DEVICES)
+# found in CI: a band centred on the resonance, whose second residual solve stalled in GMRES on the kept factorization
+# and then factorized on the resonance itself ("singular"; ``modal_admittance`` moves the shift for both solves now)
+@example(length=4.000000000000001, width=2.97536016861023, thickness=0.5, material="PZT-5A", poling=1,
+         layout="bottom-driven", base=0.0)
 def test_fa_and_k_eff_are_one_answer_on_generated_devices(tmp_path, length, width, thickness, material, poling,
                                                           layout, base):
     _check_one_answer(_written(_device(length, width, thickness, material, poling, layout, base), tmp_path), tmp_path)

@@ -460,17 +460,12 @@ def modal_admittance(modes, frequency, losses: Losses, *, residual: str = "centr
     sigma = 0.0 if residual == "static" else kept[1] if kept is not None and w.min() ** 2 <= kept[1] <= w.max() ** 2 \
         else centre
     shapes = np.column_stack([m.shape for m in used]) if used else np.zeros((model.K.shape[0], 0))
-    # the load on the modes left out (module docstring): a kept mode beside sigma (the band's centre 0.03 % from the
-    # Cu-Be plate's (0,6)) is not in it, so GMRES on the eigen solve's kept factorization converges (``shifted_solve``)
+    # the load on the modes left out (module docstring): a kept mode beside sigma is not in it (GMRES then converges)
     F_left = F - B @ (free_values(model.constraints("short").T, shapes) @ theta)
 
-    def residual_solves(shift: float) -> tuple[np.ndarray, np.ndarray, float]:
-        """(x_left, B x_left, x_left . B (A - shift B)^-1 B x_left): one solve function for both right-hand sides
-        (without a kept factorization, or where GMRES on it stalls, it factorizes at ``shift`` once)."""
-        solve = shifted_solve(A, B, shift, kept)
-        x = solve(F_left)
-        Bx = B @ x
-        return x, Bx, float(Bx @ solve(Bx))
+    def residual_solves(shift: float) -> tuple[np.ndarray, np.ndarray, float]:  # x, B x, x B (A - shift B)^-1 B x
+        solve = shifted_solve(A, B, shift, kept)  # one solve function for both (it factorizes at most once)
+        return (x := solve(F_left)), B @ x, float((B @ x) @ solve(B @ x))
 
     try:
         x_left, B_x, q_res2 = residual_solves(sigma)
@@ -478,9 +473,7 @@ def modal_admittance(modes, frequency, losses: Losses, *, residual: str = "centr
         if sigma == 0:
             raise SolverError(f"residual: the static solve failed ({exc}); a free body (no clamps or springs) needs "
                               f"residual='centre'") from None
-        # the band's centre lies on a resonance (a band centred on fr, where GMRES on a kept factorization at another
-        # shift stalls for the second right-hand side too): any shift in it serves
-        sigma = _shift_clear_of_modes(w, omega_r)
+        sigma = _shift_clear_of_modes(w, omega_r)  # the band's centre lies on a resonance: any shift in it serves
         try:
             x_left, B_x, q_res2 = residual_solves(sigma)
         except SolverError as again:

@@ -157,6 +157,14 @@ def _occ_solid(occ, part) -> int:
     raise MeshError(f"part '{part.name}': unknown part type {type(part).__name__}")
 
 
+def section_point(axis: int, level: float, a: float, b: float) -> list[float]:
+    """(x, y, z) of the point (a, b) on the in-plane axes after ``axis`` (cyclically) at coordinate ``level``
+    along it."""
+    xyz = [0.0, 0.0, 0.0]
+    xyz[axis], xyz[(axis + 1) % 3], xyz[(axis + 2) % 3] = level, a, b
+    return xyz
+
+
 def section_surface(occ, part, axis: int, level: float, seam: float = 0.0) -> int:
     """The OCC plane surface of a part's cross-section normal to ``axis`` (a shape's own axis; any axis for a box),
     placed at coordinate ``level`` along it: a rectangle, a disc, an annulus or an outline with its holes. A round
@@ -167,17 +175,13 @@ def section_surface(occ, part, axis: int, level: float, seam: float = 0.0) -> in
     normal = [float(k == axis) for k in range(3)]
 
     def at(a: float, b: float) -> list[float]:
-        xyz = [0.0, 0.0, 0.0]
-        xyz[axis], xyz[u], xyz[v] = level, a, b
-        return xyz
+        return section_point(axis, level, a, b)
 
     def loop(points) -> int:
         corners = [occ.addPoint(*at(a, b)) for a, b in points]
         return occ.addCurveLoop([occ.addLine(p, q) for p, q in zip(corners, corners[1:] + corners[:1])])
 
-    start = at(math.cos(seam), math.sin(seam)) if seam else []  # OCC's own seam when none is asked
-    if start:
-        start[axis] = 0.0
+    start = section_point(axis, 0.0, math.cos(seam), math.sin(seam)) if seam else []  # else OCC's own seam
 
     def circle(a: float, b: float, r: float) -> int:
         return occ.addCurveLoop([occ.addCircle(*at(a, b), r, zAxis=normal, xAxis=start)])

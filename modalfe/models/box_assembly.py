@@ -99,13 +99,14 @@ def _trilinear(mesh, elements: np.ndarray) -> np.ndarray:
     element, a box if its vertices make one (a swept section's rectangles)."""
     from skfem.refdom import RefHex
 
-    X = mesh.elem.doflocs  # (ngeo, 3) reference positions of the geometry nodes
-    Xv = RefHex.p.T  # (8, 3) reference vertices, in the order of ``mesh.t``
-    N = np.prod(np.where(Xv[None, :, :] == 1, X[:, None, :], 1 - X[:, None, :]), axis=2)  # (ngeo, 8)
+    from modalfe.models.probing import LagrangeHex
+
+    # the trilinear shape functions of the vertices (in the order of ``mesh.t``) at the geometry nodes: (8, ngeo)
+    N = LagrangeHex(RefHex.p.T)(mesh.elem.doflocs.T)[0]
     corners = mesh.p[:, mesh.t[:, elements]]  # (3, 8, nel)
     nodes = mesh.doflocs[:, mesh.dofs.element_dofs[:, elements]]  # (3, ngeo, nel)
     extent = np.ptp(corners, axis=1).max(axis=0)  # (nel,)
-    off = np.abs(nodes - np.einsum("gv,ive->ige", N, corners)).max(axis=(0, 1))
+    off = np.abs(nodes - np.einsum("vg,ive->ige", N, corners)).max(axis=(0, 1))
     return off <= BOX_TOLERANCE * extent
 
 

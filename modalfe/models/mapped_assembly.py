@@ -24,9 +24,7 @@ reference shape functions serves every element.
 from __future__ import annotations
 
 import numpy as np
-import scipy.sparse as sp
 
-from modalfe.models import box_assembly
 from modalfe.models.box_assembly import VOIGT
 
 
@@ -162,20 +160,3 @@ class Elements:
             # [(k, l), c] e_l,ck for c = 0, 1, 2, then eps_kl
             tensors = np.hstack([np.einsum("lck->klc", mat.e[:, VOIGT]).reshape(9, 3), mat.eps_S.reshape(9, 1)])
             _summed(data, pos[i * nloc * nloc:j * nloc * nloc], _stiffness_products(G, dx) @ tensors)
-
-
-def assemble_elastic(mesh, scalar, intorder: int, dofs: np.ndarray, parts: list[tuple[np.ndarray, object]],
-                     n: int) -> tuple[sp.csr_matrix, sp.csr_matrix]:
-    """K_uu and M_uu (3n, 3n) over the ``elements`` of ``parts`` ((elements, material) pairs, a material with
-    constant ``C`` (6, 6) [Pa] and ``rho`` [kg/m^3]) alone (``Elements.add_elastic``); ``dofs`` (nloc, all
-    elements) canonical scalar DOFs (``canonical_dofs``), n scalar DOFs."""
-    return box_assembly.assemble_elastic(scalar, intorder, [], n, mapped=Elements(mesh, scalar, intorder, dofs, parts))
-
-
-def assemble_piezo(mesh, scalar, intorder: int, dofs: np.ndarray, parts: list[tuple[np.ndarray, object]],
-                   index: np.ndarray, n_phi: int, n_u: int) -> tuple[sp.csr_matrix, sp.csr_matrix]:
-    """K_uphi (n_u, n_phi) and K_phiphi (n_phi, n_phi) over the ``elements`` of the piezo ``parts`` ((elements,
-    material) pairs, constant ``e`` (3, 6) [C/m^2] and ``eps_S`` (3, 3) [F/m]) alone (``Elements.add_piezo``);
-    ``index`` maps scalar DOFs to potential unknowns."""
-    return box_assembly.assemble_piezo(scalar, intorder, [], index, n_phi, n_u,
-                                       mapped=Elements(mesh, scalar, intorder, dofs, parts))

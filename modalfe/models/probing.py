@@ -123,7 +123,7 @@ def _box_grid(mesh):
     return find
 
 
-class _LagrangeHex:
+class LagrangeHex:
     """The tensor-product Lagrange basis of a hexahedral geometry element whose nodes sit at ``reference`` (ngeo, 3)
     on the unit cube's grid of 1-D nodes (0, 1 or 0, 1/2, 1: skfem's ElementHex1, ElementHex2), all functions at
     once: the same values as the element's ``lbasis`` one function at a time (tests/models/test_probes.py), which
@@ -167,7 +167,7 @@ class _HexLocator:
     tetrahedra and inverts them all at every call (1.2 s a call on the round-feet plate's 7,274 swept hexahedra)."""
 
     def __init__(self, mesh):
-        self.geometry = _LagrangeHex(mesh.elem().doflocs)
+        self.geometry = LagrangeHex(mesh.elem().doflocs)
         self.nodes = mesh.doflocs[:, mesh.dofs.element_dofs]  # (3, ngeo, nel)
         lo, hi = self.nodes.min(axis=1), self.nodes.max(axis=1)
         pad = HEX_BOX_MARGIN * (hi - lo).max(axis=0)

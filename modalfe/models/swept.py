@@ -99,7 +99,7 @@ def section_mesh(assembly, axis: int, sizes: dict[str, float]) -> tuple[np.ndarr
     recombination; subdivided when a triangle is left), each part's boundary points at its size."""
     import gmsh
 
-    from modalfe.geometry.gmsh_model import gmsh_session, section_surface
+    from modalfe.geometry.gmsh_model import gmsh_session, section_point, section_surface
 
     u, v = (axis + 1) % 3, (axis + 2) % 3
     with gmsh_session("modalfe-section"):
@@ -108,7 +108,7 @@ def section_mesh(assembly, axis: int, sizes: dict[str, float]) -> tuple[np.ndarr
         seams = {block.part: block.angle for block in grids}  # a circle's seam at a spoke: no fifth side
         tags = [(2, section_surface(occ, p, axis, 0.0, seams.get(p.name, 0.0))) for p in assembly.parts]
         cells = _lattice_cells(occ, assembly, u, v, grids)
-        spokes = [(1, occ.addLine(*(occ.addPoint(*_placed(axis, point)) for point in segment)))
+        spokes = [(1, occ.addLine(*(occ.addPoint(*section_point(axis, 0.0, *point)) for point in segment)))
                   for block in grids for segment in block.segments()]
         tools = cells + spokes
         children = occ.fragment(tags, tools)[1][:len(tags)] if len(tags) + len(tools) > 1 else [tags]
@@ -162,13 +162,6 @@ def section_mesh(assembly, axis: int, sizes: dict[str, float]) -> tuple[np.ndarr
     area = 0.5 * np.sum(c[0] * np.roll(c[1], -1, axis=0) - np.roll(c[0], -1, axis=0) * c[1], axis=0)
     quads[:, area < 0] = quads[_REVERSED][:, area < 0]
     return uv, quads
-
-
-def _placed(axis: int, point: tuple[float, float]) -> list[float]:
-    """(x, y, z) of the section point (u, v) in the plane through the origin normal to ``axis``."""
-    xyz = [0.0, 0.0, 0.0]
-    xyz[(axis + 1) % 3], xyz[(axis + 2) % 3] = point
-    return xyz
 
 
 def _lattice_cells(occ, assembly, u: int, v: int, grids: list[Block]) -> list[tuple[int, int]]:

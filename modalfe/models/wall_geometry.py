@@ -55,20 +55,21 @@ def wall_deviations(model) -> dict[str, float]:
     return out
 
 
-def wall_errors(model, shapes: np.ndarray, omega2: np.ndarray) -> np.ndarray:
-    """Bound on the relative frequency error of the round walls' geometry (module docstring) of each mode: ``shapes``
-    (model DOFs, m) and their eigenvalues ``omega2`` (m,) [rad^2/s^2]; zeros where no wall deviates."""
+def wall_errors(model, shapes: np.ndarray, omega2: np.ndarray) -> tuple[np.ndarray, dict[str, float]]:
+    """(bound on the relative frequency error of the round walls' geometry (module docstring) of each mode, zeros
+    where no wall deviates; the deviations it used, ``wall_deviations``): ``shapes`` (model DOFs, m) and their
+    eigenvalues ``omega2`` (m,) [rad^2/s^2]."""
     from modalfe.models.solid import parts_matrices
 
     deviations = {name: eps for name, eps in wall_deviations(model).items() if eps > 0}
     if not deviations:
-        return np.zeros(shapes.shape[1])
+        return np.zeros(shapes.shape[1]), deviations
     u = shapes[:model.n_u]
     kinetic = np.einsum("im,im->m", shapes, model.M @ shapes)  # M has no potential rows: u^T M_uu u
     K, M = parts_matrices(model, set(deviations))  # the round parts at once, at the largest deviation of any
     s_K = np.einsum("im,im->m", u, K @ u) / (omega2 * kinetic)
     s_M = np.einsum("im,im->m", u, M @ u) / kinetic
-    return max(deviations.values()) * (WALL_ENERGY_RATIO * np.abs(s_K) + np.abs(s_M))
+    return max(deviations.values()) * (WALL_ENERGY_RATIO * np.abs(s_K) + np.abs(s_M)), deviations
 
 
 def _edge_nodes(reference: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -163,13 +163,15 @@ def solid_estimates(fine: Modes, levels: list[Modes], rung: Rung, step_level: Mo
 def _with_walls(fine: Modes, estimates: dict[int, float], plan):
     """``estimates`` from the orders on one swept grid plus the bound on its round walls' geometry, which every
     order shares (``modalfe.models.wall_geometry``), and the plan's method saying so; as given on other meshes."""
-    from modalfe.models.wall_geometry import wall_deviations, wall_errors
+    from modalfe.models.wall_geometry import wall_errors
 
-    deviations = wall_deviations(fine.model)
-    if not any(deviations.values()):
+    if not fine.model.scene.assembly().shaped:  # boxes alone: no round wall
         return estimates, plan
     modes = list(fine)
-    walls = wall_errors(fine.model, np.column_stack([m.shape for m in modes]), np.array([m.omega**2 for m in modes]))
+    walls, deviations = wall_errors(fine.model, np.column_stack([m.shape for m in modes]),
+                                    np.array([m.omega**2 for m in modes]))
+    if not deviations:
+        return estimates, plan
     worst = max(deviations, key=deviations.get)
     method = (f"{plan.method}; plus the round walls' geometry (quadratic arcs, up to {100 * deviations[worst]:.2g} % "
               f"of the radius off on '{worst}': Hadamard bound)")

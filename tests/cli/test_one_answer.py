@@ -4,6 +4,7 @@ again, and a fresh solve gives what was kept."""
 
 import csv
 import json
+import math
 
 import pytest
 
@@ -134,12 +135,20 @@ def test_a_table_after_modes_factorizes_each_model_once_and_gives_the_fresh_tabl
 
     _json(capsys, ["modes", SCENE, "--json"])
     caches.clear()  # as a new process would start: the answer is read back from disk, no factorization kept
-    made = []
+    made = []  # (the factorized pencil's stiffness matrix, its shift) of each factorization
     checked = linalg.checked
-    monkeypatch.setattr(linalg, "checked", lambda *args: made.append(1) or checked(*args))
+
+    def counted(A, solve, name):
+        made.append((id(A.A), A.shift))
+        return checked(A, solve, name)
+
+    monkeypatch.setattr(linalg, "checked", counted)
     after = _json(capsys, ["table", SCENE, "--json"])
     monkeypatch.undo()
-    assert 1 <= len(made) <= 3  # the answer and its two estimate levels (orders 2 and 3 on its grid)
+    shift = (2 * math.pi * modalfe.load_scene(SCENE).analysis.near) ** 2
+    assert made and all(s == shift for _, s in made)  # each at the shift the answer was solved at
+    assert len({pencil for pencil, _ in made}) == len(made)  # no pencil factorized twice (61 factorizations before)
+    assert len(made) <= 3  # the answer and its two estimate levels (orders 2 and 3 on its grid)
     caches.clear()
     resolved.clear(disk=True)
     fresh = _json(capsys, ["table", SCENE, "--json"])

@@ -112,15 +112,15 @@ def test_curved_hexahedra_locate_each_point_in_an_element_that_maps_back_to_it()
 
 @pytest.mark.parametrize("element", ["ElementHex1", "ElementHex2"])
 def test_the_locators_tensor_basis_is_the_geometry_elements_own(element):
-    """The curved-hexahedron locator's all-at-once basis (``_LagrangeHex``) against skfem's ``lbasis`` one function
+    """The curved-hexahedron locator's all-at-once basis (``LagrangeHex``) against skfem's ``lbasis`` one function
     at a time, values and gradients at random reference points (round-off: 1e-13)."""
     import skfem
 
-    from modalfe.models.probing import _LagrangeHex
+    from modalfe.models.probing import LagrangeHex
 
     geometry = getattr(skfem, element)()
     X = np.random.default_rng(7).random((3, 11))
-    values, grads = _LagrangeHex(geometry.doflocs)(X)
+    values, grads = LagrangeHex(geometry.doflocs)(X)
     own = [geometry.lbasis(X, a) for a in range(geometry.doflocs.shape[0])]
     assert np.allclose(values, np.array([v for v, _ in own]), atol=1e-13)
     assert np.allclose(grads, np.array([g for _, g in own]), atol=1e-13)

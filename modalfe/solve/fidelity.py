@@ -62,7 +62,13 @@ from modalfe.solve.estimates import (
     uncoarsened,
     unresolved_edges,
 )
-from modalfe.solve.reduced import model_errors, reduced_estimates, solve_reduced_level, with_model_errors
+from modalfe.solve.reduced import (
+    cross_check_gap,
+    model_errors,
+    reduced_estimates,
+    solve_reduced_level,
+    with_model_errors,
+)
 from modalfe.solve.rung import CHECK_FACTORS, UNCOARSENED, Rung, coarser
 
 log = logging.getLogger(__name__)
@@ -290,8 +296,12 @@ def solve_auto(rung: Rung, analysis, *, tol: float, check=None, fidelities: tupl
             reasons.append(f"{fidelity} model not applicable: {exc}")
             continue
         start = time.perf_counter()
+        # the axisymmetric model is exact for a body of revolution up to its harmonics: where the solid's levels
+        # cannot measure a model error, its discretization's estimate stands alone (NaN: not measured)
+        gap = cross_check_gap(solid_check(), scene, orders=rung.uses_orders) if fidelity == "axisymmetric" else ""
         # the model error alone first: where it misses tol, the discretization's levels would change nothing
-        errors = model_errors(fine, solid_check(), scene, orders=rung.uses_orders)
+        errors = (dict.fromkeys((m.index for m in fine), math.nan) if gap
+                  else model_errors(fine, solid_check(), scene, orders=rung.uses_orders))
         cross_check = time.perf_counter() - start
         alone, why = worst_checked(with_model_errors(fine, errors), check, what="model error")
         if alone > tol:
@@ -307,8 +317,10 @@ def solve_auto(rung: Rung, analysis, *, tol: float, check=None, fidelities: tupl
         worst, why = worst_checked(checked, check)
         if worst <= tol:
             model = max((m.model_error for m in checked_modes(checked, check)), default=0.0)
-            note = (f"auto: {fidelity} answered, estimated error {percent(worst)} <= tol {percent(tol)} "
-                    f"(model error {percent(model)} from a 3-D solid cross-check, plus discretization)"
+            measured = (f"discretization; model error not measured: {gap}, the model exact for a body of "
+                        f"revolution" if gap else f"model error {percent(model)} from a 3-D solid cross-check, plus "
+                        f"discretization")
+            note = (f"auto: {fidelity} answered, estimated error {percent(worst)} <= tol {percent(tol)} ({measured})"
                     + (f"; {reduced.fidelity_note}" if reduced.fidelity_note else ""))  # the axisymmetric model's
             return replace(checked, fidelity_note=note, cross_check=tuple(solid_check()))
         reasons.append(f"{fidelity} model: {why} > tol {percent(tol)}")

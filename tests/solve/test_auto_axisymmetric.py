@@ -95,3 +95,14 @@ def test_a_model_error_past_tol_falls_back_to_the_solid(monkeypatch):
     assert modes.fidelity == "solid"
     assert re.search(r"\(axisymmetric model: model error 2000\.\d\d% on .* > tol 1000\.00%\)", modes.fidelity_note)
     assert math.isnan(modes[0].model_error)
+
+
+def test_rigid_body_modes_state_no_relative_error():
+    """A free disc's rigid-body modes (round-off frequencies, 1e-2 Hz) state no error (NaN, printed "unknown", as the
+    solid's Richardson leaves them), not a relative step of round-off over round-off (1.5e6 on the buzzer's yaw);
+    the elastic modes theirs."""
+    modes = solve_modes(_al_disc(analysis={"near": 1, "count": 6}), fidelity="axisymmetric")
+    top = max(m.frequency for m in modes)
+    rigid = [m for m in modes if m.frequency < 1e-6 * top]
+    assert rigid and all(math.isnan(m.error_estimate) for m in rigid)
+    assert all(0 <= m.error_estimate < 1 for m in modes if m not in rigid)

@@ -127,3 +127,18 @@ def test_a_model_error_past_tol_falls_back_to_the_solid(monkeypatch):
     assert modes.fidelity == "solid"
     assert re.search(r"\(axisymmetric model: model error 2000\.\d\d% on .* > tol 1000\.00%\)", modes.fidelity_note)
     assert math.isnan(modes[0].model_error)
+
+
+def test_the_note_says_where_harmonics_above_the_top_may_hold_modes_of_the_window():
+    """A free 40 x 1 mm PZT-5A disc round R1 (49.7 kHz): the harmonics rule stops at n = 8, which holds no mode of the
+    window, yet n = 8 has one below the window's top, and the higher harmonics' lowest modes lie in it ((10,0) at
+    42.4 kHz, an n = 11 mode at 50.4 kHz: order 4, n = 0..24): the note says modes may be missing. The 20 x 2 mm
+    aluminium disc's window (n = 0..4) has no such mode: no such note."""
+    part = {"name": "disc", "shape": "cylinder", "material": "PZT-5A", "centre": [0, 0, 0], "axis": "z",
+            "radius": 20, "height": 1, "poling": 1}
+    thin = scene_from_dict({"units": "mm", "parts": [part], "analysis": {"near": 49.7e3, "count": 6}})
+    modes = solve_modes(thin, fidelity="axisymmetric")
+    assert max(modes.model.harmonics) == 8
+    assert "harmonics above n = 8 (not solved) may hold modes of the window: n = 8 has 1 mode(s)" in \
+        modes.fidelity_note
+    assert "harmonics above" not in solve_modes(_al_disc(), fidelity="axisymmetric").fidelity_note

@@ -196,8 +196,8 @@ def solve_options(p: argparse.ArgumentParser, *, tol: bool = True) -> None:
     p.add_argument("--fidelity", choices=FIDELITIES, default="auto",
                    help="model: 1-D beam, 2-D plate, 2-D axisymmetric (a body of revolution: cylinders and rings "
                         "on one axis, harmonics n = 0..mesh.harmonics, refined to the tolerance), 3-D solid (refined "
-                        "to the tolerance), or auto: the cheapest meeting the tolerance of beam, plate and solid "
-                        "(default)")
+                        "to the tolerance), or auto: the cheapest meeting the tolerance of beam, plate, axisymmetric "
+                        "and solid (default)")
     if tol:
         p.add_argument("--tol", dest="solve_tol", type=positive_float, default=DEFAULT_TOL,
                        help=f"relative frequency error the modes asked about are answered at: the solid is refined "

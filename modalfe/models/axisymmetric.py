@@ -406,7 +406,8 @@ class AxisymmetricModel(PiezoUnknowns, Revolved):
                 for node in on_axis:
                     column([self.u_dof(h, node, 0), self.u_dof(h, node, 1)], [1.0, -1.0])
         for h, n in enumerate(self.harmonics):
-            fixed = on_electrode if n == 0 else np.union1d(on_electrode, phi_on_axis)
+            fixed = np.union1d(on_electrode, self._gauged(h, circuit)) if n == 0 else \
+                np.union1d(on_electrode, phi_on_axis)
             each(self.phi_dof(h, np.setdiff1d(np.arange(len(self.phi_nodes)), fixed)), scale)
         floating = []
         if circuit == "open" and 0 in self.harmonics:
@@ -418,6 +419,23 @@ class AxisymmetricModel(PiezoUnknowns, Revolved):
                     floating.append(group)
         T = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(self.ndofs, k))
         return Constraints(T, scale, tuple(floating))
+
+    def _gauged(self, h: int, circuit: str) -> np.ndarray:
+        """Potential nodes held at zero in harmonic ``h`` (n = 0) to fix the potential's constant, one in each region
+        of connected potential unknowns that no electrode held at zero reaches (a poled part without electrodes, or
+        with its driven electrode alone floating in an open circuit): there the constant is free, and the matrix
+        singular (a free unelectroded PZT disc's solve failed: "no regular shift"). As the solid's
+        ``Model.constraints``; the other harmonics have no constant (their potential varies round the axis)."""
+        from scipy.sparse.csgraph import connected_components
+
+        roles = self.scene.electrodes
+        held = [idx for group, idx in self.electrodes.items()
+                if not (circuit == "open" and roles.get(group) == "drive")]
+        dofs = self.phi_dof(h, np.arange(len(self.phi_nodes)))
+        count, region = connected_components(self.K[dofs][:, dofs], directed=False)
+        anchored = np.zeros(count, dtype=bool)
+        anchored[region[np.concatenate([*held, np.zeros(0, dtype=int)]).astype(int)]] = True
+        return np.array([np.flatnonzero(region == r)[0] for r in np.flatnonzero(~anchored)], dtype=int)
 
     def _cylindrical(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(r, theta, z) of ``points`` (n, 3) [m] about the section's axis; (r, z) within ``_ON_SURFACE`` element

@@ -73,17 +73,24 @@ def build_model(scene, fidelity: str = "solid", *, size_factor: float = 1.0, fra
     return model, dict(model.timings)
 
 
-def _solid(scene, *, size_factor: float, frame, min_layers: int | None) -> tuple[object, dict[str, float]]:
+def solid_mesh(scene, *, size_factor: float = 1.0, min_layers: int | None = None):
+    """The 3-D solid's ``DeviceMesh`` of ``scene`` (element sizes x ``size_factor``, ``min_layers`` thickness layers
+    where given), meshed (or read back from the mesh cache) without assembling: what ``build_model`` solves on."""
     from modalfe.models.mesh import build_mesh, element_sizes, mass_patches
-    from modalfe.models.solid import assemble
 
-    t0 = time.perf_counter()
     sizes = {k: v * size_factor for k, v in element_sizes(scene).items()}
     layers = scene.mesh.min_layers if min_layers is None else min_layers
     fully_clamped = tuple(sorted(g for g, components in scene.clamps.items() if set(components) == set("xyz")))
-    dm = build_mesh(scene.assembly(), size=sizes, element=scene.mesh.element, min_layers=layers,
-                    graded_faces=fully_clamped, grading_layers=scene.mesh.clamp_grading,
-                    patches=mass_patches(scene, size_factor))
+    return build_mesh(scene.assembly(), size=sizes, element=scene.mesh.element, min_layers=layers,
+                      graded_faces=fully_clamped, grading_layers=scene.mesh.clamp_grading,
+                      patches=mass_patches(scene, size_factor))
+
+
+def _solid(scene, *, size_factor: float, frame, min_layers: int | None) -> tuple[object, dict[str, float]]:
+    from modalfe.models.solid import assemble
+
+    t0 = time.perf_counter()
+    dm = solid_mesh(scene, size_factor=size_factor, min_layers=min_layers)
     t_mesh = (time.perf_counter() - t0) if dm.seconds else 0.0
     key = repr((dm.key, scene.params, scene.materials, scene.springs, scene.masses, scene.electrodes,
                 scene.clamps, scene.edges, scene.guides, scene.symmetry_clamps, scene.mesh.order, scene.mesh.family,

@@ -21,6 +21,7 @@ import numpy as np
 from modalfe.errors import SolverError
 from modalfe.response.loads import rigid_translations
 from modalfe.results.coupling import k_eff
+from modalfe.results.labels import RIGID_FRACTION
 
 CSV_COLUMNS = (
     "index", "label", "frequency_Hz", "error_estimate_rel", "meff_x_kg", "meff_y_kg", "meff_z_kg",
@@ -147,6 +148,12 @@ def mode_table(scene, *, near: float | None = None, count: int | None = None,
             return None
 
     translated: dict[int, np.ndarray] = {}  # (M R^T)^T of each model met (the answer and its estimate levels)
+    highest = max((m.frequency**2 for m in short), default=0.0)
+
+    def rigid(m) -> bool:
+        """A free body's rigid-body mode (``RIGID_FRACTION``, as the labels name it): no fa or k_eff (both ~0 Hz, their
+        ratio the solver's noise: a free bimorph's sway read k_eff 0.721)."""
+        return m.frequency**2 < RIGID_FRACTION * highest
 
     def numbers(m) -> dict[str, float]:
         """The numbers of a row that depend on the discretization: effective masses, fa, k_eff, force factor."""
@@ -156,7 +163,7 @@ def mode_table(scene, *, near: float | None = None, count: int | None = None,
         g = translated[id(m.model)] @ shape
         out = {f"meff_{d}": float(g[k] ** 2) for k, d in enumerate("xyz")
                if g[k] ** 2 >= SIGNIFICANT_MASS * total[k]}
-        if driven:
+        if driven and not rigid(m):
             fa = fa_of(m)
             if fa is None:
                 return out
@@ -175,11 +182,11 @@ def mode_table(scene, *, near: float | None = None, count: int | None = None,
         fine = numbers(m)  # the row's fa and the numbers its errors are of, computed once
         if driven:
             fa = fine.get("fa")
-            ke = k_eff(m.frequency, fa) if fa is not None and m.frequency > 0 else None
+            ke = k_eff(m.frequency, fa) if fa is not None else None
             theta = float(m.shape @ load)
             umax = float(np.max(np.abs(model.nodal_displacement(m.shape))))
             force = theta / umax if umax > 0 else None
-        errors = derived_errors(short, m, numbers, fine, eigenvalues=("fa",)) if m.frequency > 0 else {}
+        errors = derived_errors(short, m, numbers, fine, eigenvalues=("fa",)) if not rigid(m) else {}
         meff_errors = [e for name, (e, _) in errors.items() if name.startswith("meff_")]
         rows.append({
             "index": m.index, "label": m.label, "frequency_Hz": m.frequency, "error_estimate_rel": m.error_estimate,

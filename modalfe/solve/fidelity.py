@@ -141,6 +141,17 @@ def solid_levels(rung: Rung, analysis) -> list[Modes]:
     return levels
 
 
+def level_meshes(rung: Rung) -> list:
+    """The ``DeviceMesh``es of the solid's two estimate levels (``solid_levels``), meshed but not solved; [] where
+    they are two orders on one grid (``Rung.uses_orders``: nothing to judge by the grids)."""
+    from modalfe.models.build import solid_mesh
+
+    if rung.uses_orders:
+        return []
+    return [solid_mesh(level.scene, size_factor=level.size_factor, min_layers=level.min_layers)
+            for level in (rung.level(0), rung.level(1))]
+
+
 def order_step_level(rung: Rung, analysis) -> Modes | None:
     """Order 2 on the solid's own grid, asked a little wider, where ``Rung.checks_order_step`` (else None): solved only
     when the solid answers, since the reduced models' cross-check does not use it."""
@@ -297,8 +308,15 @@ def solve_auto(rung: Rung, analysis, *, tol: float, check=None, fidelities: tupl
             continue
         start = time.perf_counter()
         # the axisymmetric model is exact for a body of revolution up to its harmonics: where the solid's levels
-        # cannot measure a model error, its discretization's estimate stands alone (NaN: not measured)
-        gap = cross_check_gap(solid_check(), scene, orders=rung.uses_orders) if fidelity == "axisymmetric" else ""
+        # cannot measure a model error, its discretization's estimate stands alone (NaN: not measured); judged on
+        # the levels' meshes, so that levels which cannot measure are not solved (a 100 mm steel tube's: 90 s)
+        gap = cross_check_gap(level_meshes(rung), scene, orders=rung.uses_orders) if fidelity == "axisymmetric" \
+            else ""
+        if fidelity == "axisymmetric" and not gap:
+            try:  # nor where they cannot be solved (too large for the machine: a thin disc's thickness mode)
+                solid_check()
+            except (SceneError, SolverError) as exc:
+                gap = f"the 3-D cross-check's levels cannot be solved ({exc})"
         # the model error alone first: where it misses tol, the discretization's levels would change nothing
         errors = (dict.fromkeys((m.index for m in fine), math.nan) if gap
                   else model_errors(fine, solid_check(), scene, orders=rung.uses_orders))
@@ -322,7 +340,7 @@ def solve_auto(rung: Rung, analysis, *, tol: float, check=None, fidelities: tupl
                         f"discretization")
             note = (f"auto: {fidelity} answered, estimated error {percent(worst)} <= tol {percent(tol)} ({measured})"
                     + (f"; {reduced.fidelity_note}" if reduced.fidelity_note else ""))  # the axisymmetric model's
-            return replace(checked, fidelity_note=note, cross_check=tuple(solid_check()))
+            return replace(checked, fidelity_note=note, cross_check=tuple(levels))
         reasons.append(f"{fidelity} model: {why} > tol {percent(tol)}")
     reason = rung.no_estimate_reason
     forecast = 0.0
@@ -456,16 +474,17 @@ def coupling_check_level(modes: Modes, mode, *, size_factor: float = 1.0, solver
     ``modes`` (answered by a reduced model) was checked against: short circuit from that level, open circuit
     solved on the same mesh. A reduced model's piezo layers (uniform field, no shear lag at the patch edges)
     misplace k_eff by 10-15 % on the seed devices, while the solid's fa / fr at this level is within ~2.5 %
-    in k_eff of the default mesh (both shift alike): the report takes k_eff from here."""
+    in k_eff of the default mesh (both shift alike): the report takes k_eff from here. Where ``modes`` kept no
+    cross-check (a reduced model asked directly; auto's axisymmetric answer where the levels cannot measure a model
+    error, ``cross_check_gap``, and were not solved) that level is solved near ``mode`` now."""
     from modalfe.scene import Analysis
 
-    if not modes.cross_check:
-        raise SolverError(f"no 3-D cross-check to take k_eff from ({modes.fidelity} fidelity asked directly)")
-    level = modes.cross_check[0]
-    short = partner(mode, level)
+    level = Rung(modes.model.scene, size_factor, solver=solver).level(0)
+    shorts = modes.cross_check[0] if modes.cross_check else level.solve(coarser(Analysis(near=mode.frequency,
+                                                                                          count=6)))
+    short = partner(mode, shorts)
     if short is None:
         raise SolverError(f"no 3-D partner of {mode.label} at {mode.frequency:.6g} Hz in the cross-check")
-    level = Rung(modes.model.scene, size_factor, solver=solver).level(0)
     open_ = level.solve(Analysis(near=short.frequency, count=6, circuit="open"))
     fa = partner(short, open_)
     if fa is None:  # the shape pairing failed: the label, as before

@@ -77,8 +77,9 @@ def model_errors(reduced: Modes, levels: list[Modes], scene, *, orders: bool) ->
     return errors
 
 
-def cross_check_gap(levels: list[Modes], scene, *, orders: bool) -> str:
-    """Why the solid's two estimate levels cannot measure a model error, "" where they can: two grids whose step
+def cross_check_gap(meshes: list, scene, *, orders: bool) -> str:
+    """Why the solid's two estimate levels (their ``DeviceMesh``es: judged before they are solved) cannot measure a
+    model error, "" where they can: two grids whose step
     coarsens some part along some axis by less than ``MIN_RATIO`` (``level_ratio``: a thin layer keeps its element
     count, a swept section its in-plane size) see too little of the solid's own discretization error to extrapolate
     it, as ``modalfe.solve.fidelity.h_plan`` judges the solid's own levels. A 0.42 mm buzzer disc's levels (PZT on
@@ -86,7 +87,7 @@ def cross_check_gap(levels: list[Modes], scene, *, orders: bool) -> str:
     2.7 % that was the solid's. Two orders on one grid always measure."""
     if orders:
         return ""
-    ratio, where = level_ratio(levels[0].model.mesh, levels[1].model.mesh, scene)
+    ratio, where = level_ratio(meshes[0], meshes[1], scene)
     if ratio >= MIN_RATIO:
         return ""
     return (f"the 3-D cross-check's levels (elements x{COARSE_FACTOR:g} and x{COARSE_FACTOR**2:g}) coarsen "

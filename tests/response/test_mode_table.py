@@ -97,3 +97,23 @@ def test_table_and_forced_give_a_free_pzt5a_discs_radial_mode_one_fa_and_k_eff()
     # IEEE Std 176-1987 planar coupling of PZT-5A: k_p = 0.60 (thin-disc theory); the 3-D disc's k_eff is smaller
     # by the mode's thickness strain (measured 0.532); the table's k_eff is the forced one's fa with the same fr
     assert 0.45 < radial["k_eff"] < 0.6
+
+
+def test_a_free_bodys_rigid_modes_have_no_fa_or_k_eff():
+    """A free series bimorph disc (two 0.25 mm PZT-5A layers poled opposite, 20 mm across) asked near 6 kHz: the
+    window holds a rigid-body mode (~0 Hz), whose fa and k_eff are the ratio of two ~0 numbers (it read k_eff 0.721):
+    none is given; the (0,1) bending mode keeps its coupling (k_eff 0.410 on the axisymmetric model, 0.411 on the
+    cubic solid)."""
+    layer = {"shape": "cylinder", "material": "PZT-5A", "axis": "z", "radius": 10, "height": 0.25}
+    scene = scene_from_dict({
+        "units": "mm",
+        "parts": [{**layer, "name": "lower", "centre": [0, 0, 0], "poling": -1},
+                  {**layer, "name": "upper", "centre": [0, 0, 0.25], "poling": 1}],
+        "faces": {"top": ["upper.top"], "bottom": ["lower.bottom"]},
+        "electrodes": {"top": "drive", "bottom": "ground"},
+        "analysis": {"near": 6e3, "count": 4}})
+    rows = mode_table(scene).rows
+    rigid = [r for r in rows if r["frequency_Hz"] < 1.0]
+    assert rigid and all(r["fa_Hz"] is None and r["k_eff"] is None for r in rigid)
+    bending = next(r for r in rows if r["label"] == "(0,1)")
+    assert 0.3 < bending["k_eff"] < 0.5  # 0.410 here, 0.411 on the cubic solid: the layers' opposite poling bends it

@@ -9,6 +9,7 @@ import re
 
 import pytest
 
+from modalfe.errors import SceneError
 from modalfe.scene import load_scene, scene_from_dict
 from modalfe.solve import fidelity
 from modalfe.solve.api import DEFAULT_TOL, solve_modes
@@ -43,6 +44,37 @@ def test_auto_answers_a_free_disc_with_the_axisymmetric_model_where_the_cross_ch
     reference = solve_modes(_al_disc(mesh={"order": 4, "max_size": 1.5, "min_layers": 2}), fidelity="solid",
                             error_estimate=False).nearest(mode.frequency)
     assert abs(mode.frequency / reference.frequency - 1) <= mode.error_estimate
+
+
+def test_levels_that_cannot_measure_a_model_error_are_not_solved(monkeypatch):
+    """The aluminium disc's cross-check levels cannot measure a model error (``cross_check_gap``, judged on their
+    meshes): auto answers with the axisymmetric model without solving them (a 100 mm steel tube's cost 90 s of a
+    92 s answer whose own solve took 2 s) and keeps no cross-check."""
+    def unsolvable(rung, analysis):
+        raise AssertionError("the solid's cross-check levels were solved")
+
+    monkeypatch.setattr(fidelity, "solid_levels", unsolvable)
+    modes = solve_modes(_al_disc())
+    assert modes.fidelity == "axisymmetric"
+    assert "model error not measured: the 3-D cross-check's levels" in modes.fidelity_note
+    assert modes.cross_check == ()
+
+
+def test_levels_that_cannot_be_solved_leave_the_axisymmetric_answer(monkeypatch):
+    """Where the solid's cross-check levels would measure but cannot be solved (the 20 x 1 mm disc's thickness mode
+    near 1.95 MHz: its levels' ~1e6 DOFs exceed the machine, which ended the whole answer with that refusal), the
+    axisymmetric model answers on its discretization's estimate, the note saying why the model error is not
+    measured."""
+    def too_large(rung, analysis):
+        raise SceneError("mesh: too large for this machine")
+
+    monkeypatch.setattr(fidelity, "cross_check_gap", lambda meshes, scene, orders: "")  # as where they measure
+    monkeypatch.setattr(fidelity, "solid_levels", too_large)
+    modes = solve_modes(_al_disc())
+    assert modes.fidelity == "axisymmetric"
+    assert "model error not measured: the 3-D cross-check's levels cannot be solved (mesh: too large" in \
+        modes.fidelity_note
+    assert all(math.isnan(m.model_error) for m in modes)
 
 
 def test_auto_states_the_model_error_where_the_cross_check_measures_it():
@@ -90,7 +122,7 @@ def test_a_model_error_past_tol_falls_back_to_the_solid(monkeypatch):
     error made 20 against tol 10, so that only the decision is tested: no refinement at that tol)."""
     monkeypatch.setattr(fidelity, "model_errors", lambda reduced, levels, scene, orders: {m.index: 20.0
                                                                                        for m in reduced})
-    monkeypatch.setattr(fidelity, "cross_check_gap", lambda levels, scene, orders: "")  # as where it measures
+    monkeypatch.setattr(fidelity, "cross_check_gap", lambda meshes, scene, orders: "")  # as where it measures
     modes = solve_modes(_al_disc(), tol=10.0)
     assert modes.fidelity == "solid"
     assert re.search(r"\(axisymmetric model: model error 2000\.\d\d% on .* > tol 1000\.00%\)", modes.fidelity_note)
@@ -106,3 +138,18 @@ def test_rigid_body_modes_state_no_relative_error():
     rigid = [m for m in modes if m.frequency < 1e-6 * top]
     assert rigid and all(math.isnan(m.error_estimate) for m in rigid)
     assert all(0 <= m.error_estimate < 1 for m in modes if m not in rigid)
+
+
+def test_the_note_says_where_harmonics_above_the_top_may_hold_modes_of_the_window():
+    """A free 40 x 1 mm PZT-5A disc round R1 (49.7 kHz): the harmonics rule stops at n = 8, which holds no mode of the
+    window, yet n = 8 has one below the window's top, and the higher harmonics' lowest modes lie in it ((10,0) at
+    42.4 kHz, an n = 11 mode at 50.4 kHz: order 4, n = 0..24): the note says modes may be missing. The 20 x 2 mm
+    aluminium disc's window (n = 0..4) has no such mode: no such note."""
+    part = {"name": "disc", "shape": "cylinder", "material": "PZT-5A", "centre": [0, 0, 0], "axis": "z",
+            "radius": 20, "height": 1, "poling": 1}
+    thin = scene_from_dict({"units": "mm", "parts": [part], "analysis": {"near": 49.7e3, "count": 6}})
+    modes = solve_modes(thin, fidelity="axisymmetric")
+    assert max(modes.model.harmonics) == 8
+    assert "harmonics above n = 8 (not solved) may hold modes of the window: n = 8 has 1 mode(s)" in \
+        modes.fidelity_note
+    assert "harmonics above" not in solve_modes(_al_disc(), fidelity="axisymmetric").fidelity_note

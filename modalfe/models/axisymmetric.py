@@ -36,9 +36,8 @@ ed. 2014, sec. 5.3.6; derived here from the strain table above):
 With these, every 1 / r term is a polynomial on the elements next to the axis (the Lagrange functions of nodes off
 the axis vanish on it), so Gauss quadrature integrates it exactly.
 
-Electrodes are equipotential faces, as in 3-D: their potential is uniform round the circumference, so they carry
-only the n = 0 harmonic. Short circuit: every electrode at 0 V; open circuit: each driven electrode's n = 0
-potential one floating unknown (its n >= 1 potentials stay zero in both circuits).
+Electrodes are equipotential faces, as in 3-D, uniform round the circumference: n = 0 only. Short circuit: every
+electrode at 0 V; open circuit: each driven electrode's n = 0 potential one floating unknown (n >= 1: zero).
 """
 
 from __future__ import annotations
@@ -406,8 +405,7 @@ class AxisymmetricModel(PiezoUnknowns, Revolved):
                 for node in on_axis:
                     column([self.u_dof(h, node, 0), self.u_dof(h, node, 1)], [1.0, -1.0])
         for h, n in enumerate(self.harmonics):
-            fixed = np.union1d(on_electrode, self._gauged(h, circuit)) if n == 0 else \
-                np.union1d(on_electrode, phi_on_axis)
+            fixed = np.union1d(on_electrode, self._gauged(h, circuit) if n == 0 else phi_on_axis)
             each(self.phi_dof(h, np.setdiff1d(np.arange(len(self.phi_nodes)), fixed)), scale)
         floating = []
         if circuit == "open" and 0 in self.harmonics:
@@ -421,21 +419,17 @@ class AxisymmetricModel(PiezoUnknowns, Revolved):
         return Constraints(T, scale, tuple(floating))
 
     def _gauged(self, h: int, circuit: str) -> np.ndarray:
-        """Potential nodes held at zero in harmonic ``h`` (n = 0) to fix the potential's constant, one in each region
-        of connected potential unknowns that no electrode held at zero reaches (a poled part without electrodes, or
-        with its driven electrode alone floating in an open circuit): there the constant is free, and the matrix
-        singular (a free unelectroded PZT disc's solve failed: "no regular shift"). As the solid's
-        ``Model.constraints``; the other harmonics have no constant (their potential varies round the axis)."""
+        """Potential nodes of harmonic ``h`` (n = 0) held at zero to fix the constant: one in each region of potential
+        unknowns no grounded electrode reaches (an unelectroded part: else a singular matrix, "no regular shift"), as
+        the solid's ``Model.constraints``; other harmonics have no constant (their potential varies round the axis)."""
         from scipy.sparse.csgraph import connected_components
 
-        roles = self.scene.electrodes
         held = [idx for group, idx in self.electrodes.items()
-                if not (circuit == "open" and roles.get(group) == "drive")]
+                if not (circuit == "open" and self.scene.electrodes.get(group) == "drive")]
         dofs = self.phi_dof(h, np.arange(len(self.phi_nodes)))
-        count, region = connected_components(self.K[dofs][:, dofs], directed=False)
-        anchored = np.zeros(count, dtype=bool)
-        anchored[region[np.concatenate([*held, np.zeros(0, dtype=int)]).astype(int)]] = True
-        return np.array([np.flatnonzero(region == r)[0] for r in np.flatnonzero(~anchored)], dtype=int)
+        _, region = connected_components(self.K[dofs][:, dofs], directed=False)
+        anchored = region[np.concatenate([*held, np.zeros(0, dtype=int)]).astype(int)]
+        return np.unique(region, return_index=True)[1][~np.isin(np.unique(region), anchored)]
 
     def _cylindrical(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(r, theta, z) of ``points`` (n, 3) [m] about the section's axis; (r, z) within ``_ON_SURFACE`` element

@@ -28,8 +28,9 @@ instead (``disc_label``): flexural modes ``(d,c)`` with ``d`` nodal diameters an
 boundary not counted (Leissa, "Vibration of Plates", NASA SP-160, 1969, ch. 2: the free disc's fundamental is
 ``(2,0)``, the clamped disc's ``(0,0)``); in-plane modes ``R1``, ``R2``... (radial, axisymmetric; the order is the
 radial sign changes of u_r plus one), ``T1``... (circumferential, axisymmetric), ``n=2``, ``n=3``... (n waves
-round the circumference: a ring's in-plane flexural modes; ``n=2 k=2`` for the second radial order), and
-``thickness`` (u along the axis odd through the thickness). A field whose energy is not mostly one harmonic of
+round the circumference: a ring's in-plane flexural modes; ``n=2 k=2`` for the second radial order; also a twist
+odd through the thickness with next to no motion along the axis, ``_NO_AXIAL``: a thick cylinder's torsion ``T1``),
+and ``thickness`` (u along the axis odd through the thickness). A field whose energy is not mostly one harmonic of
 the angle is ``?``.
 """
 
@@ -43,6 +44,10 @@ import numpy as np
 RIGID_NAMES = ("sway-x", "sway-y", "heave", "roll", "pitch", "yaw")
 CARRIED = 0.5  # attached masses' share of a mode's kinetic energy above which it is the masses' own mode
 _SMALL = 0.08  # samples below this fraction of the line's peak carry no sign (noise near nodal lines)
+# a field odd through the thickness whose motion along the axis carries less energy than this fraction of its in-plane
+# motion is no bending mode but a twist: a bending wave's in-plane share is ~(k h)^2 / 12 of its u_z's (Kirchhoff), so
+# this needs k h > 11, a wavelength under 0.6 thicknesses (a thick cylinder's own torsion mode has u_z = 0)
+_NO_AXIAL = 0.1
 _LINE = 0.25  # a grid line whose peak |w| is below this fraction of the plate's peak does not vote
 _ISLAND = 0.02  # a closed nodal region counts if its peak |w| is above this fraction of the plate's peak
 _RIGID = 0.98  # main parts moving 98 % as a rigid body: a suspension mode (plate modes reach ~0.9)
@@ -432,17 +437,26 @@ def _disc(points: np.ndarray, u: np.ndarray, axis: np.ndarray, centre: np.ndarra
     image = local[:, polar.mirror] * np.array([[1.0], [1.0], [-1.0]])
     membrane, flexural = (local + image) / 2, (local - image) / 2
     if np.sum(flexural**2) >= np.sum(membrane**2):
+        if np.sum(flexural[2] ** 2) < _NO_AXIAL * np.sum(flexural[:2] ** 2):  # odd through the thickness but
+            return _in_plane(polar, polar.side * flexural)  # in-plane: a twist (a thick cylinder's u_theta ~ r cos(pi
+            # z / h): T1), read on one side's sign as the thickness mode
         spectrum = _Spectrum(polar, flexural[2])
         n, purity = spectrum.dominant()
         if purity < _PURE:
             return "?", purity
         return f"({n},{spectrum.sign_changes(n)})", purity
-    c, s = np.cos(polar.theta), np.sin(polar.theta)
     if np.sum(membrane[2] ** 2) > np.sum(membrane[:2] ** 2):
         n, purity = _Spectrum(polar, polar.side * membrane[2]).dominant()  # odd in z: read one side's sign
         return ("thickness", purity) if n == 0 and purity >= _PURE else ("?", purity)
-    radial = _Spectrum(polar, c * membrane[0] + s * membrane[1])
-    circumferential = _Spectrum(polar, -s * membrane[0] + c * membrane[1])
+    return _in_plane(polar, membrane)
+
+
+def _in_plane(polar, field: np.ndarray) -> tuple[str, float]:
+    """(label, clarity) of a field (3, n) moving in the plane normal to the axis: ``R1``..., ``T1``... (n = 0, radial
+    or circumferential; radial sign changes plus one), ``n=2``, ``n=2 k=2``... (n waves round it)."""
+    c, s = np.cos(polar.theta), np.sin(polar.theta)
+    radial = _Spectrum(polar, c * field[0] + s * field[1])
+    circumferential = _Spectrum(polar, -s * field[0] + c * field[1])
     energy = radial.energy + circumferential.energy
     n = int(np.argmax(energy))
     purity = float(energy[n] / max(radial.totals[n] + circumferential.totals[n], 1e-300))

@@ -115,6 +115,18 @@ def test_disc_radial_and_torsional_modes():
     assert _read(points, u) == "n=2 k=2"
 
 
+def test_a_thick_cylinders_twist_odd_through_the_thickness_is_torsional():
+    # the first elastic torsion mode of a free cylinder, u_theta = r sin(pi z / h) (ends twisting against each other,
+    # f = sqrt(c44 / rho) / 2h): odd through the thickness like a bending mode, but with no motion along the axis;
+    # before, the flexural branch read the harmonics of its (noise) u_z: "(3,0)" on a D/t = 2 PZT-4 disc
+    points = _cloud(layers=5, thickness=1.0)
+    u = _in_plane(points, lambda r, t: 0 * r, lambda r, t: r * np.sin(np.pi * points[2]))
+    assert _read(points, u) == "T1"
+    # a bending mode of the same thick cloud keeps its flexural label: u_z carries most of its motion
+    lam = discs.clamped_disc_roots(2, 1)[0]
+    assert _read(points, _flexural(points, discs.clamped_disc_shape(2, lam), 2)) == "(2,0)"
+
+
 def test_thickness_mode():
     # u along the axis odd through the thickness and uniform over the disc (thickness-extensional), with a 20 %
     # radial Poisson motion

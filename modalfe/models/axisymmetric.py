@@ -432,8 +432,9 @@ class AxisymmetricModel(PiezoUnknowns, Revolved):
         return np.unique(region, return_index=True)[1][~np.isin(np.unique(region), anchored)]
 
     def _cylindrical(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(r, theta, z) of ``points`` (n, 3) [m] about the section's axis; (r, z) within ``_ON_SURFACE`` element
-        sizes outside the meridian mesh's bounds (a point on a curved face, off by round-off) put on those bounds."""
+        """(r, theta, z) of ``points`` (n, 3) [m] about the axis, (r, z) within ``_ON_SURFACE`` element sizes off the
+        mesh's bounds put on them (round-off); SceneError for a point in no part, as the solid (a ring's hole)."""
+        self.scene.assembly().holders(np.asarray(points, dtype=float).reshape(-1, 3).T)
         d = np.asarray(points, dtype=float).reshape(-1, 3) - self.section.origin
         z = d @ self.section.axis
         e2 = np.cross(self.section.axis, self.section.radial)
@@ -450,8 +451,7 @@ class AxisymmetricModel(PiezoUnknowns, Revolved):
         return self._revolved(sp.csr_matrix(self.basis.probes(np.array([r, z]))), theta)
 
     def _revolved(self, P: sp.csr_matrix, theta: np.ndarray) -> sp.csr_matrix:
-        """(3 n, ndofs) displacement probes from the meridian probes ``P`` (n, basis.N) of n points at angles
-        ``theta`` (n,)."""
+        """(3 n, ndofs) displacement probes from the meridian probes ``P`` (n, basis.N) at angles ``theta`` (n,)."""
         e1, e3 = self.section.radial, self.section.axis
         e2 = np.cross(e3, e1)
         e_r = np.outer(np.cos(theta), e1) + np.outer(np.sin(theta), e2)  # (n, 3)

@@ -238,24 +238,15 @@ class Model(PiezoUnknowns):
 
         return probing(Basis(self.u_basis.mesh, element_for(self.scene.mesh), intorder=1))
 
-    def _holders(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
-        """(n, parts) whether each part holds each point of ``p`` (3, n) within ``step``; the parts' centres
-        (parts, 3); ``step``, 1e-9 of the device's size [m]."""
-        parts = self.scene.assembly().parts
-        lo = np.array([q.lo for q in parts], dtype=float)  # (parts, 3)
-        hi = np.array([q.hi for q in parts], dtype=float)
-        step = 1e-9 * float(np.max(hi.max(axis=0) - lo.min(axis=0)))
-        return np.stack([q.inside(p.T, step) for q in parts], axis=1), 0.5 * (lo + hi), step  # exact shapes
-
     def _inside(self, p: np.ndarray) -> np.ndarray:
         """Points (3, n) moved by 1e-9 of the device's size toward the centre of a part that holds them, so that
-        points on faces, edges and corners (a foot's sole) fall inside an element; SceneError for a point in no part."""
-        inside, centres, step = self._holders(p)
-        if not inside.any(axis=1).all():
-            x, y, z = p[:, np.argmin(inside.any(axis=1))]
-            raise SceneError(f"points: ({x:g}, {y:g}, {z:g}) m lies outside the device's parts")
-        holder = inside.argmax(axis=1)
-        return p + step * (centres[holder].T - p)
+        points on faces, edges and corners (a foot's sole) fall inside an element; SceneError for a point in no part
+        (``Assembly.holders``)."""
+        assembly = self.scene.assembly()
+        holder = assembly.holders(p).argmax(axis=1)
+        centres = np.array([0.5 * (np.asarray(q.lo, dtype=float) + np.asarray(q.hi, dtype=float))
+                            for q in assembly.parts])
+        return p + assembly.tolerance * (centres[holder].T - p)
 
     def label_field(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Coordinates (3, n) and displacements (3, n) of the whole device at the vertices of its main parts

@@ -251,3 +251,13 @@ def test_the_unelectroded_discs_solid_r1_is_the_stored_one():
     solid = solve_modes(replace(_unelectroded_disc(), mesh=replace(_unelectroded_disc().mesh, order=4)),
                         fidelity="solid", error_estimate=False).labelled("R1")
     assert abs(solid.frequency - UNELECTRODED_SOLID_R1) <= 0.01  # the stored value's rounding
+
+
+def test_a_probe_off_the_body_names_the_point_as_the_solid_does():
+    """A point in a ring's hole (a face group's centre on the axis: a Langevin stack's electrode faces, forced
+    --outputs) is refused naming the point, as the 3-D solid refuses it; before, the meridian mesh's point search
+    failed inside scikit-fem ("Point is outside of the mesh.", an internal error). A point in the wall is read."""
+    model = assemble_axisymmetric(steel_ring_scene(), harmonics=(0, 2), order=2)
+    with pytest.raises(SceneError, match=r"^points: \(0, 0, 0\.001\) m lies outside the device's parts$"):
+        model.displacement_probes(np.array([[0.0, 0.0, 0.001]]))
+    assert model.displacement_probes(np.array([[0.02, 0.0, 0.001]])).shape == (3, model.ndofs)

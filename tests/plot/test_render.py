@@ -412,3 +412,26 @@ def test_an_axisymmetric_mode_is_drawn_revolved_with_its_marks_and_nodal_lines()
     peak = float(np.abs(surface.point_data["w"]).max())
     lines = nodal_lines(mode, surface)
     assert lines.n_points and np.abs(mode.displacement(lines.points)[:, 2]).max() < 0.05 * peak
+
+
+def test_a_ring_stack_s_bonded_electrode_and_nodal_lines_are_drawn_on_the_body():
+    """Two PZT-4 rings bonded on one axis, the electrode between them (a Langevin stack's core), axisymmetric: the
+    bonded electrode's outline is its circles (inner and outer radius, grown), its displacement read on the face;
+    the nodal lines' points on the inner wall, which the drawing's chords cut inside the hole, are read on the wall.
+    Before, `show` failed on both: the outline's square corners and the chords' points lay off the body (an internal
+    error, "Point is outside of the mesh")."""
+    from modalfe.plot.render import marker_set, mode_grid, nodal_lines
+    from modalfe.scene import scene_from_dict
+
+    rings = [{"name": f"pzt{k}", "shape": "ring", "material": "PZT-4", "centre": [0, 0, 5 * k], "axis": "z",
+              "inner": 3, "outer": 10, "height": 5, "poling": 1 - 2 * k} for k in (0, 1)]
+    scene = scene_from_dict({"units": "mm", "parts": rings, "faces": {"mid": ["pzt0.top"], "ends": ["pzt0.bottom",
+                             "pzt1.top"]}, "electrodes": {"mid": "drive", "ends": "ground"},
+                             "analysis": {"near": 100e3, "count": 4}})
+    modes = solve_modes(scene, fidelity="axisymmetric", harmonics=2, error_estimate=False)
+    mode = max(modes, key=lambda m: m.frequency)
+    outline = next(m for m in marker_set(mode) if m.group == "mid" and m.outline)
+    radii = np.unique(np.round(np.hypot(outline.poly.points[:, 0], outline.poly.points[:, 1]) * 1e3, 2))
+    assert len(radii) == 2 and radii[0] < 3 < 10 < radii[1] < 10.5  # two circles just off the ring's walls
+    surface = mode_grid(mode).extract_surface(algorithm=None).triangulate()
+    assert nodal_lines(mode, surface).n_points

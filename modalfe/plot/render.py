@@ -57,6 +57,10 @@ WINDOW_SIZE = (1000, 650)  # pixels of a picture
 TUBE = {"line_width": 4, "render_lines_as_tubes": True}  # outlines and hatching
 LABEL = {"font_size": 11, "text_color": "black", "always_visible": True}  # feet, named points, the scale bar
 LIFT = 2e-3  # markers are lifted off the surface by this fraction of the device's size (no z-fighting)
+# a round part's bonded face is outlined by circles whose displacement is read this fraction of the face's radial width
+# inside its walls: a meshed wall's quadratic arcs lie up to 1.06 % of the radius inside the circle (four per circle,
+# an O-grid foot: modalfe.models.wall_geometry), and a point between them and the circle lies in no element
+PROBE_INSET = 0.05
 
 
 @dataclass(frozen=True)
@@ -214,7 +218,10 @@ def _outline(mode, part, axis: int, c: float, lo, hi, *, grow: float, lift: floa
     if hasattr(part, "radii"):
         angle = np.linspace(0.0, 2 * np.pi, 100, endpoint=False)
         circle = np.column_stack([np.cos(angle), np.sin(angle)])
-        rings = [(r, r + grow if r == part.radii[1] else max(r - grow, 0.0)) for r in part.radii if r > 0]
+        inner, outer = part.radii
+        inset = PROBE_INSET * (outer - inner)  # read inside a meshed wall, whose arcs deviate from the circle
+        rings = [(r + (inset if r == inner else -inset), r + grow if r == outer else max(r - grow, 0.0))
+                 for r in part.radii if r > 0]
         uv = np.vstack([np.asarray(part.centre)[[u_axis, v_axis]] + drawn * circle for _, drawn in rings])
         on = np.vstack([np.asarray(part.centre)[[u_axis, v_axis]] + r * circle for r, _ in rings])
         loops = [np.arange(k * len(angle), (k + 1) * len(angle)) for k in range(len(rings))]

@@ -435,3 +435,6 @@ def test_a_ring_stack_s_bonded_electrode_and_nodal_lines_are_drawn_on_the_body()
     assert len(radii) == 2 and radii[0] < 3 < 10 < radii[1] < 10.5  # two circles just off the ring's walls
     surface = mode_grid(mode).extract_surface(algorithm=None).triangulate()
     assert nodal_lines(mode, surface).n_points
+    # the 3-D solid of the same stack: the outline read inside its meshed walls (quadratic arcs off the circle)
+    solid = max(solve_modes(scene, fidelity="solid", error_estimate=False), key=lambda m: m.frequency)
+    assert any(m.group == "mid" and m.outline for m in marker_set(solid))

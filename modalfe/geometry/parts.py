@@ -316,10 +316,14 @@ class Assembly:
         lo, hi = self.bounds
         return 1e-9 * max(b - a for a, b in zip(lo, hi))
 
-    def holders(self, points: np.ndarray) -> np.ndarray:
+    def holding(self, points: np.ndarray) -> np.ndarray:
         """(n, parts) whether each part holds each of ``points`` (3, n) [m], to ``tolerance`` (exact shapes: a ring's
-        hole holds nothing); SceneError naming the first point no part holds (a probe or output off the device)."""
-        inside = np.stack([part.inside(points.T, self.tolerance) for part in self.parts], axis=1)
+        hole holds nothing)."""
+        return np.stack([part.inside(points.T, self.tolerance) for part in self.parts], axis=1)
+
+    def holders(self, points: np.ndarray) -> np.ndarray:
+        """``holding``, and SceneError naming the first point no part holds (a probe or output off the device)."""
+        inside = self.holding(points)
         if not inside.any(axis=1).all():
             x, y, z = points[:, np.argmin(inside.any(axis=1))]
             raise SceneError(f"points: ({x:g}, {y:g}, {z:g}) m lies outside the device's parts")

@@ -303,7 +303,7 @@ def _onto_body(model, points: np.ndarray) -> np.ndarray:
     along their radius onto the nearest part: the drawing's chords cut inside a round wall by up to r (1 - cos(pi /
     sectors)), 1.2e-3 r at 64 sectors, into a ring's hole."""
     assembly = model.scene.assembly()
-    off = ~np.any([part.inside(points, assembly.tolerance) for part in assembly.parts], axis=0)
+    off = ~assembly.holding(points.T).any(axis=1)
     if not off.any():
         return points
     d = points[off] - model.section.origin

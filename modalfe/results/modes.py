@@ -10,6 +10,8 @@ import numpy as np
 from modalfe.errors import SolverError
 from modalfe.results.labels import base_label
 
+RIGID_BELOW = 1e-6  # of a solve's highest frequency: a rigid-body mode's, round-off (``Modes.rigid_indices``)
+
 _FAMILY = re.compile(r"^\((\d+|n),(\d+|n)\)$")
 
 
@@ -128,6 +130,12 @@ class Modes:
 
     def nearest(self, frequency: float) -> Mode:
         return min(self.modes, key=lambda m: abs(m.frequency - frequency))
+
+    def rigid_indices(self) -> set[int]:
+        """Indices of the rigid-body modes: below ``RIGID_BELOW`` of the highest frequency (a free body's, at
+        round-off), which state no relative error."""
+        top = max((m.frequency for m in self.modes), default=0.0)
+        return {m.index for m in self.modes if m.frequency < RIGID_BELOW * top}
 
     def with_error_estimates(self, estimates: dict[int, float]) -> Modes:
         modes = tuple(replace(m, error_estimate=estimates.get(m.index, m.error_estimate)) for m in self.modes)

@@ -138,10 +138,10 @@ def partner_steps(fine: Modes, other: Modes) -> dict[int, float]:
     relative step is round-off over round-off, 1.5e6 on the buzzer disc's yaw), as the solid's Richardson."""
     harmonic_of = fine.model.harmonic_of
     other_of = other.model.harmonic_of
-    top = max(m.frequency for m in fine)
+    rigid = fine.rigid_indices()
     steps = {}
     for mode in fine:
-        if mode.frequency < 1e-6 * top:
+        if mode.index in rigid:
             continue
         n = harmonic_of(mode.shape)
         same = [m for m in other if other_of(m.shape) == n]

@@ -24,8 +24,8 @@ def checked_modes(modes: Modes, check) -> list:
     """The modes of ``modes`` that ``check`` ((selector, near Hz) pairs; None: every mode but rigid-body ones) asks
     about."""
     if check is None:
-        top = max(m.frequency for m in modes)
-        return [m for m in modes if m.frequency >= 1e-6 * top]
+        rigid = modes.rigid_indices()
+        return [m for m in modes if m.index not in rigid]
     return [modes.nearest(near) if selector is None else select(modes, selector, near) for selector, near in check]
 
 

@@ -260,12 +260,11 @@ def richardson(fine: Modes, coarse: Modes, ratio: float, coarsest: Modes | None 
     usable_2 = coarsest is not None and len(coarsest) > 0 and ratio_2 is not None and ratio_2 >= MIN_RATIO
     if not usable and usable_2:
         return richardson(fine, coarsest, ratio_2, ceiling=ceiling)
-    estimates = {}
-    top = max(m.frequency for m in fine)
+    estimates, rigid = {}, fine.rigid_indices()
     pairs = shape_partners(fine, coarse) if usable else {}
     chain = shape_partners(coarse, coarsest) if usable and usable_2 else {}
     for mode in fine:
-        if mode.frequency < 1e-6 * top:
+        if mode.index in rigid:
             continue  # a rigid-body mode: no relative error to speak of
         if mode.index not in pairs:
             log.info("mode %s at %.6g Hz has no partner on a coarse mesh that coarsens every direction: error "
@@ -343,12 +342,11 @@ def p_extrapolation(fine: Modes, lower: Modes, lowest: Modes | None = None,
     e_k = C k^-q beyond order p at q = ``rate`` (``MIN_P_RATE``, or ``UNRESOLVED_P_RATE``), or at the rate observed
     through the three orders where that is slower. Modes are paired by shape; inf where a mode has no partner."""
     p = fine.model.scene.mesh.order
-    estimates, rates = {}, []
-    top = max(m.frequency for m in fine)
+    estimates, rates, rigid = {}, [], fine.rigid_indices()
     pairs = shape_partners(fine, lower)
     chain = shape_partners(lower, lowest) if lowest is not None and len(lowest) else {}
     for mode in fine:
-        if mode.frequency < 1e-6 * top:
+        if mode.index in rigid:
             continue
         if mode.index not in pairs:
             log.info("mode %s at %.6g Hz has no partner at order %d on the same grid: error unknown, refine",
@@ -506,8 +504,8 @@ class EstimatePlan:
                     finite = [v for v in values if math.isfinite(v)]
                     estimates[m.index] = max(finite) if finite else math.inf
         else:
-            top = max(m.frequency for m in fine)
-            estimates = {m.index: math.inf for m in fine if m.frequency >= 1e-6 * top}
+            rigid = fine.rigid_indices()
+            estimates = {m.index: math.inf for m in fine if m.index not in rigid}
         if self.floor is not None:
             step, _ = p_extrapolation(fine, self.floor)
             estimates = {i: max(e, step.get(i, e)) for i, e in estimates.items()}

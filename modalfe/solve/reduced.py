@@ -63,7 +63,7 @@ def model_errors(reduced: Modes, levels: list[Modes], scene, *, orders: bool) ->
     # paired by shape at the reduced model's own sample points (inside the solid too)
     to_solid = shape_partners(reduced, solid_1, sample_points(reduced))
     within_solid = shape_partners(solid_1, solid_2)
-    errors, rigid = {}, _rigid(reduced)
+    errors, rigid = {}, reduced.rigid_indices()
     for mode in reduced:
         near = to_solid.get(mode.index)
         far = within_solid.get(near[0].index) if near is not None else None
@@ -98,17 +98,11 @@ def with_model_errors(reduced: Modes, errors: dict[int, float]) -> Modes:
     """``reduced`` with each mode's model error (``model_errors``) and, but for rigid-body modes, its error estimate
     raised by it (a NaN estimate, no discretization estimate, counts as none; a NaN model error, not measured
     (``cross_check_gap``), adds nothing)."""
-    rigid = _rigid(reduced)
+    rigid = reduced.rigid_indices()
     modes = tuple(replace(m, model_error=errors[m.index]) if m.index in rigid or math.isnan(errors[m.index]) else
                   replace(m, model_error=errors[m.index], error_estimate=errors[m.index]
                           + (0.0 if math.isnan(m.error_estimate) else m.error_estimate)) for m in reduced)
     return replace(reduced, modes=modes)
-
-
-def _rigid(modes: Modes) -> set[int]:
-    """Indices of the rigid-body modes (below 1e-6 of the highest frequency): no model error to state."""
-    top = max(m.frequency for m in modes)
-    return {m.index for m in modes if m.frequency < 1e-6 * top}
 
 
 def _grid_extrapolation(solid_1: Modes, solid_2: Modes, scene):

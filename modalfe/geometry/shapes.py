@@ -209,7 +209,7 @@ class _Round(_Shape):
         """Whether points (n, 3) [m] lie in the part, its surface widened by ``tol`` [m] (negative: narrowed)."""
         points = np.asarray(points, dtype=float)
         inner, outer = self.radii
-        s, rho = self._axial(points), _radius(self, points)
+        s, rho = self._axial(points), axis_distance(self, points)
         ok = (s >= -tol) & (s <= self.height + tol) & (rho <= outer + tol)
         if inner > 0:
             ok &= rho >= inner - tol
@@ -222,7 +222,7 @@ class _Round(_Shape):
             if abs(float(p[a]) - plane) <= tol:
                 return f"cut_{AXES[a]}"
         inner, outer = self.radii
-        rho = float(_radius(self, p))
+        rho = float(axis_distance(self, p))
         if abs(rho - outer) <= tol:
             return "outer"
         return "inner" if inner > 0 and abs(rho - inner) <= tol else None
@@ -429,7 +429,7 @@ class Extrusion(_Shape):
         return None
 
 
-def _radius(shape, points) -> np.ndarray:
+def axis_distance(shape, points) -> np.ndarray:
     """Distance [m] of points (..., 3) from the shape's axis."""
     u, v = shape.uv
     p = np.asarray(points, dtype=float)

@@ -21,6 +21,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from modalfe.geometry.shapes import axis_distance
+
 # strain energy density at a circular section's wall over its mean in bending (stress ~ distance from the neutral
 # axis: y^2 = r^2 at the wall, r^2 / 4 averaged over the disc); axial and torsional loading give at most 1 and 2
 WALL_ENERGY_RATIO = 4.0
@@ -48,9 +50,9 @@ def wall_deviations(model) -> dict[str, float]:
         for r in radii:
             on = np.ones(a.shape[1:], dtype=bool)
             for point in (a, b):
-                on &= np.abs(_radius(part, point) / r - 1) <= 1e-6
+                on &= np.abs(axis_distance(part, np.moveaxis(point, 0, -1)) / r - 1) <= 1e-6
             if on.any():
-                worst = max(worst, float(np.max(np.abs(_radius(part, x)[:, on] / r - 1))))
+                worst = max(worst, float(np.max(np.abs(axis_distance(part, np.moveaxis(x, 0, -1))[:, on] / r - 1))))
         out[part.name] = worst
     return out
 
@@ -89,8 +91,3 @@ def _edge_nodes(reference: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         middle.append(j)
     return np.array(ends), np.array(middle)
 
-
-def _radius(part, x: np.ndarray) -> np.ndarray:
-    """Distance from the part's axis of points ``x`` (3, ...)."""
-    off = np.delete(x - np.reshape(part.centre, (3,) + (1,) * (x.ndim - 1)), part.k, axis=0)
-    return np.sqrt(np.sum(off**2, axis=0))

@@ -29,8 +29,11 @@ Prints the table of docs/axisymmetric.md ("Frequency constants"); times are in-p
 from __future__ import annotations
 
 import argparse
+import sys
 import time
+from pathlib import Path
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root: tests.oracles
 from modalfe.scene.loading import scene_from_dict
 from modalfe.solve.api import solve_modes
 from tests.oracles.discs import thickness_resonator, thin_disc

@@ -1,7 +1,8 @@
 """O-grid blocks: a circle on a box grid's swept section (a round foot or sensor under or on a plate) meshed by
 structured quadrilaterals, as the grid around it is.
 
-A circle standing alone in a square cell of the section's lattice (half-side ``BLOCK_CELL`` x its radius) is cut
+A circle standing alone in a square cell of the section's lattice (half-side ``BLOCK_CELL`` x its radius, or out to
+the box edges near it where the elements are large: ``Block.reaching``) is cut
 into nine four-sided faces: an inner rectangle, four faces between it and the circle, four between the circle and
 the cell, split by spokes from the rectangle's corners through the circle to the cell's corners (the O-grid of
 structured CFD and FE meshing, e.g. Thompson, Soni & Weatherill, Handbook of Grid Generation, 1999, ch. 4). A box
@@ -15,7 +16,7 @@ section (docs/studies.md, "Round feet").
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -32,14 +33,15 @@ ARC_ELEMENTS = 4
 
 @dataclass(frozen=True)
 class Block:
-    """The O-grid of the circle of ``part``: ``centre`` (2,) [m] in the section plane, ``radius`` [m], the cell's
-    ``half``-side [m], the spokes' ``angle`` [rad] above the u axis, the inner rectangle's half-sides ``inner`` (u, v)
-    [m] and the box edges ``crossing`` the cell (u coordinates of lines u = c, v coordinates) [m]."""
+    """The O-grid of the circle of ``part``: ``centre`` (2,) [m] in the section plane, ``radius`` [m], the ``cell``
+    ((u, v) of its low corner, of its high corner) [m], the spokes' ``angle`` [rad] above the u axis, the inner
+    rectangle's half-sides ``inner`` (u, v) [m] and the box edges ``crossing`` the cell (u coordinates of lines
+    u = c, v coordinates) [m]."""
 
     part: str
     centre: tuple[float, float]
     radius: float
-    half: float
+    cell: tuple[tuple[float, float], tuple[float, float]]
     angle: float
     inner: tuple[float, float]
     crossing: tuple[tuple[float, ...], tuple[float, ...]] = ((), ())
@@ -49,28 +51,67 @@ class Block:
         """The lattice lines the block needs (u coordinates, v coordinates) [m]: its cell's sides and the box edges
         crossing it, which run on through the whole lattice (an edge ending at the cell would leave its neighbours
         five-sided)."""
-        (a, b), h = self.centre, self.half
-        return (a - h, a + h, *self.crossing[0]), (b - h, b + h, *self.crossing[1])
+        (u0, v0), (u1, v1) = self.cell
+        return (u0, u1, *self.crossing[0]), (v0, v1, *self.crossing[1])
 
     def segments(self) -> list[tuple[tuple[float, float], tuple[float, float]]]:
         """The block's own straight curves ((u, v) start, end) [m]: the inner rectangle's four sides, four spokes
         from its corners to the circle, four from the circle to the cell's corners."""
-        (a, b), r, h = self.centre, self.radius, self.half
-        signs = ((1, 1), (-1, 1), (-1, -1), (1, -1))  # counter-clockwise from the first quadrant
-        inner = [(a + su * self.inner[0], b + sv * self.inner[1]) for su, sv in signs]
-        rim = [(a + su * r * math.cos(self.angle), b + sv * r * math.sin(self.angle)) for su, sv in signs]
-        cell = [(a + su * h, b + sv * h) for su, sv in signs]
+        inner, rim, cell = self._corners()
         sides = [(inner[i], inner[(i + 1) % 4]) for i in range(4)]
         return sides + list(zip(inner, rim)) + list(zip(rim, cell))
 
+    def _corners(self) -> tuple[list, list, list]:
+        """The (u, v) [m] of the inner rectangle's corners, the spokes' ends on the circle and the cell's corners,
+        counter-clockwise from the first quadrant."""
+        (a, b), r = self.centre, self.radius
+        signs = ((1, 1), (-1, 1), (-1, -1), (1, -1))
+        inner = [(a + su * self.inner[0], b + sv * self.inner[1]) for su, sv in signs]
+        rim = [(a + su * r * math.cos(self.angle), b + sv * r * math.sin(self.angle)) for su, sv in signs]
+        (u0, v0), (u1, v1) = self.cell
+        return inner, rim, [(u1 if su > 0 else u0, v1 if sv > 0 else v0) for su, sv in signs]
 
-def blocks(assembly, u: int, v: int) -> list[Block]:
+    def reaching(self, lines: tuple[list, list], size: float, taken: list) -> Block:
+        """This block with each side of its cell moved out to the nearest box edge beyond it (``lines``: u, v
+        coordinates) where the cell's sides and the spokes from the circle to its corners stay within ``size`` [m]
+        (one element each, as the circle's quarter arcs have) and the cell overlaps none of ``taken`` (u0, v0, u1,
+        v1): a side of its own there would cut a line through the whole lattice beside that edge, a strip of
+        elements across the section."""
+        block = self
+        for i, high in sorted(((i, high) for i in (0, 1) for high in (False, True)),
+                              key=lambda side: self._beyond(lines, *side)[1]):
+            edge, _ = block._beyond(lines, i, high)
+            if edge is None:
+                continue
+            bounds = [list(block.cell[0]), list(block.cell[1])]
+            bounds[int(high)][i] = edge
+            moved = replace(block, cell=(tuple(bounds[0]), tuple(bounds[1])))
+            _, rim, corners = moved._corners()
+            spans = (bounds[1][0] - bounds[0][0], bounds[1][1] - bounds[0][1],
+                     *(math.dist(p, q) for p, q in zip(rim, corners)))
+            if max(spans) <= size and not _overlaps((*bounds[0], *bounds[1]), taken):
+                block = moved
+        return block
+
+    def _beyond(self, lines: tuple[list, list], i: int, high: bool) -> tuple[float | None, float]:
+        """(the nearest box edge beyond the cell's side ``high`` (else low) along axis ``i``, None if none; its
+        distance from that side [m], inf if none)."""
+        side = self.cell[int(high)][i]
+        beyond = [c for c in lines[i] if (c > side if high else c < side)]
+        if not beyond:
+            return None, math.inf
+        edge = min(beyond) if high else max(beyond)
+        return edge, abs(edge - side)
+
+
+def blocks(assembly, u: int, v: int, size: float | None = None) -> list[Block]:
     """The O-grid blocks of the assembly's section normal to the third axis: one for each whole circle (a cylinder
     standing on that axis, not cut) whose cell lies inside the boxes' extent, clear of every other round part and
     cell. Every box edge is a lattice line through the whole extent (``modalfe.models.swept``): one crossing the
     circle is passed by the spokes (else no block: too near the rim), one between the circle and the cell's side
     moves the side in to it, down to ``BLOCK_CELL_LEAST`` x the radius (else no block); the side also stops at the
-    boxes' extent."""
+    boxes' extent. With the element ``size`` [m], each cell then reaches out to the box edges near it
+    (``Block.reaching``)."""
     boxes = [p for p in assembly.parts if isinstance(p, Box)]
     if not boxes:
         return []
@@ -97,14 +138,25 @@ def blocks(assembly, u: int, v: int) -> list[Block]:
         cell_lo = (centre[0] - half, centre[1] - half)
         cell_hi = (centre[0] + half, centre[1] + half)
         others = [(q.lo[u], q.lo[v], q.hi[u], q.hi[v]) for q in curved if q is not part]
-        others += [(*(c - b.half for c in b.centre), *(c + b.half for c in b.centre)) for b in found]
-        if any(x0 < cell_hi[0] and x1 > cell_lo[0] and y0 < cell_hi[1] and y1 > cell_lo[1]
-               for x0, y0, x1, y1 in others):
+        if _overlaps((*cell_lo, *cell_hi), others + [(*b.cell[0], *b.cell[1]) for b in found]):
             continue
-        block = _fitted(part.name, centre, r, half, crossing)
+        block = _fitted(part.name, centre, r, (cell_lo, cell_hi), crossing)
         if block is not None:
             found.append(block)
-    return found
+    if size is None:
+        return found
+    reached: list[Block] = []
+    for k, block in enumerate(found):
+        taken = [(q.lo[u], q.lo[v], q.hi[u], q.hi[v]) for q in curved if q.name != block.part]
+        taken += [(*b.cell[0], *b.cell[1]) for b in (*reached, *found[k + 1:])]
+        reached.append(block.reaching((lines[0], lines[1]), size, taken))
+    return reached
+
+
+def _overlaps(cell: tuple[float, float, float, float], others: list) -> bool:
+    """Whether the rectangle ``cell`` (u0, v0, u1, v1) overlaps any of ``others`` (alike) by more than a side."""
+    x0, y0, x1, y1 = cell
+    return any(a0 < x1 and a1 > x0 and b0 < y1 and b1 > y0 for a0, b0, a1, b1 in others)
 
 
 def all_blocked(assembly) -> bool:
@@ -116,7 +168,7 @@ def all_blocked(assembly) -> bool:
     return len(blocks(assembly, (axis + 1) % 3, (axis + 2) % 3)) == len(assembly.shaped)
 
 
-def _fitted(part: str, centre, r: float, half: float, crossing) -> Block | None:
+def _fitted(part: str, centre, r: float, cell, crossing) -> Block | None:
     """The block whose spokes and inner rectangle clear the ``crossing`` edges by ``BLOCK_CLEAR`` x r; None if none
     does (an edge off the circle, or too near its rim)."""
     across_u, across_v = (max((abs(c - centre[i]) for c in crossing[i]), default=0.0) for i in (0, 1))
@@ -135,7 +187,7 @@ def _fitted(part: str, centre, r: float, half: float, crossing) -> Block | None:
         if side < across + clear - 1e-12 * r:
             return None
         inner.append(side)
-    return Block(part, tuple(centre), r, half, angle, tuple(inner), tuple(tuple(c) for c in crossing))
+    return Block(part, tuple(centre), r, cell, angle, tuple(inner), tuple(tuple(c) for c in crossing))
 
 
 def chain_counts(faces: dict[int, list[int]], wanted: dict[int, int]) -> dict[int, int] | None:

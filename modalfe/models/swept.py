@@ -104,7 +104,7 @@ def section_mesh(assembly, axis: int, sizes: dict[str, float]) -> tuple[np.ndarr
     u, v = (axis + 1) % 3, (axis + 2) % 3
     with gmsh_session("modalfe-section"):
         occ = gmsh.model.occ
-        grids = blocks(assembly, u, v)
+        grids = blocks(assembly, u, v, min(sizes.values()))
         seams = {block.part: block.angle for block in grids}  # a circle's seam at a spoke: no fifth side
         tags = [(2, section_surface(occ, p, axis, 0.0, seams.get(p.name, 0.0))) for p in assembly.parts]
         cells = _lattice_cells(occ, assembly, u, v, grids)

@@ -24,17 +24,27 @@ UNLABELLED = "unlabelled"  # the label of every mode of a level solved without l
 _KEPT_FACTORS = 3  # short-circuit solves kept for an open-circuit solve of the same model
 
 
-@dataclass(frozen=True)
+@dataclass
 class _ShortSolve:
-    """A short-circuit solve of a driven model kept for its open circuit (``modes_of``): the projected pencil (A, B),
-    whose blocks the open circuit borders with its floating potentials, and the factorization (solve, shift) of
-    A - shift B. The model is held weakly: the entry lives no longer than the model in ``modalfe.models.build``'s
-    cache."""
+    """A short-circuit solve of a driven model kept for its open circuit (``modes_of``) and its forced response: the
+    factorization (solve, shift) of A - shift B, and the projected pencil (A, B), whose blocks the open circuit
+    borders with its floating potentials, once asked for (``projected``). The model is held weakly: the entry lives
+    no longer than the model in ``modalfe.models.build``'s cache."""
 
     model: weakref.ref
-    A: sp.csr_matrix
-    B: sp.csr_matrix
     factor: tuple
+    pencil: tuple[sp.csr_matrix, sp.csr_matrix] | None = None
+
+    def projected(self) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+        """(A, B): T^T K T and T^T M T of the short circuit, projected on the first call and kept from then on. A
+        solve does not keep them: a factorization costs seconds to make again, a projection a fraction of one, while
+        the pair with its triangle (``modalfe.solve.linalg.Shifted``) holds ~40 % of the model's memory (400 MB of
+        the Cu-Be plate's quartic round-feet model), which the estimate levels solved next would sit on."""
+        if self.pencil is None:
+            model = self.model()
+            constraints = model.constraints("short")
+            self.pencil = (constraints.project(model.K), constraints.project(model.M))
+        return self.pencil
 
 
 _SHORT_SOLVES: list[_ShortSolve] = []  # newest first
@@ -82,15 +92,15 @@ def modes_of(model, analysis, *, fidelity: str, solver: str = "auto", timings: d
     kept = next((k for k in short if k.factor[1] == (2 * np.pi * analysis.near) ** 2), None) \
         if analysis.band is None else None
     border = constraints.border(model.K) if analysis.circuit == "open" and kept is not None else None
-    solution, pencil = None, None
+    solution = None
     if partners and known is not None and border is not None and border[0].shape[1]:
         solution = _partners_from_short(model, constraints, border, kept, known, analysis.count)
     if solution is None:
-        solution, pencil = _solved(model, analysis, constraints, short, kept, border, known, fidelity, solver)
+        solution = _solved(model, analysis, constraints, short, kept, border, known, fidelity, solver)
     n_free = constraints.T.shape[1]
     driven = "drive" in model.scene.electrodes.values()  # else the open circuit is the short one: nothing to reuse
     if analysis.circuit == "short" and driven and solution.factor is not None:
-        _SHORT_SOLVES.insert(0, _ShortSolve(weakref.ref(model), *pencil, solution.factor))
+        _SHORT_SOLVES.insert(0, _ShortSolve(weakref.ref(model), solution.factor))
         del _SHORT_SOLVES[_KEPT_FACTORS:]
     T = constraints.T
     shapes = T @ solution.vectors
@@ -112,29 +122,31 @@ def _partners_from_short(model, constraints, border: tuple, kept: _ShortSolve, k
     solve's shift that can be partners of the short modes ``known`` (``modalfe.solve.open_circuit.bordered_ritz``:
     projected on them and a few solves with the kept factorization), None where that does not settle."""
     started = time.perf_counter()
-    short_modes = free_values(constraints.T, np.column_stack([m.shape for m in known]))[: kept.A.shape[0]]
-    with step(f"{model.scene.name}: open circuit from the short one, {kept.A.shape[0]} unknowns"), \
+    A, B = kept.projected()
+    short_modes = free_values(constraints.T, np.column_stack([m.shape for m in known]))[: A.shape[0]]
+    with step(f"{model.scene.name}: open circuit from the short one, {A.shape[0]} unknowns"), \
             single_threaded_blas():
-        ritz = bordered_ritz(*border, kept.A, kept.B, kept.factor, short_modes, count)
+        ritz = bordered_ritz(*border, A, B, kept.factor, short_modes, count)
     return None if ritz is None else EigenSolution(*ritz, 0.0, time.perf_counter() - started, "reused")
 
 
 def _solved(model, analysis, constraints, short: list, kept, border, known, fidelity: str,
-            solver: str) -> tuple[EigenSolution, tuple]:
+            solver: str) -> EigenSolution:
     """The eigen solve of ``model`` for ``analysis`` (``modalfe.solve.eigen.eigenpairs``) on its projected pencil
     (the short circuit's kept projection, bordered for the open circuit: ``Constraints.project``) with the
     factorization ``kept`` at its shift (bordered by ``border`` for the open circuit, ``open_circuit_solve``), a
-    short band seeded and an open circuit started from the short modes ``known``; and the pencil (A, B) solved."""
+    short band seeded and an open circuit started from the short modes ``known``."""
+    picked = short[0].projected() if short else None
     if analysis.circuit == "short" and short:  # the same projection again, whose shifts share one pencil (``Shifted``)
-        A, B = short[0].A, short[0].B
+        A, B = picked
     else:  # an open circuit borders the short one's projection
-        A = constraints.project(model.K, picked=short[0].A if short else None)
-        B = constraints.project(model.M, picked=short[0].B if short else None)
+        A = constraints.project(model.K, picked=None if picked is None else picked[0])
+        B = constraints.project(model.M, picked=None if picked is None else picked[1])
     factor, start, seed = None, None, None
     if kept is not None:
         factor = kept.factor if border is None else open_circuit_solve(*border, kept.factor)
     if factor is not None and known is not None and analysis.circuit == "open":
-        start = open_circuit_start(constraints.T, known, factor[0], A.shape[0] - kept.A.shape[0])
+        start = open_circuit_start(constraints.T, known, factor[0], A.shape[0] - kept.projected()[0].shape[0])
     if known is not None and analysis.band is not None and analysis.circuit == "short" and short:
         seed = (short[0].factor, np.array([m.omega**2 for m in known]),
                 free_values(constraints.T, np.column_stack([m.shape for m in known])))
@@ -144,7 +156,7 @@ def _solved(model, analysis, constraints, short: list, kept, border, known, fide
     # completion ran beside PARDISO's threads at 3x the time a Lanczos step)
     with step(f"{model.scene.name}, {fidelity} model, order {model.scene.mesh.order}: eigen solve, {asked}, "
               f"{analysis.circuit} circuit, {A.shape[0]} unknowns"), single_threaded_blas():
-        return eigenpairs(A, B, analysis, solver, factor, seed, start), (A, B)
+        return eigenpairs(A, B, analysis, solver, factor, seed, start)
 
 
 def short_circuit_pencil(model, *, factorized: bool = False) -> tuple[sp.csr_matrix, sp.csr_matrix, tuple | None]:
@@ -154,7 +166,7 @@ def short_circuit_pencil(model, *, factorized: bool = False) -> tuple[sp.csr_mat
     gets its factorization at the shift it was solved at (``remember_shift``), kept as its solve's would be."""
     kept = next((k for k in _SHORT_SOLVES if k.model() is model), None)
     if kept is not None:
-        return kept.A, kept.B, kept.factor
+        return (*kept.projected(), kept.factor)
     constraints = model.constraints("short")
     A, B = constraints.project(model.K), constraints.project(model.M)
     shift = next((shift for ref, shift in _SHIFTS if ref() is model), None) if factorized else None
@@ -167,6 +179,6 @@ def short_circuit_pencil(model, *, factorized: bool = False) -> tuple[sp.csr_mat
         factor = (factorize(Shifted(A, B, shift))[0], shift)
     except SolverError:  # the shift on an eigenvalue: the callers factorize where they solve
         return A, B, None
-    _SHORT_SOLVES.insert(0, _ShortSolve(weakref.ref(model), A, B, factor))
+    _SHORT_SOLVES.insert(0, _ShortSolve(weakref.ref(model), factor, (A, B)))
     del _SHORT_SOLVES[_KEPT_FACTORS:]
     return A, B, factor

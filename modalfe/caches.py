@@ -11,7 +11,8 @@ What is kept, and until when (``registered()`` lists them):
 - resolved answers, a few in memory and the newest on disk (``modalfe.solve.resolved``);
 - summaries of imported geometry files, by path and content digest (``modalfe.geometry.imported``);
 - per-material stiffness matrices of live models, for the materials' Qm (``modalfe.response.losses``).
-- the upper triangles of the last few shifted pencils A - s B, while A and B live (``modalfe.solve.linalg``).
+- the upper triangles of the last few shifted pencils A - s B, while A and B live (``modalfe.solve.linalg``);
+- the point locators of the last few curved hexahedral meshes probed, while the mesh lives (``modalfe.models.probing``).
 Only the whereabouts of MKL (``modalfe.solve.linalg``) are not dropped: they do not change while a process runs.
 """
 

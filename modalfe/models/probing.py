@@ -3,8 +3,12 @@ the point search that works on the project's meshes (box grids, curved tetrahedr
 
 from __future__ import annotations
 
+import weakref
+
 import numpy as np
 import scipy.sparse as sp
+
+import modalfe.caches as caches
 
 # reference-coordinate tolerance of a probe's point search on hexahedra (``probing``): 1e-8 of an element's size,
 # above the round-off floor eps |x| / h down to elements of 1e-9 |x|; Newton converges quadratically, so the point
@@ -13,6 +17,9 @@ PROBE_NEWTON_TOL = 1e-8
 PROBE_NEWTON_ITERATIONS = 30  # a point in its element converges in a few; a far candidate may not, and is dropped
 HEX_BOX_MARGIN = 0.05  # widening of a hexahedron's node bounding box, of its size, for its candidate points
 PROBE_PAIRS = 4e6  # point-element bounding-box tests per block of points (bounds their memory)
+KEPT_LOCATORS = 4  # the point locators of the last meshes probed (``_locator``)
+_LOCATORS: list[tuple[weakref.ref, _HexLocator]] = []  # (mesh held weakly, its locator), newest last
+caches.register("point locators of curved meshes", _LOCATORS.clear)
 
 
 def probing(basis) -> _Probing:
@@ -33,7 +40,7 @@ def probing(basis) -> _Probing:
         return _Probing(Basis(MeshTet1(np.ascontiguousarray(mesh.p[:, : mesh.nvertices]), mesh.t), basis.elem,
                               intorder=1))
     if mesh.refdom is RefHex:  # curved (swept) or distorted hexahedra
-        return _Probing(basis, locate=_HexLocator(mesh))
+        return _Probing(basis, locate=_locator(mesh))
     return _Probing(basis)
 
 
@@ -156,6 +163,17 @@ class LagrangeHex:
         return values, grads
 
 
+def _locator(mesh) -> _HexLocator:
+    """The ``_HexLocator`` of ``mesh``, one for every basis on it (the orders 2-3-4 of one grid, whose estimate pairs
+    modes at the same points: each point is located once), kept while the mesh lives."""
+    _LOCATORS[:] = [(ref, found) for ref, found in _LOCATORS if ref() is not None]
+    found = next((found for ref, found in _LOCATORS if ref() is mesh), None)
+    if found is None:
+        found = _HexLocator(mesh)
+        _LOCATORS[:] = [*_LOCATORS[-(KEPT_LOCATORS - 1):], (weakref.ref(mesh), found)]
+    return found
+
+
 class _HexLocator:
     """Element and reference coordinates of points in a hexahedral mesh with an isoparametric map (skfem MeshHex1
     that is not a box grid, MeshHex2: curved swept hexahedra): the candidates of a point are the elements whose
@@ -172,6 +190,7 @@ class _HexLocator:
         lo, hi = self.nodes.min(axis=1), self.nodes.max(axis=1)
         pad = HEX_BOX_MARGIN * (hi - lo).max(axis=0)
         self.lo, self.hi = lo - pad, hi + pad
+        self._last: tuple[bytes, tuple[np.ndarray, np.ndarray]] | None = None  # the last points and their answer
 
     def _newton(self, x: np.ndarray, cells: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(reference coordinates (3, n) of the points ``x`` (3, n) in ``cells`` (n,), whether the iteration
@@ -192,8 +211,16 @@ class _HexLocator:
         return X, converged & np.isfinite(X).all(axis=0)
 
     def __call__(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(elements (n,), reference coordinates (3, n) clipped to the cube) of the points ``x`` (3, n) [m];
-        ValueError for a point in no element."""
+        """(elements (n,), reference coordinates (3, n) clipped to the cube) of the points ``x`` (3, n) [m], the
+        last points' answer given again; ValueError for a point in no element."""
+        key = np.ascontiguousarray(x, dtype=float).tobytes()
+        if self._last is None or self._last[0] != key:
+            self._last = (key, self._located(x))
+        cells, local = self._last[1]
+        return cells.copy(), local.copy()
+
+    def _located(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``__call__``'s answer, searched."""
         cells = np.full(x.shape[1], -1)
         local = np.zeros(x.shape)
         step = max(1, int(PROBE_PAIRS // self.lo.shape[1]))

@@ -124,3 +124,28 @@ def test_the_locators_tensor_basis_is_the_geometry_elements_own(element):
     own = [geometry.lbasis(X, a) for a in range(geometry.doflocs.shape[0])]
     assert np.allclose(values, np.array([v for v, _ in own]), atol=1e-13)
     assert np.allclose(grads, np.array([g for _, g in own]), atol=1e-13)
+
+
+def test_the_orders_on_one_curved_mesh_share_one_point_search(monkeypatch):
+    """Bases of different orders on one curved hexahedral mesh (the p-estimate's orders 2-3-4 on one grid) share its
+    locator (``_locator``): the second basis's probes reuse the first's search (the points given again are not
+    searched again) and equal those of a fresh search."""
+    from skfem import ElementHex2, MeshHex2
+
+    from modalfe.models.hex_elements import ElementHexGLL
+    from modalfe.models.probing import _HexLocator, _Probing
+
+    straight = MeshHex1.init_tensor(np.linspace(0, 1, 4), np.linspace(0, 1, 3), np.linspace(0, 0.5, 3))
+    curved = MeshHex2.from_mesh(straight)
+    doflocs = curved.doflocs.copy()
+    doflocs[2] += 0.05 * np.sin(np.pi * doflocs[0]) * doflocs[1]  # bend the mid-side nodes: a curved map
+    mesh = MeshHex2(doflocs, curved.t)
+    quadratic, quartic = Basis(mesh, ElementHex2(), intorder=2), Basis(mesh, ElementHexGLL(4), intorder=2)
+    first, second = _probing(quadratic), _probing(quartic)
+    assert first._locate is second._locate
+    points = np.random.default_rng(3).uniform([[0.05], [0.05], [0.1]], [[0.95], [0.95], [0.4]], (3, 50))
+    first.probes(points)
+    fresh = _Probing(quartic, locate=_HexLocator(mesh)).probes(points).tocsr()
+    monkeypatch.setattr(_HexLocator, "_located", lambda self, x: pytest.fail("the same points searched again"))
+    shared = second.probes(points).tocsr()
+    assert abs(shared - fresh).max() == 0.0

@@ -52,7 +52,8 @@ def test_round_feet_swept_hexahedra_are_not_folded():
 # finer references: both answers are quartic on the grid x3 with 1 layer (orders 2-3-4 on it; the round feet's plus
 # the walls' geometry bound); the round feet's reference is cubic on x0.667 with 5 layers (187 092 DOFs), the square
 # feet's quartic on x1.5 with 2 layers (elements halved in the plane and through the plate). Measured: round
-# 39 681.69 Hz stated 0.276 % against 39 648.16 (0.085 % off; quartic on x1.5 with 2 layers gives 39 655.02), square
+# 39 692.03 Hz stated 0.375 % against 39 648.16 (0.111 % off; quartic on x1.5 with 2 layers gives 39 655.02; before
+# the cells reached the box edges, ``Block.reaching``: 39 681.69 Hz stated 0.276 % on 42 049 DOFs), square
 # 39 610.80 Hz stated 0.283 % against 39 583.65 (0.069 % off)
 REFERENCES = {"round": {"order": 3, "elements_per_wavelength": 9.0, "min_layers": 5},
               "square": {"order": 4, "elements_per_wavelength": 4.0, "min_layers": 2}}

@@ -126,3 +126,23 @@ def test_the_open_circuit_partner_is_found_among_few_modes_by_shape(monkeypatch)
     far = solve_open(short, near=2 * mode.frequency, count=2)  # two modes far above: not the partner
     with pytest.raises(SolverError, match="no open-circuit mode with the shape"):
         antiresonance(mode, far)
+
+
+def test_a_kept_solve_holds_its_factorization_and_projects_its_pencil_when_asked():
+    """The short-circuit solve kept for its model holds the factorization, not the projected pencil (A, B) it solved
+    on (~40 % of the model's memory, under every solve that follows: ``levels._ShortSolve.projected``). The open
+    circuit asks for it: it is projected then, once, equal to the pencil a fresh projection gives, and the open
+    circuit still reuses the factorization."""
+    levels._SHORT_SOLVES.clear()
+    resolved.clear(disk=True)
+    scene = load_scene("ciliary_beam")
+    options = {"near": 21.7e3, "count": 4, "fidelity": "solid", "error_estimate": False}
+    short = solve_modes(scene, **options)
+    (kept,) = [k for k in levels._SHORT_SOLVES if k.model() is short.model]
+    assert kept.pencil is None and kept.factor is not None
+    reused = solve_modes(scene, circuit="open", **options)
+    assert reused.timings["solver"] == "reused" and kept.pencil is not None
+    constraints = short.model.constraints("short")
+    for kept_matrix, matrix in zip(kept.pencil, (short.model.K, short.model.M), strict=True):
+        assert abs(kept_matrix - constraints.project(matrix)).max() == 0.0
+    assert kept.projected() is kept.pencil  # projected once

@@ -36,9 +36,10 @@ from modalfe.models.swept import swept_mesh
 
 log = logging.getLogger(__name__)
 
-MESH_FORMAT_VERSION = 6  # 3: key, element and checksum stored inside the file; 4: nodes numbered by physical_mesh;
+MESH_FORMAT_VERSION = 7  # 3: key, element and checksum stored inside the file; 4: nodes numbered by physical_mesh;
 # 5: a swept section left with a triangle subdivided at the sizes asked (issue 35); 6: circles on a box grid's
-# section meshed as O-grid blocks (``modalfe.models.section_blocks``)
+# section meshed as O-grid blocks (``modalfe.models.section_blocks``); 7: their cells reach out to the box edges near
+# them (``Block.reaching``)
 GRADING_RATIO = 0.4  # size ratio of neighbouring element layers toward a clamped face
 # a ring's elements are at most its wall / RING_WALL_ELEMENTS long: quadratic elements on a thin curved wall lock in
 # membrane (bending carries spurious stretching, e.g. Stolarski & Belytschko, J. Appl. Mech. 49 (1982) 172). Measured

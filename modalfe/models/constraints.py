@@ -94,16 +94,24 @@ class Constraints:
         right = sp.csr_matrix(sp.diags(scales) @ (X @ rest)[rows])
         below = self._below(X)
         bottom = sp.hstack([below[:, rows] @ sp.diags(scales), below @ rest], format="csr")
-        n = len(rows) + rest.shape[1]
-        if right.nnz == 0 and bottom.nnz == 0:  # (a mass matrix: no inertia on the potentials) picked's arrays, shared
-            indptr = np.concatenate([picked.indptr, np.full(rest.shape[1], picked.nnz, dtype=picked.indptr.dtype)])
-            return sp.csr_matrix((picked.data, picked.indices, indptr), shape=(n, n))
-        # [picked, right; bottom] by one insertion: right's few entries at the end of their rows, bottom's after the
-        # last row (a general hstack and vstack copy the block through slower paths: 0.32 s against 0.05 s here)
-        at = np.concatenate([picked.indptr[np.repeat(np.arange(len(rows)), np.diff(right.indptr)) + 1],
-                             np.full(bottom.nnz, picked.nnz)])
-        data = np.insert(picked.data, at, np.concatenate([right.data, bottom.data]))
-        indices = np.insert(picked.indices, at, np.concatenate([right.indices + len(rows), bottom.indices]))
-        top_indptr = picked.indptr + right.indptr
-        indptr = np.concatenate([top_indptr, top_indptr[-1] + bottom.indptr[1:]])
-        return sp.csr_matrix((data, indices, indptr), shape=(n, n))
+        return bordered(picked, right, bottom)
+
+
+def bordered(block: sp.csr_matrix, right: sp.csr_matrix, bottom: sp.csr_matrix) -> sp.csr_matrix:
+    """[block, right; bottom] in CSR for a large ``block`` (n, n) bordered by a few columns ``right`` (n, m) and rows
+    ``bottom`` (m, n + m): right's entries inserted at the end of their rows, bottom's after the last row, so that
+    block's entries are copied once (none where the border is empty: its arrays are shared), explicit zeros kept, and
+    the result canonical where the blocks are. A general hstack and vstack copied the block twice, through slower
+    paths (0.32 s against 0.05 s on the Cu-Be plate's projection; 0.3-0.9 s and 240 MB of fresh memory on its quartic
+    round-feet model's K)."""
+    n = block.shape[0] + right.shape[1]
+    if right.nnz == 0 and bottom.nnz == 0:  # (a mass matrix: no inertia on the potentials)
+        indptr = np.concatenate([block.indptr, np.full(right.shape[1], block.nnz, dtype=block.indptr.dtype)])
+        return sp.csr_matrix((block.data, block.indices, indptr), shape=(n, n))
+    at = np.concatenate([block.indptr[np.repeat(np.arange(block.shape[0]), np.diff(right.indptr)) + 1],
+                         np.full(bottom.nnz, block.nnz)])
+    data = np.insert(block.data, at, np.concatenate([right.data, bottom.data]))
+    indices = np.insert(block.indices, at, np.concatenate([right.indices + block.shape[0], bottom.indices]))
+    top_indptr = block.indptr + right.indptr
+    indptr = np.concatenate([top_indptr, top_indptr[-1] + bottom.indptr[1:]])
+    return sp.csr_matrix((data, indices, indptr), shape=(n, n))

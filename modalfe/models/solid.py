@@ -16,7 +16,6 @@ quadrature points from scikit-fem bases, then scattered.
 
 from __future__ import annotations
 
-import itertools
 import logging
 import time
 from dataclasses import dataclass, field, replace
@@ -28,7 +27,7 @@ import scipy.sparse as sp
 from modalfe.errors import SceneError
 from modalfe.models import box_assembly, mapped_assembly
 from modalfe.models.box_assembly import scatter
-from modalfe.models.constraints import Constraints, shared_unknowns
+from modalfe.models.constraints import Constraints, bordered, shared_unknowns
 from modalfe.models.part_material import material_of, radially_poled
 from modalfe.models.probing import probing
 from modalfe.models.symmetry import fold, solved_elements, unfold
@@ -331,47 +330,18 @@ def assemble(scene, device_mesh, *, frame: np.ndarray | None = None) -> Model:
     if n_phi:  # canonical blocks give a canonical K, whose projection then needs no sort
         # (``modalfe.solve.linalg.upper_triangle``: 0.47 s on the Cu-Be plate)
         Kuu.sum_duplicates()
-        K = _coupled(Kuu, Kup, Kpp)
-        M = _bordered(Muu, n_phi)
+        Kup = Kup.tocsr()
+        Kup.sum_duplicates()
+        bottom = sp.hstack([Kup.T.tocsr(), -Kpp], format="csr")
+        bottom.sum_duplicates()
+        K = bordered(Kuu, Kup, bottom)  # Kuu's entries copied once, explicit zeros kept (B's pattern lies in A's)
+        M = bordered(Muu, sp.csr_matrix((n_u, n_phi)), sp.csr_matrix((n_phi, n_u + n_phi)))
     else:
         K, M = Kuu, Muu
     electrodes = _electrode_dofs(scene, device_mesh, mesh, scalar, phi_dofs)
     clamped, guided = _supported_dofs(scene, device_mesh, u_basis)
     return Model(scene, device_mesh, u_basis, K, M, n_u, phi_dofs, electrodes, clamped,
                  {"assembly": time.perf_counter() - start}, frame, attached, guided)
-
-
-def _coupled(Kuu: sp.csr_matrix, Kup: sp.spmatrix, Kpp: sp.spmatrix) -> sp.csr_matrix:
-    """[[Kuu, Kup], [Kup^T, -Kpp]] in CSR, canonical where the blocks are, every entry kept (explicit zeros too: a
-    mass matrix's pattern lies in it, ``modalfe.solve.linalg.Shifted``). Kuu's entries are copied once, by runs of
-    rows between those that carry a coupling (stacking the blocks copied them twice: 0.3-0.9 s of the Cu-Be plate's
-    quartic round-feet model, 240 MB, as fresh pages each time)."""
-    Kup = Kup.tocsr()
-    Kup.sum_duplicates()
-    n_u, n_phi = Kup.shape
-    bottom = sp.hstack([Kup.T.tocsr(), -Kpp], format="csr")
-    bottom.sum_duplicates()
-    coupled = np.diff(Kup.indptr)
-    indptr = np.zeros(n_u + n_phi + 1, dtype=np.int64)
-    np.cumsum(np.r_[np.diff(Kuu.indptr) + coupled, np.diff(bottom.indptr)], out=indptr[1:])
-    index = np.int32 if max(indptr[-1], n_u + n_phi) < np.iinfo(np.int32).max else np.int64
-    data, indices = np.empty(indptr[-1]), np.empty(indptr[-1], dtype=index)
-    breaks = np.r_[0, np.flatnonzero(coupled) + 1, n_u]
-    for first, last in itertools.pairwise(breaks):  # rows first..last-1 share the shift of the couplings above
-        lo, hi, shift = Kuu.indptr[first], Kuu.indptr[last], Kup.indptr[first]
-        data[lo + shift:hi + shift] = Kuu.data[lo:hi]
-        indices[lo + shift:hi + shift] = Kuu.indices[lo:hi]
-    # row i's couplings follow its Kuu entries, at the end of the row
-    at = np.repeat(indptr[1:n_u + 1] - coupled - Kup.indptr[:-1], coupled) + np.arange(Kup.nnz)
-    data[at], indices[at] = Kup.data, Kup.indices + n_u
-    data[indptr[n_u]:], indices[indptr[n_u]:] = bottom.data, bottom.indices
-    return sp.csr_matrix((data, indices, indptr.astype(index)), shape=(n_u + n_phi, n_u + n_phi))
-
-
-def _bordered(X: sp.csr_matrix, extra: int) -> sp.csr_matrix:
-    """``X`` (n, n) as the leading block of an (n + extra) square matrix, on its own arrays (no copy of its entries)."""
-    n = X.shape[0] + extra
-    return sp.csr_matrix((X.data, X.indices, np.r_[X.indptr, np.full(extra, X.indptr[-1])]), shape=(n, n))
 
 
 def _chunk_size(u_basis, intorder: int) -> int:

@@ -41,10 +41,14 @@ class _ShortSolve:
         the pair with its triangle (``modalfe.solve.linalg.Shifted``) holds ~40 % of the model's memory (400 MB of
         the Cu-Be plate's quartic round-feet model), which the estimate levels solved next would sit on."""
         if self.pencil is None:
-            model = self.model()
-            constraints = model.constraints("short")
-            self.pencil = (constraints.project(model.K), constraints.project(model.M))
+            self.pencil = _short_projection(self.model())
         return self.pencil
+
+
+def _short_projection(model) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+    """(T^T K T, T^T M T) of ``model``'s short circuit."""
+    constraints = model.constraints("short")
+    return constraints.project(model.K), constraints.project(model.M)
 
 
 _SHORT_SOLVES: list[_ShortSolve] = []  # newest first
@@ -133,20 +137,21 @@ def _partners_from_short(model, constraints, border: tuple, kept: _ShortSolve, k
 def _solved(model, analysis, constraints, short: list, kept, border, known, fidelity: str,
             solver: str) -> EigenSolution:
     """The eigen solve of ``model`` for ``analysis`` (``modalfe.solve.eigen.eigenpairs``) on its projected pencil
-    (the short circuit's kept projection, bordered for the open circuit: ``Constraints.project``) with the
+    (the short circuit's projection, bordered for the open circuit: ``Constraints.project``) with the
     factorization ``kept`` at its shift (bordered by ``border`` for the open circuit, ``open_circuit_solve``), a
     short band seeded and an open circuit started from the short modes ``known``."""
-    picked = short[0].projected() if short else None
     if analysis.circuit == "short" and short:  # the same projection again, whose shifts share one pencil (``Shifted``)
-        A, B = picked
-    else:  # an open circuit borders the short one's projection
+        A, B = short[0].projected()
+    else:  # an open circuit borders the short one's projection where it is held (else projecting it would be a
+        # second projection of the model's size)
+        picked = short[0].pencil if short else None
         A = constraints.project(model.K, picked=None if picked is None else picked[0])
         B = constraints.project(model.M, picked=None if picked is None else picked[1])
     factor, start, seed = None, None, None
     if kept is not None:
         factor = kept.factor if border is None else open_circuit_solve(*border, kept.factor)
     if factor is not None and known is not None and analysis.circuit == "open":
-        start = open_circuit_start(constraints.T, known, factor[0], A.shape[0] - kept.projected()[0].shape[0])
+        start = open_circuit_start(constraints.T, known, factor[0], border[0].shape[1])
     if known is not None and analysis.band is not None and analysis.circuit == "short" and short:
         seed = (short[0].factor, np.array([m.omega**2 for m in known]),
                 free_values(constraints.T, np.column_stack([m.shape for m in known])))
@@ -167,8 +172,7 @@ def short_circuit_pencil(model, *, factorized: bool = False) -> tuple[sp.csr_mat
     kept = next((k for k in _SHORT_SOLVES if k.model() is model), None)
     if kept is not None:
         return (*kept.projected(), kept.factor)
-    constraints = model.constraints("short")
-    A, B = constraints.project(model.K), constraints.project(model.M)
+    A, B = _short_projection(model)
     shift = next((shift for ref, shift in _SHIFTS if ref() is model), None) if factorized else None
     if shift is None:
         return A, B, None

@@ -131,8 +131,9 @@ def test_the_open_circuit_partner_is_found_among_few_modes_by_shape(monkeypatch)
 def test_a_kept_solve_holds_its_factorization_and_projects_its_pencil_when_asked():
     """The short-circuit solve kept for its model holds the factorization, not the projected pencil (A, B) it solved
     on (~40 % of the model's memory, under every solve that follows: ``levels._ShortSolve.projected``). The open
-    circuit asks for it: it is projected then, once, equal to the pencil a fresh projection gives, and the open
-    circuit still reuses the factorization."""
+    circuit at its shift reuses the factorization and projects its own, bordered pencil only (not the short one
+    too); a forced response asks for the short pencil (``short_circuit_pencil``): it is projected then, once, equal
+    to the pencil a fresh projection gives."""
     levels._SHORT_SOLVES.clear()
     resolved.clear(disk=True)
     scene = load_scene("ciliary_beam")
@@ -141,8 +142,10 @@ def test_a_kept_solve_holds_its_factorization_and_projects_its_pencil_when_asked
     (kept,) = [k for k in levels._SHORT_SOLVES if k.model() is short.model]
     assert kept.pencil is None and kept.factor is not None
     reused = solve_modes(scene, circuit="open", **options)
-    assert reused.timings["solver"] == "reused" and kept.pencil is not None
+    assert reused.timings["solver"] == "reused" and kept.pencil is None
+    A, B, factor = levels.short_circuit_pencil(short.model)
+    assert factor is kept.factor and kept.pencil is not None
     constraints = short.model.constraints("short")
-    for kept_matrix, matrix in zip(kept.pencil, (short.model.K, short.model.M), strict=True):
+    for kept_matrix, matrix in zip((A, B), (short.model.K, short.model.M), strict=True):
         assert abs(kept_matrix - constraints.project(matrix)).max() == 0.0
-    assert kept.projected() is kept.pencil  # projected once
+    assert kept.projected()[0] is A  # projected once
